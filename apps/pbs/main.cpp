@@ -1,0 +1,28 @@
+// Entry point of the `pbs` command line: dispatches to the subcommands and turns errors into one
+// `error:` line with exit status 1 (2 for bad usage).
+#include "commands.hpp"
+
+#include <exception>
+#include <iostream>
+
+int main(int argc, char** argv) {
+  CLI::App app{"pbs: Progressive Blue Surfels on the CPU"};
+  app.require_subcommand(1);
+  pbs::cli::addDemoCommand(app);
+  pbs::cli::addInfoCommand(app);
+  pbs::cli::addGenerateCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "error: " << e.what() << " (see pbs --help)\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

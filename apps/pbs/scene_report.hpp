@@ -1,0 +1,31 @@
+// Loading a SCENE argument with timings, and printing its summary for people or as JSON.
+#pragma once
+
+#include <pbs/scene/hierarchy.hpp>
+#include <pbs/scene/load_scene.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace pbs::cli {
+
+struct LoadedScene {
+  std::string name;
+  Scene scene;
+  Hierarchy hierarchy;
+  SceneSummary summary;
+  double parseSeconds = 0;      // import (or generation) and validation
+  double hierarchySeconds = 0;  // world transforms, exact bounds, subtree counts
+};
+
+// Loads and analyses; prints the importer's warnings to stderr as "warning: …" lines.
+LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options);
+
+nlohmann::json summaryJson(const LoadedScene& loaded);
+void printSummary(const LoadedScene& loaded);
+
+// 1234567 → "1,234,567": triangle counts of billions must be readable at a glance.
+std::string withThousands(std::uint64_t value);
+
+}  // namespace pbs::cli

@@ -1,0 +1,44 @@
+// Validation of a scene's references, and the per-node values derived from its hierarchy:
+// world transforms, exact world bounds and subtree complexity (instances counted).
+#pragma once
+
+#include "pbs/scene/scene.hpp"
+
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+namespace pbs {
+
+// Throws InputError naming `source` and the element when the scene is not well formed: a
+// reference out of range, a node with two parents or in a cycle, a root that is not a root,
+// non-finite transforms or vertex data, index out of range, parts that do not cover the indices.
+void validateScene(const Scene& scene, std::string_view source);
+
+struct Hierarchy {
+  std::vector<std::int32_t> parent;          // -1 for roots
+  std::vector<std::uint32_t> depth;          // 0 for roots
+  std::vector<glm::dmat4> world;             // world-from-node
+  std::vector<Bounds> worldBounds;           // tight box of every world-space vertex in the subtree
+  std::vector<std::uint64_t> subtreeTriangles;  // counting every instance
+  std::vector<std::uint32_t> preorder;       // every reachable node, parents before children
+};
+
+// Requires a scene that passed validateScene. Runs in parallel over the nodes that carry meshes.
+Hierarchy analyzeHierarchy(const Scene& scene);
+
+struct SceneSummary {
+  std::uint64_t nodes = 0;
+  std::uint64_t meshes = 0;
+  std::uint64_t instances = 0;  // nodes that carry a mesh
+  std::uint64_t triangles = 0;  // counting instances
+  std::uint64_t uniqueTriangles = 0;
+  std::uint32_t maxDepth = 0;
+  std::uint64_t materials = 0;
+  std::uint64_t textures = 0;
+  Bounds bounds;
+};
+
+SceneSummary summarizeScene(const Scene& scene, const Hierarchy& hierarchy);
+
+}  // namespace pbs

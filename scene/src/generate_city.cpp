@@ -1,0 +1,138 @@
+// A city of instances for scaling tests: each prototype flattened into one unit-size mesh, then
+// placed over a grid hierarchy of blocks with seeded turns, non-uniform and mirroring scales.
+#include "pbs/scene/generate.hpp"
+
+#include "mesh_merge.hpp"
+#include "pbs/scene/hierarchy.hpp"
+#include "pbs/scene/input_error.hpp"
+#include "seeded_random.hpp"
+#include "transform_shorthand.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace pbs {
+namespace {
+
+constexpr double kLeafSpacing = 2.5;  // a unit prototype scaled up to 1.5 and turned still fits
+constexpr double kStreetFactor = 1.15;  // room between neighbouring blocks
+constexpr double kBlockTurn = 0.12;     // radians, either way
+
+// Flattens `prototype` into one mesh of the city, with its materials and textures appended:
+// centred over the origin, standing on y = 0, its largest extent 1.
+void addPrototype(Scene& city, const Scene& prototype, std::size_t index) {
+  const std::string source = "city prototype " + std::to_string(index);
+  validateScene(prototype, source);
+  const Hierarchy hierarchy = analyzeHierarchy(prototype);
+  Bounds bounds;
+  for (std::uint32_t root : prototype.roots) bounds.extend(hierarchy.worldBounds[root]);
+  if (bounds.empty()) throw InputError(source, "", "has no geometry to instance");
+  const glm::dvec3 size = bounds.size();
+  const double extent = std::max({size.x, size.y, size.z});
+  const double scale = extent > 0.0 ? 1.0 / extent : 1.0;  // a prototype collapsed to a point stays one
+  const glm::dmat4 normalise = scaled(scale, scale, scale) * at(-bounds.center().x, -bounds.min.y, -bounds.center().z);
+
+  const auto materialOffset = std::uint32_t(city.materials.size());
+  const auto textureOffset = std::int32_t(city.textures.size());
+  city.textures.insert(city.textures.end(), prototype.textures.begin(), prototype.textures.end());
+  for (Material material : prototype.materials) {
+    if (material.baseColorTexture >= 0) material.baseColorTexture += textureOffset;
+    city.materials.push_back(std::move(material));
+  }
+
+  std::vector<MeshPiece> pieces;
+  for (std::uint32_t n : hierarchy.preorder) {
+    const Node& node = prototype.nodes[n];
+    if (node.mesh >= 0) pieces.push_back({&prototype.meshes[std::size_t(node.mesh)], normalise * hierarchy.world[n], materialOffset});
+  }
+  const std::string name = prototype.roots.size() == 1 && !prototype.nodes[prototype.roots[0]].name.empty()
+                               ? prototype.nodes[prototype.roots[0]].name
+                               : "prototype " + std::to_string(index);
+  Mesh mesh = mergeMeshes(pieces, name);
+  if (mesh.triangleCount() == 0) throw InputError(source, "", "has no triangles to instance");
+  city.meshes.push_back(std::move(mesh));
+}
+
+// 1 + fanout + … + fanout^levels, or throws when the nodes would not fit 32-bit indices.
+std::uint64_t countNodes(const CityOptions& options) {
+  constexpr std::uint64_t kLimit = std::numeric_limits<std::int32_t>::max();
+  std::uint64_t total = 1, level = 1;
+  for (std::uint32_t l = 0; l < options.levels; ++l) {
+    level *= options.fanout;
+    total += level;
+    if (level > kLimit || total > kLimit)
+      throw std::invalid_argument("generateCity: fanout^levels is too many nodes for 32-bit indices");
+  }
+  return total;
+}
+
+// Where child `i` of a block sits on its grid, `spacing` apart, the grid centred on the block.
+glm::dmat4 gridPlace(std::uint32_t i, std::uint32_t columns, std::uint32_t rows, double spacing) {
+  const double x = (double(i % columns) - 0.5 * (columns - 1)) * spacing;
+  const double z = (double(i / columns) - 0.5 * (rows - 1)) * spacing;
+  return at(x, 0.0, z);
+}
+
+// A turned, stretched and one time in four mirrored placement of a random prototype.
+Node makeInstance(SeededRandom& random, std::uint32_t prototypes, const glm::dmat4& place, std::string name) {
+  // One draw per statement: the order of draws within an expression is unspecified.
+  const auto mesh = std::int32_t(random.below(prototypes));
+  const double yaw = random.range(0.0, glm::two_pi<double>());
+  glm::dvec3 scale;
+  for (int axis = 0; axis < 3; ++axis) scale[axis] = random.range(0.6, 1.5);
+  if (random.chance(0.25)) scale.x = -scale.x;
+  return Node{std::move(name), place * turnY(yaw) * scaled(scale.x, scale.y, scale.z), {}, mesh};
+}
+
+}  // namespace
+
+Scene generateCity(const std::vector<Scene>& prototypes, const CityOptions& options) {
+  if (prototypes.empty()) throw std::invalid_argument("generateCity: no prototypes");
+  if (options.fanout == 0) throw std::invalid_argument("generateCity: fanout must be at least 1");
+  const std::uint64_t nodeCount = countNodes(options);
+
+  Scene city;
+  for (std::size_t p = 0; p < prototypes.size(); ++p) addPrototype(city, prototypes[p], p);
+  const auto prototypeCount = std::uint32_t(city.meshes.size());
+
+  std::uint32_t columns = 1;
+  while (columns * columns < options.fanout) ++columns;
+  const std::uint32_t rows = (options.fanout + columns - 1) / columns;
+  // spacing[d]: how far apart the children of a node at depth d sit, grown from the leaves up.
+  std::vector<double> spacing(options.levels, kLeafSpacing);
+  for (std::uint32_t d = options.levels; d-- > 1;) spacing[d - 1] = spacing[d] * columns * kStreetFactor;
+
+  SeededRandom random(options.seed);
+  city.nodes.reserve(nodeCount);
+  city.roots = {0};
+  if (options.levels == 0) {
+    city.nodes.push_back(makeInstance(random, prototypeCount, glm::dmat4(1.0), "instance 0"));
+    return city;
+  }
+  city.nodes.push_back(Node{"city", glm::dmat4(1.0), {}, -1});
+  // Level by level, so the draws (and so the city) depend only on the seed and the options.
+  std::vector<std::uint32_t> level = {0}, next;
+  for (std::uint32_t depth = 1; depth <= options.levels; ++depth) {
+    next.clear();
+    for (std::uint32_t parent : level) {
+      for (std::uint32_t i = 0; i < options.fanout; ++i) {
+        const auto index = std::uint32_t(city.nodes.size());
+        const glm::dmat4 place = gridPlace(i, columns, rows, spacing[depth - 1]);
+        if (depth == options.levels) {
+          city.nodes.push_back(makeInstance(random, prototypeCount, place, "instance " + std::to_string(index)));
+        } else {
+          const double turn = random.range(-kBlockTurn, kBlockTurn);
+          city.nodes.push_back(Node{"block " + std::to_string(index), place * turnY(turn), {}, -1});
+        }
+        city.nodes[parent].children.push_back(index);
+        next.push_back(index);
+      }
+    }
+    std::swap(level, next);
+  }
+  return city;
+}
+
+}  // namespace pbs

@@ -1,0 +1,190 @@
+// Scene validation and the per-node values derived from the hierarchy (world transforms, exact
+// world bounds, subtree triangle counts).
+#include "pbs/scene/hierarchy.hpp"
+
+#include "pbs/scene/input_error.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace pbs {
+namespace {
+
+std::string element(const char* kind, std::size_t index) { return std::string(kind) + " " + std::to_string(index); }
+
+bool finite(const glm::dmat4& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) return false;
+  return true;
+}
+
+template <typename Vec>
+bool allFinite(const std::vector<Vec>& values) {
+  for (const Vec& v : values)
+    for (int i = 0; i < Vec::length(); ++i)
+      if (!std::isfinite(v[i])) return false;
+  return true;
+}
+
+void validateMesh(const Scene& scene, std::size_t m, std::string_view source) {
+  const Mesh& mesh = scene.meshes[m];
+  const std::string name = element("mesh", m);
+  if (!allFinite(mesh.positions)) throw InputError(source, name, "a position is not finite");
+  if (mesh.normals.size() != mesh.positions.size()) throw InputError(source, name, "normal count differs from position count");
+  if (!allFinite(mesh.normals)) throw InputError(source, name, "a normal is not finite");
+  if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())
+    throw InputError(source, name, "uv count differs from position count");
+  if (!allFinite(mesh.uvs)) throw InputError(source, name, "a uv is not finite");
+  if (mesh.indices.size() % 3 != 0) throw InputError(source, name, "index count is not a multiple of 3");
+  for (std::size_t i = 0; i < mesh.indices.size(); ++i)
+    if (mesh.indices[i] >= mesh.positions.size())
+      throw InputError(source, name,
+                       "index " + std::to_string(mesh.indices[i]) + " out of range (" +
+                           std::to_string(mesh.positions.size()) + " vertices)");
+  std::size_t covered = 0;
+  for (std::size_t p = 0; p < mesh.parts.size(); ++p) {
+    const MeshPart& part = mesh.parts[p];
+    const std::string partName = name + " part " + std::to_string(p);
+    if (part.firstIndex != covered || part.indexCount % 3 != 0)
+      throw InputError(source, partName, "parts must cover the indices in order, whole triangles each");
+    if (part.material >= scene.materials.size()) throw InputError(source, partName, "material out of range");
+    covered += part.indexCount;
+  }
+  if (covered != mesh.indices.size()) throw InputError(source, name, "parts do not cover every index");
+}
+
+}  // namespace
+
+void validateScene(const Scene& scene, std::string_view source) {
+  for (std::size_t t = 0; t < scene.textures.size(); ++t) {
+    const Texture& texture = scene.textures[t];
+    if (texture.width == 0 || texture.height == 0 ||
+        texture.rgba8.size() != std::size_t(texture.width) * texture.height * 4)
+      throw InputError(source, element("texture", t), "pixel data does not match its size");
+  }
+  for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+    const Material& material = scene.materials[m];
+    for (int i = 0; i < 4; ++i)
+      if (!std::isfinite(material.baseColorFactor[i]))
+        throw InputError(source, element("material", m), "base colour factor is not finite");
+    if (material.baseColorTexture < -1 || material.baseColorTexture >= std::int64_t(scene.textures.size()))
+      throw InputError(source, element("material", m), "base colour texture out of range");
+  }
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) validateMesh(scene, m, source);
+
+  // Every node has one parent at most, and every node is reached from a root exactly once: together
+  // these rule out cycles (a cycle is never reachable from a root without a second parent).
+  const std::size_t count = scene.nodes.size();
+  std::vector<std::int64_t> parent(count, -1);
+  std::vector<bool> isRoot(count, false);
+  for (std::uint32_t root : scene.roots) {
+    if (root >= count) throw InputError(source, "scene", "root node " + std::to_string(root) + " does not exist");
+    if (isRoot[root]) throw InputError(source, element("node", root), "listed twice as a root");
+    isRoot[root] = true;
+  }
+  for (std::size_t n = 0; n < count; ++n) {
+    const Node& node = scene.nodes[n];
+    if (!finite(node.local)) throw InputError(source, element("node", n), "transform is not finite");
+    if (node.mesh < -1 || node.mesh >= std::int64_t(scene.meshes.size()))
+      throw InputError(source, element("node", n), "mesh " + std::to_string(node.mesh) + " does not exist");
+    for (std::uint32_t child : node.children) {
+      if (child >= count)
+        throw InputError(source, element("node", n), "child node " + std::to_string(child) + " does not exist");
+      if (isRoot[child] || parent[child] >= 0)
+        throw InputError(source, element("node", child), "has two parents (a node graph must be a forest)");
+      parent[child] = std::int64_t(n);
+    }
+  }
+  std::vector<bool> reached(count, false);
+  std::vector<std::uint32_t> stack(scene.roots.begin(), scene.roots.end());
+  std::size_t reachedCount = 0;
+  while (!stack.empty()) {
+    const std::uint32_t n = stack.back();
+    stack.pop_back();
+    reached[n] = true;
+    ++reachedCount;
+    stack.insert(stack.end(), scene.nodes[n].children.begin(), scene.nodes[n].children.end());
+  }
+  if (reachedCount != count) {
+    const auto orphan = std::find(reached.begin(), reached.end(), false) - reached.begin();
+    throw InputError(source, element("node", std::size_t(orphan)), "is not reachable from a root (part of a cycle?)");
+  }
+}
+
+Hierarchy analyzeHierarchy(const Scene& scene) {
+  const std::size_t count = scene.nodes.size();
+  Hierarchy h;
+  h.parent.assign(count, -1);
+  h.depth.assign(count, 0);
+  h.world.assign(count, glm::dmat4(1.0));
+  h.worldBounds.assign(count, Bounds{});
+  h.subtreeTriangles.assign(count, 0);
+  h.preorder.reserve(count);
+
+  std::vector<std::uint32_t> stack(scene.roots.rbegin(), scene.roots.rend());
+  while (!stack.empty()) {
+    const std::uint32_t n = stack.back();
+    stack.pop_back();
+    h.preorder.push_back(n);
+    const Node& node = scene.nodes[n];
+    h.world[n] = h.parent[n] < 0 ? node.local : h.world[h.parent[n]] * node.local;
+    for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) {
+      h.parent[*child] = std::int32_t(n);
+      h.depth[*child] = h.depth[n] + 1;
+      stack.push_back(*child);
+    }
+  }
+
+  // Exact bounds: every vertex of every instance through its full world transform. Each node's
+  // box is independent, so the nodes split across threads with no effect on the result.
+  std::vector<std::uint32_t> instances;
+  for (std::uint32_t n : h.preorder)
+    if (scene.nodes[n].mesh >= 0) instances.push_back(n);
+  tbb::parallel_for(std::size_t(0), instances.size(), [&](std::size_t i) {
+    const std::uint32_t n = instances[i];
+    const Mesh& mesh = scene.meshes[std::size_t(scene.nodes[n].mesh)];
+    const glm::dmat4& m = h.world[n];
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (const glm::vec3& p : mesh.positions) {
+      const glm::dvec3 w = glm::dvec3(m[0]) * double(p.x) + glm::dvec3(m[1]) * double(p.y) +
+                           glm::dvec3(m[2]) * double(p.z) + glm::dvec3(m[3]);
+      lo = glm::min(lo, w);
+      hi = glm::max(hi, w);
+    }
+    h.worldBounds[n] = Bounds{lo, hi};
+    h.subtreeTriangles[n] = mesh.triangleCount();
+  });
+
+  for (auto it = h.preorder.rbegin(); it != h.preorder.rend(); ++it) {
+    const std::int32_t p = h.parent[*it];
+    if (p < 0) continue;
+    h.worldBounds[p].extend(h.worldBounds[*it]);
+    h.subtreeTriangles[p] += h.subtreeTriangles[*it];
+  }
+  return h;
+}
+
+SceneSummary summarizeScene(const Scene& scene, const Hierarchy& hierarchy) {
+  SceneSummary s;
+  s.nodes = hierarchy.preorder.size();
+  s.meshes = scene.meshes.size();
+  s.materials = scene.materials.size();
+  s.textures = scene.textures.size();
+  for (const Mesh& mesh : scene.meshes) s.uniqueTriangles += mesh.triangleCount();
+  for (std::uint32_t n : hierarchy.preorder) {
+    if (scene.nodes[n].mesh >= 0) ++s.instances;
+    s.maxDepth = std::max(s.maxDepth, hierarchy.depth[n]);
+  }
+  for (std::uint32_t root : scene.roots) {
+    s.triangles += hierarchy.subtreeTriangles[root];
+    s.bounds.extend(hierarchy.worldBounds[root]);
+  }
+  return s;
+}
+
+}  // namespace pbs

@@ -1,0 +1,130 @@
+// End-to-end tests of the `pbs` command line as a user runs it: exit codes, JSON output, the demo,
+// and a generated city of over a billion instanced triangles (load time is reported, memory checked).
+#include "test_support.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+namespace pbs::test {
+namespace {
+
+struct MeasuredRun {
+  int status = -1;
+  std::string out;
+  std::string err;
+  long maxRssKb = 0;  // peak resident memory of the pbs process itself
+};
+
+// Runs pbs directly (no shell in between) so wait4 reports the peak memory of pbs alone.
+MeasuredRun runPbsMeasured(const std::vector<std::string>& args) {
+  ScratchDir scratch;
+  const auto outFile = scratch / "stdout";
+  const auto errFile = scratch / "stderr";
+  std::vector<char*> argv;
+  std::vector<std::string> storage = {PBS_BINARY};
+  storage.insert(storage.end(), args.begin(), args.end());
+  for (std::string& s : storage) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int out = open(outFile.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err = open(errFile.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(out, 1);
+    dup2(err, 2);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  int raw = 0;
+  rusage usage{};
+  wait4(pid, &raw, 0, &usage);
+  MeasuredRun run;
+  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+  run.out = readFile(outFile);
+  run.err = readFile(errFile);
+  run.maxRssKb = usage.ru_maxrss;
+  return run;
+}
+
+TEST(Cli, BadUsageExitsWithTwo) {
+  EXPECT_EQ(runPbs("").status, 2);
+  const CommandResult unknown = runPbs("info --no-such-option x.glb");
+  EXPECT_EQ(unknown.status, 2);
+  EXPECT_EQ(unknown.err.rfind("error: ", 0), 0u) << unknown.err;
+  EXPECT_EQ(runPbs("info default --threads -3").status, 2);
+  EXPECT_EQ(runPbs("--help").status, 0);
+}
+
+TEST(Cli, MissingFileIsOneErrorLineWithStatusOne) {
+  const CommandResult result = runPbs("info /nonexistent/scene.glb");
+  EXPECT_EQ(result.status, 1);
+  EXPECT_EQ(result.err.rfind("error: /nonexistent/scene.glb", 0), 0u) << result.err;
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+  EXPECT_TRUE(result.out.empty());
+}
+
+TEST(Cli, InfoJsonOnASharedScene) {
+  PBS_SHARED_SCENE(bunny, "bunny.glb");
+  const CommandResult result = runPbs("info '" + bunny.string() + "' --json");
+  ASSERT_EQ(result.status, 0) << result.err;
+  const auto json = nlohmann::json::parse(result.out);
+  for (const char* key : {"nodes", "meshes", "instances", "triangles", "unique_triangles", "max_depth", "materials",
+                          "textures", "bounds", "load_seconds"})
+    EXPECT_TRUE(json.contains(key)) << key;
+  EXPECT_EQ(json["triangles"], 69451);
+  EXPECT_EQ(json["unique_triangles"], 69451);
+  EXPECT_EQ(json["nodes"], 1);
+  EXPECT_EQ(json["instances"], 1);
+  EXPECT_EQ(json["textures"], 0);
+  for (int axis = 0; axis < 3; ++axis)
+    EXPECT_LT(json["bounds"]["min"][axis].get<double>(), json["bounds"]["max"][axis].get<double>());
+}
+
+TEST(Cli, DemoRunsOnTheEmbeddedDefault) {
+  const CommandResult result = runPbs("demo --json --threads 2");
+  ASSERT_EQ(result.status, 0) << result.err;
+  const auto json = nlohmann::json::parse(result.out);
+  EXPECT_GE(json["triangles"].get<std::uint64_t>(), 10'000'000u);
+  EXPECT_LE(json["triangles"].get<std::uint64_t>(), 50'000'000u);
+  EXPECT_GE(json["max_depth"].get<int>(), 5);
+  EXPECT_GT(json["surfel_nodes"].get<int>(), 0);
+}
+
+TEST(Cli, OctreeOptionGivesAFlatMeshAHierarchy) {
+  PBS_SHARED_SCENE(bunny, "bunny.glb");
+  const CommandResult result = runPbs("info '" + bunny.string() + "' --octree 2000 --json");
+  ASSERT_EQ(result.status, 0) << result.err;
+  const auto json = nlohmann::json::parse(result.out);
+  EXPECT_EQ(json["triangles"], 69451);
+  EXPECT_GT(json["max_depth"].get<int>(), 1);
+  EXPECT_GE(json["meshes"].get<int>(), 69451 / 2000);
+}
+
+// The bar: over a billion instanced triangles load in seconds and well under 1 GB.
+// Wall time is printed for the record, not asserted (tests check correctness, not speed).
+TEST(Cli, BillionTriangleCityLoadsInLittleMemory) {
+  PBS_SHARED_SCENE(scenes, "");
+  ScratchDir scratch;
+  const auto city = scratch / "city.glb";
+  std::vector<std::string> generate = {"generate", "city", "--levels", "4", "--fanout", "12", "-o", city.string()};
+  for (const char* mesh : {"bunny.glb", "horse.glb", "rocker-arm.glb", "fandisk.glb"})
+    generate.insert(generate.end(), {"--mesh", (scenes / mesh).string()});
+  const MeasuredRun made = runPbsMeasured(generate);
+  ASSERT_EQ(made.status, 0) << made.err;
+  EXPECT_LT(std::filesystem::file_size(city), 20'000'000u);
+
+  const MeasuredRun info = runPbsMeasured({"info", city.string(), "--json"});
+  ASSERT_EQ(info.status, 0) << info.err;
+  const auto json = nlohmann::json::parse(info.out);
+  EXPECT_GT(json["triangles"].get<std::uint64_t>(), 1'000'000'000u);
+  EXPECT_EQ(json["instances"], 12 * 12 * 12 * 12);
+  EXPECT_LT(info.maxRssKb, 1024 * 1024 / 2) << "peak memory " << info.maxRssKb << " KiB";
+  std::printf("city: %llu triangles, load %.2f s, peak %.0f MB, file %.1f MB\n",
+              (unsigned long long)json["triangles"].get<std::uint64_t>(), json["load_seconds"].get<double>(),
+              info.maxRssKb / 1024.0, double(std::filesystem::file_size(city)) / 1e6);
+}
+
+}  // namespace
+}  // namespace pbs::test
