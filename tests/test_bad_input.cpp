@@ -200,6 +200,28 @@ TEST(BadData, AttributeCountsDisagree) {
   expectRejected(b, {"accessor 2", "NORMAL has 2 elements but POSITION has 3"});
 }
 
+// tinygltf's own messages seldom say which element; the importer finds it.
+TEST(BadData, ParserErrorsNameTheElement) {
+  GltfBuilder b = test::triangleFile();
+  b.json["bufferViews"][1]["byteLength"] = "six";
+  expectRejected(b, {"bufferView 1", "byteLength"});
+  b = test::triangleFile();
+  b.json["accessors"][1]["count"] = -3;
+  expectRejected(b, {"accessor 1", "count"});
+  b = test::triangleFile();
+  b.json["meshes"][0]["primitives"][0]["attributes"] = 5;
+  expectRejected(b, {"mesh 0", "attributes"});
+  b = test::triangleFile();
+  b.json["meshes"][0]["primitives"][0]["material"] = 0;
+  b.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1}}}}});
+  expectRejected(b, {"material 0", "baseColorFactor"});
+  b.json["materials"][0]["pbrMetallicRoughness"] = {{"baseColorTexture", {{"texCoord", 0}}}};
+  expectRejected(b, {"material 0", "index"});
+  b = test::triangleFile();
+  b.json["nodes"].push_back(7);
+  expectRejected(b, {"node 1", "JSON object"});
+}
+
 // ---------------------------------------------------------------------------------------------
 // Primitives and references
 

@@ -102,6 +102,30 @@ TEST(Cli, OctreeOptionGivesAFlatMeshAHierarchy) {
   EXPECT_GE(json["meshes"].get<int>(), 69451 / 2000);
 }
 
+// The benchmark must time real work: every timed renderer reports how many pixels it covered, and
+// pbs, llvmpipe and Embree draw the same views, so their coverage agrees.
+TEST(Cli, RasterBenchDrawsTheSameViewsAsItsPeers) {
+  PBS_SHARED_SCENE(suzanne, "suzanne.glb");
+  const CommandResult result =
+      runPbs("bench raster '" + suzanne.string() + "' --resolution 128 --points 20000 --repeat 1 --json");
+  ASSERT_EQ(result.status, 0) << result.err;
+  const auto json = nlohmann::json::parse(result.out);
+  const auto& capture = json["capture"];
+  for (const char* key : {"pbs_s", "llvmpipe_s", "embree_s", "vs_llvmpipe", "vs_embree"})
+    EXPECT_TRUE(capture.contains(key)) << key;
+  const double covered = capture["pbs"]["covered_pixels"].get<double>();
+  EXPECT_GT(covered, 0.0);
+  EXPECT_EQ(capture["pbs_1_thread"]["covered_pixels"].get<double>(), covered);
+  EXPECT_NEAR(capture["embree"]["covered_pixels"].get<double>(), covered, 0.005 * covered);
+  if (!capture["llvmpipe"].contains("missing")) {
+    EXPECT_NEAR(capture["llvmpipe"]["covered_pixels"].get<double>(), covered, 0.005 * covered);
+  }
+  for (const char* key : {"pbs_mpoints_per_s", "llvmpipe_mpoints_per_s", "vs_llvmpipe"})
+    EXPECT_TRUE(json["points"].contains(key)) << key;
+  EXPECT_GT(json["points"]["1px"]["pbs"]["covered_pixels"].get<double>(), 0.0);
+  EXPECT_GT(json["threads"].get<int>(), 0);
+}
+
 // The bar: over a billion instanced triangles load in seconds and well under 1 GB.
 // Wall time is printed for the record, not asserted (tests check correctness, not speed).
 TEST(Cli, BillionTriangleCityLoadsInLittleMemory) {

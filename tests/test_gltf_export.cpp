@@ -143,10 +143,11 @@ void expectSameMaterial(const Scene& a, std::uint32_t ma, const Scene& b, std::u
     expectSameTexture(a.textures[std::size_t(x.baseColorTexture)], b.textures[std::size_t(y.baseColorTexture)]);
 }
 
-// Same triangles, corner by corner, with the same vertex data and materials. The importer may
-// store vertices differently (one copy per part), so corners are compared by their data.
+// Same triangles, corner by corner, with the same vertex data and materials, and no vertex stored
+// twice: the parts of a mesh share one vertex array in the file and after the import.
 void expectSameMesh(const Scene& a, const Mesh& x, const Scene& b, const Mesh& y) {
   EXPECT_EQ(x.name, y.name);
+  EXPECT_EQ(x.positions.size(), y.positions.size()) << x.name;
   ASSERT_EQ(x.parts.size(), y.parts.size()) << x.name;
   ASSERT_EQ(x.indices.size(), y.indices.size()) << x.name;
   ASSERT_EQ(x.uvs.empty(), y.uvs.empty()) << x.name;

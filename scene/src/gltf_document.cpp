@@ -1,15 +1,13 @@
-// glTF/GLB bytes to a tinygltf::Model: our GLB header check, tinygltf's loader with our file and
-// image callbacks, and the translation of its errors into InputErrors that name the element.
+// glTF/GLB bytes to a tinygltf::Model: our checks of the GLB layout and the JSON text, then
+// tinygltf's loader with our file and image callbacks.
 #include "gltf_document.hpp"
 
-#include <algorithm>
+#include "gltf_parse_errors.hpp"
+#include "pbs/scene/input_error.hpp"
+
 #include <cctype>
 #include <cstring>
 #include <limits>
-#include <nlohmann/json.hpp>
-
-#include "gltf_messages.hpp"
-#include "pbs/scene/input_error.hpp"
 
 namespace pbs::gltf {
 namespace {
@@ -19,7 +17,6 @@ constexpr std::uint32_t kChunkHeaderBytes = 8;  // length, type
 constexpr std::uint32_t kChunkTypeJson = 0x4E4F534A;
 constexpr std::uint32_t kChunkTypeBin = 0x004E4942;
 constexpr std::size_t kMaxJsonDepth = 256;      // glTF itself needs about 8; see checkJsonText
-constexpr std::size_t kMaxMessageLength = 300;  // tinygltf quotes whole data: URIs in some messages
 
 std::uint32_t readU32(std::span<const std::uint8_t> bytes, std::size_t offset) {
   return std::uint32_t{bytes[offset]} | std::uint32_t{bytes[offset + 1]} << 8 | std::uint32_t{bytes[offset + 2]} << 16 |
@@ -116,94 +113,6 @@ bool keepEncodedImage(tinygltf::Image* image, int, std::string*, std::string*, i
   return true;
 }
 
-// "image[3]" in tinygltf's text becomes "image 3"; empty when there is none.
-std::string bracketedElement(const std::string& message) {
-  for (std::size_t open = message.find('['); open != std::string::npos; open = message.find('[', open + 1)) {
-    std::size_t start = open;
-    while (start > 0 && std::isalpha(static_cast<unsigned char>(message[start - 1]))) --start;
-    std::size_t end = open + 1;
-    while (end < message.size() && std::isdigit(static_cast<unsigned char>(message[end]))) ++end;
-    if (start < open && end > open + 1 && end < message.size() && message[end] == ']') {
-      return message.substr(start, open - start) + ' ' + message.substr(open + 1, end - open - 1);
-    }
-  }
-  return {};
-}
-
-// tinygltf's messages rarely say which element failed. Clues, in order: an "image[3]" in the text;
-// its one check made after all meshes are parsed; its few messages about the file as a whole; and
-// the partially filled model against the file's own JSON (parsed again, on this error path only).
-// tinygltf parses the top-level arrays in the order below, appending each element once parsed, and
-// stops at the first it cannot parse: the first array shorter than the file's holds the failure at
-// its end. When instead it dropped a primitive and carried on, the mesh that lost one is at fault.
-std::string failingElement(const std::string& message, std::span<const std::uint8_t> jsonText,
-                           const tinygltf::Model& partial, bool stoppedEarly) {
-  if (std::string bracketed = bracketedElement(message); !bracketed.empty()) return bracketed;
-  if (message.find("primitive indices accessor out of bounds") != std::string::npos) {
-    for (std::size_t m = 0; m < partial.meshes.size(); ++m) {
-      const auto& primitives = partial.meshes[m].primitives;
-      for (std::size_t p = 0; p < primitives.size(); ++p) {
-        if (primitives[p].indices >= std::ssize(partial.accessors)) return primitiveName(static_cast<int>(m), p);
-      }
-    }
-  }
-  const nlohmann::json document = nlohmann::json::parse(jsonText.begin(), jsonText.end(), nullptr, false);
-  if (!document.is_object()) return "JSON";  // not parseable (or not an object): the message is the parser's
-  std::string lower = message;
-  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (lower.find("asset") != std::string::npos) return "asset";
-  if (lower.find("chunk") != std::string::npos) return "GLB BIN chunk";  // the rest of tinygltf's GLB checks
-  const auto fileCount = [&](const char* array) -> std::size_t {
-    const auto it = document.find(array);
-    return it != document.end() && it->is_array() ? it->size() : 0;
-  };
-  if (stoppedEarly) {
-    struct Parsed {
-      const char* array;
-      const char* element;
-      std::size_t count;
-    };
-    const Parsed inParseOrder[] = {{"buffers", "buffer", partial.buffers.size()},
-                                   {"bufferViews", "bufferView", partial.bufferViews.size()},
-                                   {"accessors", "accessor", partial.accessors.size()},
-                                   {"meshes", "mesh", partial.meshes.size()},
-                                   {"nodes", "node", partial.nodes.size()},
-                                   {"scenes", "scene", partial.scenes.size()},
-                                   {"materials", "material", partial.materials.size()},
-                                   {"images", "image", partial.images.size()},
-                                   {"textures", "texture", partial.textures.size()},
-                                   {"animations", "animation", partial.animations.size()},
-                                   {"skins", "skin", partial.skins.size()},
-                                   {"samplers", "sampler", partial.samplers.size()},
-                                   {"cameras", "camera", partial.cameras.size()}};
-    for (const Parsed& parsed : inParseOrder) {
-      if (parsed.count < fileCount(parsed.array))
-        return elementName(parsed.element, static_cast<std::int64_t>(parsed.count));
-    }
-  } else if (!partial.meshes.empty() && fileCount("meshes") == partial.meshes.size()) {
-    const nlohmann::json& meshes = document.at("meshes");
-    for (std::size_t m = 0; m < partial.meshes.size(); ++m) {
-      const auto it = meshes[m].is_object() ? meshes[m].find("primitives") : meshes[m].end();
-      if (it != meshes[m].end() && it->is_array() && it->size() > partial.meshes[m].primitives.size()) {
-        return elementName("mesh", static_cast<std::int64_t>(m));
-      }
-    }
-  }
-  return {};
-}
-
-std::vector<std::string> lines(std::string_view text) {
-  std::vector<std::string> result;
-  std::size_t start = 0;
-  while (start < text.size()) {
-    std::size_t end = text.find('\n', start);
-    if (end == std::string_view::npos) end = text.size();
-    if (std::string line = oneLine(text.substr(start, end - start)); !line.empty()) result.push_back(std::move(line));
-    start = end + 1;
-  }
-  return result;
-}
-
 // Extensions a file may require that we implement, or whose absence changes only what we ignore anyway.
 void checkRequiredExtensions(const tinygltf::Model& model, std::string_view file, std::vector<std::string>& warnings) {
   for (const std::string& extension : model.extensionsRequired) {
@@ -217,20 +126,6 @@ void checkRequiredExtensions(const tinygltf::Model& model, std::string_view file
 }
 
 }  // namespace
-
-std::string oneLine(std::string_view text) {
-  std::string line;
-  for (const char c : text) {
-    if (c == '\n' || c == '\r') {
-      if (!line.empty() && !line.ends_with("; ")) line += "; ";
-    } else {
-      line += static_cast<unsigned char>(c) < 0x20 ? ' ' : c;
-    }
-  }
-  while (!line.empty() && (line.back() == ' ' || line.back() == ';')) line.pop_back();
-  if (line.size() > kMaxMessageLength) line = line.substr(0, kMaxMessageLength) + "...";
-  return line;
-}
 
 tinygltf::Model parseDocument(std::span<const std::uint8_t> bytes, const std::string& file,
                               const std::filesystem::path& baseDir, std::vector<std::string>& warnings) {
@@ -257,7 +152,7 @@ tinygltf::Model parseDocument(std::span<const std::uint8_t> bytes, const std::st
   // tinygltf reports success after dropping a primitive it could not parse, with the reason in the error
   // text: any error text fails the import. Its one complaint about readable data, an unpadded GLB JSON
   // chunk, is only a warning.
-  std::vector<std::string> errors = lines(error);
+  std::vector<std::string> errors = splitLines(error);
   std::erase_if(errors, [&](const std::string& line) {
     if (!line.starts_with("JSON Chunk end does not aligned")) return false;
     warnings.push_back("GLB JSON chunk is not padded to 4 bytes");
@@ -268,7 +163,7 @@ tinygltf::Model parseDocument(std::span<const std::uint8_t> bytes, const std::st
     if (message.empty()) message = "tinygltf could not load the file";
     throw InputError(file, failingElement(message, jsonText, model, !loaded), message);
   }
-  for (std::string& line : lines(warning)) warnings.push_back(std::move(line));
+  for (std::string& line : splitLines(warning)) warnings.push_back(std::move(line));
   checkRequiredExtensions(model, file, warnings);
   return model;
 }

@@ -20,7 +20,4 @@ namespace pbs::gltf {
 tinygltf::Model parseDocument(std::span<const std::uint8_t> bytes, const std::string& file,
                               const std::filesystem::path& baseDir, std::vector<std::string>& warnings);
 
-// tinygltf's and stb's messages span lines; InputError's are one line.
-std::string oneLine(std::string_view text);
-
 }  // namespace pbs::gltf

@@ -3,8 +3,8 @@
 #include "gltf_image.hpp"
 
 #include "gltf_accessor.hpp"
-#include "gltf_document.hpp"
 #include "gltf_messages.hpp"
+#include "gltf_parse_errors.hpp"
 #include "pbs/scene/input_error.hpp"
 
 #include <climits>

@@ -8,6 +8,7 @@
 #include "gltf_nodes.hpp"
 #include "pbs/scene/input_error.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -19,11 +20,13 @@ ImportResult importGltf(const std::filesystem::path& file) {
   std::error_code error;
   if (std::filesystem::is_directory(file, error)) throw InputError(name, "", "is a directory, not a file");
   errno = 0;
-  std::ifstream in(file, std::ios::binary);
-  if (!in)
-    throw InputError(name, "", std::string("cannot open: ") + (errno != 0 ? std::strerror(errno) : "unknown error"));
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw InputError(name, "", std::string("cannot read: ") + std::strerror(errno));
+  std::ifstream in(file, std::ios::binary | std::ios::ate);
+  if (!in) throw InputError(name, "", std::string("cannot open: ") + (errno ? std::strerror(errno) : "unknown error"));
+  const std::streamsize size = in.tellg();
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(std::max<std::streamsize>(size, 0)));
+  if (size < 0 || !in.seekg(0) || !in.read(reinterpret_cast<char*>(bytes.data()), size)) {
+    throw InputError(name, "", std::string("cannot read: ") + (errno ? std::strerror(errno) : "unknown error"));
+  }
   return importGltfFromMemory(bytes, name, file.parent_path());
 }
 

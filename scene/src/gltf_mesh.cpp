@@ -62,7 +62,8 @@ void appendTriangles(int mode, std::span<const std::uint32_t> indices, std::uint
   }
   const std::size_t triangles = mode == TINYGLTF_MODE_TRIANGLES ? n / 3 : (n >= 3 ? n - 2 : 0);
   const std::size_t start = out.size();
-  if (3 * triangles > kMaxIndex - start) throw InputError(file, element, "mesh has more than 2^32 indices");
+  if (3 * triangles > kMaxIndex - start)
+    throw InputError(file, element, "mesh has more indices than 32-bit offsets can address");
   out.resize(start + 3 * triangles);  // resize, not an exact reserve: growth stays geometric over many primitives
   std::uint32_t* dst = out.data() + start;
   const auto emit = [&](std::size_t a, std::size_t b, std::size_t c) {
@@ -95,37 +96,10 @@ bool normaliseNormals(std::span<glm::vec3> normals) {
   return anyZero;
 }
 
-// Appends one triangle primitive's vertices, triangles and part. Returns whether some of its
-// normals are still to be computed.
-bool appendPrimitive(const tinygltf::Model& model, int mesh, std::size_t p, std::string_view file,
-                     MaterialImport& materials, Mesh& result, std::vector<std::uint32_t>& scratch) {
-  const tinygltf::Primitive& primitive = primitiveAt(model, mesh, p);
-  const std::string element = primitiveName(mesh, p);
-  const int* position = findAttribute(primitive, "POSITION");
-  if (!position) throw InputError(file, element, "has no POSITION attribute");
-  const AccessorView positions = viewAccessor(model, *position, kPositionRules, file, element);
-  const std::size_t first = result.positions.size();
-  const std::size_t vertexCount = positions.count;
-  if (vertexCount > kMaxIndex - first) throw InputError(file, element, "mesh has more than 2^32 vertices");
-  result.positions.resize(first + vertexCount);
-  readVectors<3>(positions, std::span(result.positions).subspan(first));
-
-  bool computeNormals = true;
-  result.normals.resize(first + vertexCount);  // zero normals: computed after the merge
-  if (const int* normal = findAttribute(primitive, "NORMAL")) {
-    const AccessorView normals = viewAccessor(model, *normal, kNormalRules, file, element);
-    checkSameCount(normals, "NORMAL", vertexCount);
-    const auto span = std::span(result.normals).subspan(first);
-    readVectors<3>(normals, span);
-    computeNormals = normaliseNormals(span);
-  }
-  if (const int* texcoord = findAttribute(primitive, "TEXCOORD_0")) {
-    const AccessorView uvs = viewAccessor(model, *texcoord, kTexcoordRules, file, element);
-    checkSameCount(uvs, "TEXCOORD_0", vertexCount);
-    result.uvs.resize(first + vertexCount);  // also gives earlier primitives without uvs their (0,0)
-    readVectors<2>(uvs, std::span(result.uvs).subspan(first));
-  }
-
+// Appends a primitive's triangles (over vertices starting at `first`) and its part.
+void appendIndexedPart(const tinygltf::Model& model, const tinygltf::Primitive& primitive, std::size_t vertexCount,
+                       std::size_t first, std::string_view file, const std::string& element,
+                       MaterialImport& materials, Mesh& result, std::vector<std::uint32_t>& scratch) {
   readPrimitiveIndices(model, primitive, vertexCount, file, element, scratch);
   const std::size_t firstIndex = result.indices.size();
   appendTriangles(primitive.mode, scratch, static_cast<std::uint32_t>(first), result.indices, file, element);
@@ -134,6 +108,63 @@ bool appendPrimitive(const tinygltf::Model& model, int mesh, std::size_t p, std:
                                     static_cast<std::uint32_t>(result.indices.size() - firstIndex),
                                     materials.use(primitive.material, element)});
   }
+}
+
+// The accessors a primitive's vertices come from: primitives that share them (one vertex buffer,
+// several index ranges, as exporters write multi-material meshes) share the merged vertices too.
+struct VertexSource {
+  int position = -1, normal = -1, texcoord = -1;
+  std::size_t first = 0;  // where its vertices start in the merged mesh
+  std::size_t count = 0;
+  bool sameAccessors(const VertexSource& o) const {
+    return position == o.position && normal == o.normal && texcoord == o.texcoord;
+  }
+};
+
+// Appends one triangle primitive's vertices (unless an earlier primitive of the mesh read the same
+// accessors), triangles and part. Returns whether some of its normals are still to be computed.
+bool appendPrimitive(const tinygltf::Model& model, int mesh, std::size_t p, std::string_view file,
+                     MaterialImport& materials, Mesh& result, std::vector<std::uint32_t>& scratch,
+                     std::vector<VertexSource>& sources) {
+  const tinygltf::Primitive& primitive = primitiveAt(model, mesh, p);
+  const std::string element = primitiveName(mesh, p);
+  const int* position = findAttribute(primitive, "POSITION");
+  if (!position) throw InputError(file, element, "has no POSITION attribute");
+  const int* normal = findAttribute(primitive, "NORMAL");
+  const int* texcoord = findAttribute(primitive, "TEXCOORD_0");
+  VertexSource source{*position, normal ? *normal : -1, texcoord ? *texcoord : -1};
+  for (const VertexSource& seen : sources) {
+    if (seen.sameAccessors(source)) {
+      appendIndexedPart(model, primitive, seen.count, seen.first, file, element, materials, result, scratch);
+      return false;  // its normals were dealt with when the vertices were read
+    }
+  }
+  const AccessorView positions = viewAccessor(model, *position, kPositionRules, file, element);
+  const std::size_t first = result.positions.size();
+  const std::size_t vertexCount = positions.count;
+  sources.push_back(VertexSource{source.position, source.normal, source.texcoord, first, vertexCount});
+  if (vertexCount > kMaxIndex - first)
+    throw InputError(file, element, "mesh has more vertices than 32-bit indices can address");
+  result.positions.resize(first + vertexCount);
+  readVectors<3>(positions, std::span(result.positions).subspan(first));
+
+  bool computeNormals = true;
+  result.normals.resize(first + vertexCount);  // zero normals: computed after the merge
+  if (normal) {
+    const AccessorView normals = viewAccessor(model, *normal, kNormalRules, file, element);
+    checkSameCount(normals, "NORMAL", vertexCount);
+    const auto span = std::span(result.normals).subspan(first);
+    readVectors<3>(normals, span);
+    computeNormals = normaliseNormals(span);
+  }
+  if (texcoord) {
+    const AccessorView uvs = viewAccessor(model, *texcoord, kTexcoordRules, file, element);
+    checkSameCount(uvs, "TEXCOORD_0", vertexCount);
+    result.uvs.resize(first + vertexCount);  // also gives earlier primitives without uvs their (0,0)
+    readVectors<2>(uvs, std::span(result.uvs).subspan(first));
+  }
+
+  appendIndexedPart(model, primitive, vertexCount, first, file, element, materials, result, scratch);
   return computeNormals;
 }
 
@@ -154,13 +185,14 @@ Mesh importMesh(const tinygltf::Model& model, int mesh, std::string_view file, M
   Mesh result;
   result.name = source.name;
   std::vector<std::uint32_t> scratch;  // one primitive's indices, reused
+  std::vector<VertexSource> sources;
   bool computeNormals = false;
   for (std::size_t p = 0; p < source.primitives.size(); ++p) {
     const int mode = source.primitives[p].mode;
     if (mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP) {
       ++skipped.byMode[static_cast<std::size_t>(mode)];
     } else if (mode >= TINYGLTF_MODE_TRIANGLES && mode <= TINYGLTF_MODE_TRIANGLE_FAN) {
-      computeNormals |= appendPrimitive(model, mesh, p, file, materials, result, scratch);
+      computeNormals |= appendPrimitive(model, mesh, p, file, materials, result, scratch, sources);
     } else {
       throw InputError(file, primitiveName(mesh, p), "mode " + std::to_string(mode) + " is not a glTF primitive mode");
     }
@@ -168,7 +200,8 @@ Mesh importMesh(const tinygltf::Model& model, int mesh, std::string_view file, M
   if (result.indices.empty()) return Mesh{};
 
   if (computeNormals) {
-    // Primitives share no vertices, so one pass over the merged mesh equals one per primitive.
+    // Vertices are shared only by primitives that name the same accessors, so one pass over the
+    // merged mesh gives each vertex the normal of the triangles that use it.
     const std::vector<glm::vec3> computed = computeVertexNormals(result.positions, result.indices);
     for (std::size_t v = 0; v < result.normals.size(); ++v) {
       if (result.normals[v] == glm::vec3(0.0f)) result.normals[v] = computed[v];

@@ -18,35 +18,35 @@ constexpr int kUnreached = -2;  // in reachedFrom: not reached yet
 constexpr int kRoot = -1;       // in reachedFrom: reached as a scene root
 
 void checkNumbers(const std::vector<double>& values, std::size_t count, const char* what, std::string_view file,
-                  const std::string& element) {
+                  int node) {
   if (!values.empty() && values.size() != count) {
     throw InputError(
-        file, element,
+        file, elementName("node", node),
         std::string(what) + " has " + std::to_string(values.size()) + " numbers, not " + std::to_string(count));
   }
   if (!std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); })) {
-    throw InputError(file, element, std::string(what) + " is not finite");
+    throw InputError(file, elementName("node", node), std::string(what) + " is not finite");
   }
 }
 
 // `matrix` (column-major, as glm stores it) or translation * rotation * scale.
-glm::dmat4 localTransform(const tinygltf::Node& node, std::string_view file, const std::string& element) {
+glm::dmat4 localTransform(const tinygltf::Node& node, int index, std::string_view file) {
   if (!node.matrix.empty()) {
-    checkNumbers(node.matrix, 16, "matrix", file, element);
+    checkNumbers(node.matrix, 16, "matrix", file, index);
     glm::dmat4 m;
     for (std::size_t i = 0; i < 16; ++i) m[static_cast<int>(i / 4)][static_cast<int>(i % 4)] = node.matrix[i];
     return m;
   }
-  checkNumbers(node.translation, 3, "translation", file, element);
-  checkNumbers(node.rotation, 4, "rotation", file, element);
-  checkNumbers(node.scale, 3, "scale", file, element);
+  checkNumbers(node.translation, 3, "translation", file, index);
+  checkNumbers(node.rotation, 4, "rotation", file, index);
+  checkNumbers(node.scale, 3, "scale", file, index);
   glm::dmat4 m(1.0);
   if (!node.translation.empty())
     m = glm::translate(m, glm::dvec3(node.translation[0], node.translation[1], node.translation[2]));
   if (!node.rotation.empty()) {
     glm::dvec4 q(node.rotation[0], node.rotation[1], node.rotation[2], node.rotation[3]);  // x, y, z, w
     const double largest = std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z), std::abs(q.w)});
-    if (largest == 0.0) throw InputError(file, element, "rotation quaternion is zero");
+    if (largest == 0.0) throw InputError(file, elementName("node", index), "rotation quaternion is zero");
     q = glm::normalize(q / largest);  // scaled first, so that huge components do not overflow when squared
     m *= glm::mat4_cast(glm::dquat(q.w, q.x, q.y, q.z));
   }
@@ -130,19 +130,19 @@ void importNodes(const tinygltf::Model& model, std::string_view file,
       const int n = stack.back();
       stack.pop_back();
       const tinygltf::Node& source = model.nodes[static_cast<std::size_t>(n)];
-      const std::string element = elementName("node", n);
       Node node;
       node.name = source.name;
-      node.local = localTransform(source, file, element);
+      node.local = localTransform(source, n, file);
       if (source.mesh != -1) {
         if (!validIndex(source.mesh, model.meshes.size())) {
-          throw InputError(file, element, missingElement("mesh", source.mesh, model.meshes.size()));
+          throw InputError(file, elementName("node", n), missingElement("mesh", source.mesh, model.meshes.size()));
         }
         node.mesh = meshFor(source.mesh);
       }
       for (const int child : source.children) {
-        if (!validIndex(child, nodeCount))
-          throw InputError(file, element, "child " + missingElement("node", child, nodeCount));
+        if (!validIndex(child, nodeCount)) {
+          throw InputError(file, elementName("node", n), "child " + missingElement("node", child, nodeCount));
+        }
         reach(child, n);
       }
       // Reversed, so that the first child is visited next: depth-first order with children in file order.

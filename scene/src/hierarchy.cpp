@@ -4,6 +4,8 @@
 
 #include "pbs/scene/input_error.hpp"
 
+#include "instance_bounds.hpp"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -140,24 +142,25 @@ Hierarchy analyzeHierarchy(const Scene& scene) {
     }
   }
 
-  // Exact bounds: every vertex of every instance through its full world transform. Each node's
-  // box is independent, so the nodes split across threads with no effect on the result.
+  // Exact bounds: the tight box of every vertex of every instance through its full world transform,
+  // found by branch and bound over per-mesh point clusters (built once per mesh, in parallel). Each
+  // node's box is independent, so the nodes split across threads with no effect on the result.
   std::vector<std::uint32_t> instances;
-  for (std::uint32_t n : h.preorder)
-    if (scene.nodes[n].mesh >= 0) instances.push_back(n);
+  std::vector<char> meshUsed(scene.meshes.size(), 0);
+  for (std::uint32_t n : h.preorder) {
+    if (scene.nodes[n].mesh < 0) continue;
+    instances.push_back(n);
+    meshUsed[std::size_t(scene.nodes[n].mesh)] = 1;
+  }
+  std::vector<detail::ClusteredPoints> clustered(scene.meshes.size());
+  tbb::parallel_for(std::size_t(0), scene.meshes.size(), [&](std::size_t m) {
+    if (meshUsed[m]) clustered[m] = detail::clusterPoints(scene.meshes[m].positions);
+  });
   tbb::parallel_for(std::size_t(0), instances.size(), [&](std::size_t i) {
     const std::uint32_t n = instances[i];
-    const Mesh& mesh = scene.meshes[std::size_t(scene.nodes[n].mesh)];
-    const glm::dmat4& m = h.world[n];
-    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-    for (const glm::vec3& p : mesh.positions) {
-      const glm::dvec3 w = glm::dvec3(m[0]) * double(p.x) + glm::dvec3(m[1]) * double(p.y) +
-                           glm::dvec3(m[2]) * double(p.z) + glm::dvec3(m[3]);
-      lo = glm::min(lo, w);
-      hi = glm::max(hi, w);
-    }
-    h.worldBounds[n] = Bounds{lo, hi};
-    h.subtreeTriangles[n] = mesh.triangleCount();
+    const std::size_t mesh = std::size_t(scene.nodes[n].mesh);
+    h.worldBounds[n] = detail::transformedPointBounds(clustered[mesh], h.world[n]);
+    h.subtreeTriangles[n] = scene.meshes[mesh].triangleCount();
   });
 
   for (auto it = h.preorder.rbegin(); it != h.preorder.rend(); ++it) {

@@ -3,6 +3,8 @@
 #pragma once
 
 #include "pbs/raster/bounds.hpp"
+#include "pbs/raster/mesh_part.hpp"
+#include "pbs/raster/texture.hpp"
 
 #include <glm/glm.hpp>
 
@@ -12,32 +14,10 @@
 
 namespace pbs {
 
-enum class TextureWrap : std::uint8_t { Repeat, ClampToEdge, MirroredRepeat };
-enum class TextureFilter : std::uint8_t { Nearest, Linear };
-
-// A decoded image with the sampler that reads it.
-struct Texture {
-  std::string name;
-  std::uint32_t width = 0;
-  std::uint32_t height = 0;
-  std::vector<std::uint8_t> rgba8;  // width * height * 4 bytes, top row first
-  TextureWrap wrapS = TextureWrap::Repeat;
-  TextureWrap wrapT = TextureWrap::Repeat;
-  TextureFilter magFilter = TextureFilter::Linear;
-  TextureFilter minFilter = TextureFilter::Linear;
-};
-
 struct Material {
   std::string name;
   glm::vec4 baseColorFactor{1.0f};  // linear RGBA
   std::int32_t baseColorTexture = -1;  // index into Scene::textures, or -1
-};
-
-// A run of triangles of one mesh drawn with one material.
-struct MeshPart {
-  std::uint32_t firstIndex = 0;  // into Mesh::indices, a multiple of 3
-  std::uint32_t indexCount = 0;  // a multiple of 3
-  std::uint32_t material = 0;    // index into Scene::materials
 };
 
 struct Mesh {
@@ -46,7 +26,7 @@ struct Mesh {
   std::vector<glm::vec3> normals;  // one per position, unit length (computed when the file has none)
   std::vector<glm::vec2> uvs;      // empty, or one per position
   std::vector<std::uint32_t> indices;  // three per triangle
-  std::vector<MeshPart> parts;         // cover `indices` in order
+  std::vector<MeshPart> parts;         // cover `indices` in order; materials index Scene::materials
   Bounds bounds;                       // of `positions`, in the mesh's own frame
 
   std::uint64_t triangleCount() const { return indices.size() / 3; }

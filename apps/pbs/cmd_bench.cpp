@@ -1,0 +1,83 @@
+// `pbs bench raster [SCENE] [--json]`: the rasterizer against llvmpipe and Embree, same run.
+#include "bench/raster_bench.hpp"
+#include "commands.hpp"
+#include "scene_report.hpp"
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+namespace pbs::cli {
+namespace {
+
+std::string seconds(const nlohmann::json& entry) {
+  if (entry.contains("missing")) return "missing (" + entry["missing"].get<std::string>() + ")";
+  char text[64];
+  std::snprintf(text, sizeof text, "%.4f s", entry["seconds"].get<double>());
+  return text;
+}
+
+std::string mpoints(const nlohmann::json& entry) {
+  if (entry.contains("missing")) return "missing (" + entry["missing"].get<std::string>() + ")";
+  char text[64];
+  std::snprintf(text, sizeof text, "%.1f Mpoints/s", entry["mpoints_per_s"].get<double>());
+  return text;
+}
+
+void printRasterReport(const nlohmann::json& r) {
+  const auto& c = r["capture"];
+  std::printf("capture: 8 orthographic views at %u², depth + colour + position + normal (median of %d)\n",
+              r["resolution"].get<unsigned>(), r["repeats"].get<int>());
+  std::printf("  pbs, 1 thread     %s\n", seconds(c["pbs_1_thread"]).c_str());
+  std::printf("  pbs, %d threads    %s  (%.2fx one thread)\n", r["threads"].get<int>(), seconds(c["pbs"]).c_str(),
+              c["thread_scaling"].get<double>());
+  std::printf("  llvmpipe          %s  (pbs %.1fx faster; depth + colour only)\n", seconds(c["llvmpipe"]).c_str(),
+              c["vs_llvmpipe"].get<double>());
+  std::printf("  embree packets    %s  (pbs %.1fx faster; BVH build %.4f s apart)\n", seconds(c["embree"]).c_str(),
+              c["vs_embree"].get<double>(), c["embree"]["bvh_seconds"].get<double>());
+  for (const char* size : {"1px", "4px"}) {
+    const auto& p = r["points"][size];
+    std::printf("points: %s points of %s\n", withThousands(r["point_count"].get<std::uint64_t>()).c_str(), size);
+    std::printf("  pbs, 1 thread     %s\n", mpoints(p["pbs_1_thread"]).c_str());
+    std::printf("  pbs, %d threads    %s  (%.2fx one thread)\n", r["threads"].get<int>(), mpoints(p["pbs"]).c_str(),
+                p["thread_scaling"].get<double>());
+    std::printf("  llvmpipe          %s  (pbs %.1fx faster)\n", mpoints(p["llvmpipe"]).c_str(),
+                p["vs_llvmpipe"].get<double>());
+  }
+}
+
+}  // namespace
+
+void addBenchCommand(CLI::App& app) {
+  struct Options {
+    std::string scene = "default";
+    bool json = false;
+    bench::RasterBenchOptions raster;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* bench = app.add_subcommand("bench", "Measure pbs against its peers");
+  bench->require_subcommand(1);
+  CLI::App* raster = bench->add_subcommand("raster", "capture views and point splats vs llvmpipe and Embree");
+  raster->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->capture_default_str();
+  raster->add_flag("--json", options->json, "print JSON instead of text");
+  raster->add_option("--resolution", options->raster.resolution, "capture and point image size")
+      ->check(CLI::Range(1, 16384))
+      ->capture_default_str();
+  raster->add_option("--points", options->raster.points, "number of random points")
+      ->check(CLI::Range(1, 1'000'000'000))
+      ->capture_default_str();
+  raster->add_option("--repeat", options->raster.repeats, "timed runs per measurement (median reported)")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  addThreadsOption(*raster, options->raster.threads);
+  raster->callback([options] {
+    const LoadedScene loaded = loadAndAnalyze(options->scene, LoadOptions{});
+    const nlohmann::json report = bench::benchRaster(loaded.scene, loaded.hierarchy, options->raster);
+    if (options->json)
+      std::cout << report.dump(2) << "\n";
+    else
+      printRasterReport(report);
+  });
+}
+
+}  // namespace pbs::cli

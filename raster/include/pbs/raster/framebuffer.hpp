@@ -1,0 +1,57 @@
+// G-buffers: depth plus only the channels a draw asks for (colour, position, normal, ids).
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace pbs {
+
+enum Channel : std::uint32_t {
+  kChannelColor = 1u << 0,     // base colour (material factor × texture), RGBA8
+  kChannelPosition = 1u << 1,  // world position − Framebuffer::positionOrigin, float3
+  kChannelNormal = 1u << 2,    // world-space unit normal, float3
+  kChannelIds = 1u << 3,       // node, instance and primitive ids, 32 bits each
+};
+using ChannelMask = std::uint32_t;
+
+struct PixelIds {
+  std::uint32_t node = 0xffffffffu;
+  std::uint32_t instance = 0xffffffffu;
+  std::uint32_t primitive = 0xffffffffu;  // triangle index within its mesh, or point index within its set
+  bool operator==(const PixelIds&) const = default;
+};
+
+inline constexpr float kClearDepth = std::numeric_limits<float>::infinity();
+
+// Row-major, row 0 at the top. A channel not in `channels` stays an empty vector: never allocated,
+// never written.
+struct Framebuffer {
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+  ChannelMask channels = 0;
+  // Positions are stored relative to this origin, so float keeps its digits for scenes far from
+  // the world origin (the capture of a node uses the node's centre).
+  glm::dvec3 positionOrigin{0.0};
+
+  std::vector<float> depth;  // window depth in [0, 1]; kClearDepth where nothing was drawn
+  std::vector<glm::u8vec4> color;
+  std::vector<glm::vec3> position;
+  std::vector<glm::vec3> normal;
+  std::vector<PixelIds> ids;
+
+  bool has(Channel channel) const { return (channels & channel) != 0; }
+  bool covered(std::size_t pixel) const { return depth[pixel] != kClearDepth; }
+  std::size_t pixelCount() const { return std::size_t(width) * height; }
+};
+
+// Allocates depth and exactly the requested channels, cleared (colour to 0, ids to all ones).
+Framebuffer makeFramebuffer(std::uint32_t width, std::uint32_t height, ChannelMask channels,
+                            const glm::dvec3& positionOrigin = glm::dvec3(0.0));
+
+// Clears depth and every allocated channel.
+void clearFramebuffer(Framebuffer& framebuffer);
+
+}  // namespace pbs

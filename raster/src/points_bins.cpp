@@ -1,0 +1,118 @@
+// The per-chunk counting sort of splats by tile.
+#include "points_bins.hpp"
+
+#include <algorithm>
+#include <cassert>
+
+namespace pbs::points {
+
+namespace {
+
+template <class Visit>
+void forEachTile(const TileGrid& grid, const SquareSplat& splat, Visit&& visit) {
+  const std::uint32_t tx0 = splat.x0 >> grid.shift, tx1 = (splat.x1 - 1u) >> grid.shift;
+  const std::uint32_t ty0 = splat.y0 >> grid.shift, ty1 = (splat.y1 - 1u) >> grid.shift;
+  for (std::uint32_t ty = ty0; ty <= ty1; ++ty)
+    for (std::uint32_t tx = tx0; tx <= tx1; ++tx) visit(ty * grid.columns + tx);
+}
+
+std::vector<SquareSplat>& binsOf(ChunkBins& bins, const SquareSplat*) {
+  bins.kind = BinKind::squares;
+  return bins.squares;
+}
+std::vector<DiscSplat>& binsOf(ChunkBins& bins, const DiscSplat*) {
+  bins.kind = BinKind::discs;
+  return bins.discs;
+}
+
+// Grows without shrinking, so a vector reused across batches is zero-filled at most once per element.
+template <class T>
+T* sized(std::vector<T>& v, std::size_t n) {
+  if (v.size() < n) v.resize(n);
+  return v.data();
+}
+
+}  // namespace
+
+template <class Splat>
+void ChunkSorter<Splat>::start(const TileGrid& grid, std::size_t points) {
+  grid_ = &grid;
+  sized(splats_, points);
+  sized(pixels_, points);
+  counts_.assign(grid.count(), 0);
+  size_ = 0;
+  pixelCount_ = 0;
+  single_ = true;
+}
+
+template <class Splat>
+void ChunkSorter<Splat>::add(std::size_t count) {
+  const TileGrid& grid = *grid_;
+  std::uint32_t* counts = counts_.data();
+  for (const Splat& splat : std::span(splats_).subspan(size_, count)) {
+    if (splat.x1 - splat.x0 == 1 && splat.y1 - splat.y0 == 1) {
+      ++counts[grid.tileOf(splat.x0, splat.y0)];
+      continue;
+    }
+    single_ = false;
+    forEachTile(grid, splat, [&](std::uint32_t tile) { ++counts[tile]; });
+  }
+  size_ += count;
+}
+
+template <class Splat>
+void ChunkSorter<Splat>::addPixels(const PixelBlock& pixels, const std::uint32_t* payloads, std::size_t count) {
+  // Locals, so the compiler need not reload the members after every store.
+  std::uint32_t* counts = counts_.data();
+  PixelSplat* out = pixels_.data() + pixelCount_;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (pixels.key[i] < 0) continue;
+    const auto key = static_cast<std::uint32_t>(pixels.key[i]);
+    ++counts[key >> 16];
+    *out++ = PixelSplat{key, pixels.depth[i], payloads[i]};
+  }
+  pixelCount_ = static_cast<std::size_t>(out - pixels_.data());
+}
+
+template <class Splat>
+void ChunkSorter<Splat>::sort(ChunkBins& bins) {
+  assert(size_ == 0 || pixelCount_ == 0);
+  const TileGrid& grid = *grid_;
+  const std::span<const Splat> splats(splats_.data(), size_);
+  // Exclusive prefix sum; the counts become each tile's write cursor.
+  const std::uint32_t tiles = grid.count();
+  std::uint32_t* offsets = sized(bins.offsets, tiles + 1);
+  std::uint32_t* cursor = counts_.data();
+  std::uint32_t total = 0;
+  for (std::uint32_t tile = 0; tile < tiles; ++tile) {
+    offsets[tile] = total;
+    total += cursor[tile];
+    cursor[tile] = offsets[tile];
+  }
+  offsets[tiles] = total;
+
+  // Scattered into memory that stays in this core's cache, then copied to the bins in one sequential sweep:
+  // scattered writes straight to the bins would each wait for a line last touched a batch ago.
+  if (single_) {
+    bins.kind = BinKind::pixels;
+    PixelSplat* sorted = sized(sortedPixels_, total);
+    const std::uint32_t mask = grid.tileSize() - 1;
+    for (const PixelSplat& pixel : std::span(pixels_.data(), pixelCount_))
+      sorted[cursor[pixel.pixel >> 16]++] = PixelSplat{pixel.pixel & 0xffffu, pixel.depth, pixel.payload};
+    for (const Splat& splat : splats) {
+      const std::uint32_t pixel = ((splat.y0 & mask) << grid.shift) | (splat.x0 & mask);
+      sorted[cursor[grid.tileOf(splat.x0, splat.y0)]++] = PixelSplat{pixel, splat.depth, splat.payload};
+    }
+    std::copy_n(sorted, total, sized(bins.pixels, total));
+    return;
+  }
+  Splat* sorted = sized(sortedSplats_, total);
+  for (const Splat& splat : splats)
+    forEachTile(grid, splat, [&](std::uint32_t tile) { sorted[cursor[tile]++] = splat; });
+  std::copy_n(sorted, total, sized(binsOf(bins, splats.data()), total));
+}
+
+template class ChunkSorter<SquareSplat>;
+template class ChunkSorter<DiscSplat>;
+
+}  // namespace pbs::points

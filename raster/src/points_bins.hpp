@@ -1,0 +1,74 @@
+// Binning of projected splats to screen tiles: a stable counting sort per chunk of points, so that each tile
+// reads its splats in submission order, chunk after chunk, without a global sort or any shared counter.
+#pragma once
+
+#include "points_grid.hpp"
+#include "points_splat.hpp"
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace pbs::points {
+
+// A splat covering exactly one pixel, by its index inside the tile (row-major, stride tileSize).
+struct PixelSplat {
+  std::uint32_t pixel;
+  float depth;
+  std::uint32_t payload;
+};
+
+enum class BinKind { pixels, squares, discs };
+
+// One chunk's splats sorted by tile: tile t's are [offsets[t], offsets[t + 1]) of the vector `kind` names.
+// A chunk whose splats all cover one pixel stores the compact PixelSplat: the 1-pixel fast path.
+struct ChunkBins {
+  BinKind kind = BinKind::pixels;
+  std::vector<std::uint32_t> offsets;
+  std::vector<PixelSplat> pixels;
+  std::vector<SquareSplat> squares;
+  std::vector<DiscSplat> discs;
+
+  // Calls f with the span of this chunk's splats binned to `tile`, of the type `kind` names.
+  template <class F>
+  void visit(std::uint32_t tile, F&& f) const {
+    const std::uint32_t begin = offsets[tile], count = offsets[tile + 1] - begin;
+    switch (kind) {
+      case BinKind::pixels: return f(std::span(pixels).subspan(begin, count));
+      case BinKind::squares: return f(std::span(squares).subspan(begin, count));
+      case BinKind::discs: return f(std::span(discs).subspan(begin, count));
+    }
+  }
+};
+
+// Sorts one chunk's splats by tile: the projector writes them block by block at next(), add() counts their
+// tiles while they are still in L1, and sort() moves them into the chunk's bins. A chunk whose points all
+// have drawn size 1 takes the fast path instead: addPixels() keeps each as a PixelSplat keyed by its tile. A
+// chunk uses one or the other, so its splats stay in submission order. Reused from chunk to chunk, its memory
+// only grows.
+template <class Splat>
+class ChunkSorter {
+ public:
+  // Starts a chunk of at most `points` points.
+  void start(const TileGrid& grid, std::size_t points);
+  Splat* next() { return splats_.data() + size_; }
+  void add(std::size_t count);
+  void addPixels(const PixelBlock& pixels, const std::uint32_t* payloads, std::size_t count);
+  void sort(ChunkBins& bins);
+
+ private:
+  const TileGrid* grid_ = nullptr;
+  std::vector<Splat> splats_;
+  std::vector<PixelSplat> pixels_;  // from addPixels, with PixelBlock's key as `pixel`
+  std::vector<PixelSplat> sortedPixels_;
+  std::vector<Splat> sortedSplats_;
+  std::vector<std::uint32_t> counts_;
+  std::size_t size_ = 0;
+  std::size_t pixelCount_ = 0;
+  bool single_ = true;  // every splat from add() so far covers one pixel
+};
+
+extern template class ChunkSorter<SquareSplat>;
+extern template class ChunkSorter<DiscSplat>;
+
+}  // namespace pbs::points

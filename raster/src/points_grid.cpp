@@ -1,0 +1,24 @@
+// The choice of tile size for a framebuffer.
+#include "points_grid.hpp"
+
+namespace pbs::points {
+
+TileGrid makeTileGrid(std::uint32_t width, std::uint32_t height) {
+  constexpr int kMinShift = 4, kMaxShift = 8;
+  constexpr std::uint32_t kMinTiles = 64, kMaxTiles = 4096;
+  TileGrid grid;
+  grid.width = width;
+  grid.height = height;
+  const auto tilesAt = [&](int shift) {
+    const std::uint32_t size = 1u << shift;
+    return ((width + size - 1) >> shift) * ((height + size - 1) >> shift);
+  };
+  while (grid.shift < kMaxShift && tilesAt(grid.shift) > kMaxTiles) ++grid.shift;
+  while (grid.shift > kMinShift && tilesAt(grid.shift) < kMinTiles) --grid.shift;
+  const std::uint32_t size = grid.tileSize();
+  grid.columns = (width + size - 1) >> grid.shift;
+  grid.rows = (height + size - 1) >> grid.shift;
+  return grid;
+}
+
+}  // namespace pbs::points

@@ -1,0 +1,218 @@
+// Block-wise projection of points to square and disc splats (see points_splat.hpp).
+#include "points_splat.hpp"
+
+namespace pbs::points {
+
+namespace {
+
+// The block loops are also compiled for AVX2 and picked at load time: the portable x86-64 build has only SSE2,
+// for which GCC does not vectorise the double ↔ int conversions. Without FMA both versions round identically.
+#if defined(__x86_64__) && defined(__GNUC__)
+#define PBS_BLOCK_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define PBS_BLOCK_CLONES
+#endif
+
+// ceil and floor of a double well inside the int range, written so the block loops vectorise (baseline
+// x86-64 has no rounding instruction and a libm call per point would dominate).
+inline int ceilToInt(double v) {
+  const int t = static_cast<int>(v);
+  return t + (static_cast<double>(t) < v);
+}
+inline int floorToInt(double v) {
+  const int t = static_cast<int>(v);
+  return t - (static_cast<double>(t) > v);
+}
+
+// Window positions are clamped to this far outside the viewport, where no splat (half of 4096 at most) reaches
+// it; dropped points are put there too. This keeps every integer conversion in range.
+constexpr double kReach = 4100.0;
+
+// Window coordinates of one block, structure of arrays; a dropped point sits at x = −kReach, off the viewport.
+struct Window {
+  alignas(64) double x[kBlockPoints];
+  alignas(64) double y[kBlockPoints];
+  alignas(64) double half[kBlockPoints];  // half the drawn size
+  alignas(64) float depth[kBlockPoints];
+};
+
+PBS_BLOCK_CLONES
+void windowBlock(const glm::dmat4& windowFromObject, const glm::vec3* __restrict positions,
+                 const float* __restrict sizes, std::size_t n, int width, int height, Window& __restrict window) {
+  const glm::dmat4 m = windowFromObject;
+  const double low = -kReach, xHigh = width + kReach, yHigh = height + kReach;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double px = positions[i].x, py = positions[i].y, pz = positions[i].z;
+    const double x = m[0][0] * px + m[1][0] * py + m[2][0] * pz + m[3][0];
+    const double y = m[0][1] * px + m[1][1] * py + m[2][1] * pz + m[3][1];
+    const double z = m[0][2] * px + m[1][2] * py + m[2][2] * pz + m[3][2];
+    const double w = m[0][3] * px + m[1][3] * py + m[2][3] * pz + m[3][3];
+    const double inverse = 1.0 / w;
+    const double wx = x * inverse, wy = y * inverse, depth = z * inverse;
+    // Comparisons that fail for NaN, so NaN and infinite positions are dropped too.
+    const bool keep = (w > 0.0) & (depth >= 0.0) & (depth <= 1.0) & (sizes[i] > 0.0f);
+    const double cx = wx > low ? (wx < xHigh ? wx : xHigh) : low;
+    const double cy = wy > low ? (wy < yHigh ? wy : yHigh) : low;
+    window.x[i] = keep ? cx : low;
+    window.y[i] = cy;
+    window.half[i] = static_cast<double>(sizes[i]) * 0.5;
+    window.depth[i] = static_cast<float>(depth);
+  }
+}
+
+// Pixel rectangles [x0, x1) × [y0, y1) of one block, clipped to the viewport; empty for a dropped point.
+struct Rects {
+  alignas(64) int x0[kBlockPoints];
+  alignas(64) int x1[kBlockPoints];
+  alignas(64) int y0[kBlockPoints];
+  alignas(64) int y1[kBlockPoints];
+};
+
+// A square's pixels along one axis: centres c = p + 0.5 with x − s/2 ≤ c < x + s/2, clipped to [0, n) as
+// [lo, hi). "− 0.5" is exact wherever the result matters.
+inline void squareAxis(double c, double half, int n, int& lo, int& hi) {
+  lo = std::max(ceilToInt((c - half) - 0.5), 0);
+  hi = std::min(ceilToInt((c + half) - 0.5), n);
+}
+
+PBS_BLOCK_CLONES
+void squareRects(const Window& __restrict window, std::size_t n, int width, int height, Rects& __restrict rects) {
+  for (std::size_t i = 0; i < n; ++i) {
+    squareAxis(window.x[i], window.half[i], width, rects.x0[i], rects.x1[i]);
+    squareAxis(window.y[i], window.half[i], height, rects.y0[i], rects.y1[i]);
+  }
+}
+
+// PixelBlock's key of pixel (x, y), or −1 when `inside` is false.
+inline std::int32_t pixelKey(const TileGrid& grid, int x, int y, bool inside) {
+  const int mask = int(grid.tileSize()) - 1;
+  const int tile = (y >> grid.shift) * int(grid.columns) + (x >> grid.shift);
+  return inside ? tile << 16 | (y & mask) << grid.shift | (x & mask) : -1;
+}
+
+// With s = 1 the clipped span has one pixel or none; the arithmetic is squareAxis's, so the paths agree.
+PBS_BLOCK_CLONES
+void squarePixels(const Window& __restrict window, std::size_t n, const TileGrid& grid,
+                  PixelBlock& __restrict pixels) {
+  for (std::size_t i = 0; i < n; ++i) {
+    int x0, x1, y0, y1;
+    squareAxis(window.x[i], 0.5, int(grid.width), x0, x1);
+    squareAxis(window.y[i], 0.5, int(grid.height), y0, y1);
+    pixels.key[i] = pixelKey(grid, x0, y0, (x0 < x1) & (y0 < y1));
+    pixels.depth[i] = window.depth[i];
+  }
+}
+
+// No pixel centre is strictly within ½ of (x, y) but the holding pixel's, so a 1-pixel disc covers just that.
+PBS_BLOCK_CLONES
+void discPixels(const Window& __restrict window, std::size_t n, const TileGrid& grid, PixelBlock& __restrict pixels) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const int x = floorToInt(window.x[i]), y = floorToInt(window.y[i]);
+    pixels.key[i] = pixelKey(grid, x, y, (x >= 0) & (x < int(grid.width)) & (y >= 0) & (y < int(grid.height)));
+    pixels.depth[i] = window.depth[i];
+  }
+}
+
+// Along one axis: the pixels whose centre lies strictly within `radius` of c, with the one holding c, clipped to
+// [0, n). The real-number answer is corrected by one step either way with the same floating-point test as the
+// per-pixel coverage: rounding moves the edge by ulps, so by one pixel at most.
+inline void discAxis(double c, double radius, int n, int& lo, int& hi) {
+  const double radiusSquared = radius * radius;
+  const auto within = [&](int p) {
+    const double d = (p + 0.5) - c;
+    return d * d < radiusSquared;
+  };
+  int first = floorToInt(c - radius - 0.5) + 1;
+  int last = ceilToInt(c + radius - 0.5) - 1;
+  first -= within(first - 1);
+  last += within(last + 1);
+  first += !within(first);
+  last -= !within(last);
+  // A non-empty span contains the holding pixel (whose centre is the nearest), so the union is a span.
+  const int hold = floorToInt(c);
+  const bool empty = first > last;
+  lo = std::max(std::min(empty ? hold : first, hold), 0);
+  hi = std::min(std::max(empty ? hold : last, hold) + 1, n);
+}
+
+// The bounding rectangles of discs: every covered pixel lies inside, not every pixel inside is covered.
+PBS_BLOCK_CLONES
+void discRects(const Window& __restrict window, std::size_t n, int width, int height, Rects& __restrict rects) {
+  for (std::size_t i = 0; i < n; ++i) {
+    discAxis(window.x[i], window.half[i], width, rects.x0[i], rects.x1[i]);
+    discAxis(window.y[i], window.half[i], height, rects.y0[i], rects.y1[i]);
+  }
+}
+
+void setRect(SquareSplat& splat, const Rects& rects, std::size_t i, float depth, std::uint32_t payload) {
+  splat.x0 = static_cast<std::uint16_t>(rects.x0[i]);
+  splat.y0 = static_cast<std::uint16_t>(rects.y0[i]);
+  splat.x1 = static_cast<std::uint16_t>(rects.x1[i]);
+  splat.y1 = static_cast<std::uint16_t>(rects.y1[i]);
+  splat.depth = depth;
+  splat.payload = payload;
+}
+
+}  // namespace
+
+SplatProjector::SplatProjector(const Camera& camera, const glm::dmat4& clipFromObject)
+    : width_(static_cast<int>(camera.width)), height_(static_cast<int>(camera.height)) {
+  // Rows (W/2·(x + w), H/2·(w − y), (z + w)/2, w): divided by w they are camera.hpp's window x, y and depth.
+  glm::dmat4 windowFromClip(0.0);
+  windowFromClip[0][0] = camera.width / 2.0;
+  windowFromClip[1][1] = -(camera.height / 2.0);
+  windowFromClip[2][2] = 0.5;
+  windowFromClip[3] = glm::dvec4(camera.width / 2.0, camera.height / 2.0, 0.5, 1.0);
+  windowFromObject_ = windowFromClip * clipFromObject;
+}
+
+std::size_t SplatProjector::project(std::span<const glm::vec3> positions, const float* sizes,
+                                    const std::uint32_t* payloads, SquareSplat* out) const {
+  Window window;
+  windowBlock(windowFromObject_, positions.data(), sizes, positions.size(), width_, height_, window);
+  Rects rects;
+  squareRects(window, positions.size(), width_, height_, rects);
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    if (rects.x0[i] >= rects.x1[i] || rects.y0[i] >= rects.y1[i]) continue;
+    setRect(out[count++], rects, i, window.depth[i], payloads[i]);
+  }
+  return count;
+}
+
+std::size_t SplatProjector::project(std::span<const glm::vec3> positions, const float* sizes,
+                                    const std::uint32_t* payloads, DiscSplat* out) const {
+  Window window;
+  windowBlock(windowFromObject_, positions.data(), sizes, positions.size(), width_, height_, window);
+  Rects rects;
+  discRects(window, positions.size(), width_, height_, rects);
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    if (rects.x0[i] >= rects.x1[i] || rects.y0[i] >= rects.y1[i]) continue;
+    DiscSplat& splat = out[count];
+    splat.x = window.x[i];
+    splat.y = window.y[i];
+    splat.radiusSquared = window.half[i] * window.half[i];
+    splat.holdX = floorToInt(splat.x);
+    splat.holdY = floorToInt(splat.y);
+    // Splats of one pixel skip the per-pixel test later (the 1-pixel fast path), so test it here: clipping can
+    // leave a single pixel of the bounding box that the disc misses.
+    const bool onePixel = rects.x1[i] - rects.x0[i] == 1 && rects.y1[i] - rects.y0[i] == 1;
+    if (onePixel && !splat.covers(rects.x0[i], rects.y0[i])) continue;
+    setRect(splat, rects, i, window.depth[i], payloads[i]);
+    ++count;
+  }
+  return count;
+}
+
+void SplatProjector::projectPixels(std::span<const glm::vec3> positions, const float* sizes, bool round,
+                                   const TileGrid& grid, PixelBlock& pixels) const {
+  Window window;
+  windowBlock(windowFromObject_, positions.data(), sizes, positions.size(), width_, height_, window);
+  if (round)
+    discPixels(window, positions.size(), grid, pixels);
+  else
+    squarePixels(window, positions.size(), grid, pixels);
+}
+
+}  // namespace pbs::points

@@ -1,0 +1,142 @@
+// Per-tile depth test of binned splats and the final writes of the winning points.
+#include "points_tile.hpp"
+
+#include <algorithm>
+
+namespace pbs::points {
+
+namespace {
+
+// The tile's pixel rectangle in the framebuffer, and the tile-local copy of its depth and of the payloads of
+// the splats that won its pixels. A depth-only framebuffer needs no payloads, which halves the tile's footprint
+// in L1.
+template <bool kPayloads>
+struct TileView {
+  std::uint32_t x0, y0, x1, y1;
+  int shift;
+  float* depth;
+  std::uint32_t* payload;
+
+  // Strict less: on equal depth the earlier point, already tested, keeps the pixel. Branch-free, since in a
+  // dense draw about every other test changes the pixel's owner and a branch would mispredict.
+  void test(std::uint32_t local, float depth, std::uint32_t payload) const {
+    const float old = this->depth[local];
+    this->depth[local] = depth < old ? depth : old;
+    if constexpr (kPayloads) {
+      // A mask, not a conditional: GCC turns the conditional back into a branch.
+      const std::uint32_t take = 0u - static_cast<std::uint32_t>(depth < old);
+      this->payload[local] = (payload & take) | (this->payload[local] & ~take);
+    }
+  }
+
+  // test() over `count` consecutive pixels: a loop the compiler vectorises.
+  void testRow(std::uint32_t local, std::uint32_t count, float depth, std::uint32_t payload) const {
+    for (std::uint32_t i = local; i < local + count; ++i) test(i, depth, payload);
+  }
+};
+
+template <class View>
+void drawSplats(const View& view, std::span<const PixelSplat> splats) {
+  for (const PixelSplat& splat : splats) view.test(splat.pixel, splat.depth, splat.payload);
+}
+
+// The splat's rectangle clipped to the tile, row by row; `span` narrows a row to the pixels covered.
+template <class View, class Splat, class Span>
+void drawRows(const View& view, const Splat& splat, Span&& span) {
+  const std::uint32_t x0 = std::max<std::uint32_t>(splat.x0, view.x0);
+  const std::uint32_t x1 = std::min<std::uint32_t>(splat.x1, view.x1);
+  const std::uint32_t y0 = std::max<std::uint32_t>(splat.y0, view.y0);
+  const std::uint32_t y1 = std::min<std::uint32_t>(splat.y1, view.y1);
+  for (std::uint32_t y = y0; y < y1; ++y) {
+    std::uint32_t first = x0, last = x1;
+    span(y, first, last);
+    if (first < last)
+      view.testRow(((y - view.y0) << view.shift) + (first - view.x0), last - first, splat.depth, splat.payload);
+  }
+}
+
+template <class View>
+void drawSplats(const View& view, std::span<const SquareSplat> splats) {
+  for (const SquareSplat& splat : splats) drawRows(view, splat, [](std::uint32_t, std::uint32_t&, std::uint32_t&) {});
+}
+
+// A disc covers an interval of each row (around the centre, with the holding pixel next to or inside it): trim
+// the row from both ends with the exact test and fill the rest untested.
+template <class View>
+void drawSplats(const View& view, std::span<const DiscSplat> splats) {
+  for (const DiscSplat& splat : splats) {
+    drawRows(view, splat, [&](std::uint32_t y, std::uint32_t& first, std::uint32_t& last) {
+      while (first < last && !splat.covers(int(first), int(y))) ++first;
+      while (last > first && !splat.covers(int(last - 1), int(y))) --last;
+    });
+  }
+}
+
+// A tile's segments in consecutive chunks lie far apart, out of the hardware prefetcher's sight: fetch the
+// segment a few chunks ahead, and the offsets that locate it further ahead still.
+constexpr std::size_t kSegmentsAhead = 2;
+constexpr std::size_t kOffsetsAhead = 4;
+
+template <class Splat>
+void prefetch(std::span<const Splat> splats) {
+  const auto* first = reinterpret_cast<const char*>(splats.data());
+  for (const char* line = first; line < first + splats.size_bytes(); line += 64) __builtin_prefetch(line);
+}
+
+template <class View>
+void drawChunks(const View& view, std::span<const ChunkBins> chunks, std::uint32_t tile) {
+  for (std::size_t c = 0; c < chunks.size(); ++c) {
+    if (c + kOffsetsAhead < chunks.size()) __builtin_prefetch(chunks[c + kOffsetsAhead].offsets.data() + tile);
+    if (c + kSegmentsAhead < chunks.size())
+      chunks[c + kSegmentsAhead].visit(tile, [](auto splats) { prefetch(splats); });
+    chunks[c].visit(tile, [&](auto splats) { drawSplats(view, splats); });
+  }
+}
+
+template <bool kPayloads>
+void drawTileWith(Framebuffer& framebuffer, const TileGrid& grid, std::uint32_t tile,
+                  std::span<const ChunkBins> chunks, const PointSets& sets, std::uint64_t batchStart,
+                  TileScratch& scratch) {
+  const std::uint32_t size = grid.tileSize();
+  scratch.depth.resize(std::size_t(size) * size);
+  if constexpr (kPayloads) scratch.payload.resize(std::size_t(size) * size);
+  TileView<kPayloads> view;
+  view.x0 = (tile % grid.columns) << grid.shift;
+  view.y0 = (tile / grid.columns) << grid.shift;
+  view.x1 = std::min(view.x0 + size, grid.width);
+  view.y1 = std::min(view.y0 + size, grid.height);
+  view.shift = grid.shift;
+  view.depth = scratch.depth.data();
+  view.payload = scratch.payload.data();
+
+  const std::uint32_t width = view.x1 - view.x0;
+  const auto rowStart = [&](std::uint32_t y) { return std::size_t(y) * grid.width + view.x0; };
+  const auto localStart = [&](std::uint32_t y) { return std::size_t(y - view.y0) << grid.shift; };
+  for (std::uint32_t y = view.y0; y < view.y1; ++y)
+    std::copy_n(framebuffer.depth.begin() + rowStart(y), width, view.depth + localStart(y));
+
+  drawChunks(view, chunks, tile);
+
+  // Depth only goes down, so the whole row is copied back; the other channels change where it did.
+  for (std::uint32_t y = view.y0; y < view.y1; ++y) {
+    if constexpr (kPayloads)
+      sets.writeChannels(framebuffer, rowStart(y), width, view.depth + localStart(y), view.payload + localStart(y),
+                         batchStart);
+    std::copy_n(view.depth + localStart(y), width, framebuffer.depth.begin() + rowStart(y));
+  }
+}
+
+}  // namespace
+
+void drawTile(Framebuffer& framebuffer, const TileGrid& grid, std::uint32_t tile, std::span<const ChunkBins> chunks,
+              const PointSets& sets, std::uint64_t batchStart, TileScratch& scratch) {
+  if (std::none_of(chunks.begin(), chunks.end(),
+                   [&](const ChunkBins& chunk) { return chunk.offsets[tile] != chunk.offsets[tile + 1]; }))
+    return;
+  if (sets.payloadKind() == PayloadKind::none)
+    drawTileWith<false>(framebuffer, grid, tile, chunks, sets, batchStart, scratch);
+  else
+    drawTileWith<true>(framebuffer, grid, tile, chunks, sets, batchStart, scratch);
+}
+
+}  // namespace pbs::points

@@ -1,0 +1,34 @@
+// The pixels of one tile while a batch's triangles are rasterized into it: depth and the id of
+// the triangle that won each pixel, whose attributes are resolved once at the end.
+#pragma once
+
+#include "triangle_batch.hpp"
+
+#include <cstdint>
+
+namespace pbs::triangles {
+
+// Rows carry kBlockSize spare columns: a block starts at any column of the tile (a multiple of
+// four), and its lanes past the tile's edge are masked but still loaded and stored.
+inline constexpr int kTileStride = kTileSize + kBlockSize;
+
+struct TileBuffer {
+  int x0 = 0, y0 = 0;           // window pixel of the tile's first pixel
+  int width = 0, height = 0;    // ≤ kTileSize; smaller at the right and bottom of the window
+  alignas(64) float depth[kTileSize * kTileStride];
+  alignas(64) std::uint32_t ids[kTileSize * kTileStride];  // packed ids; kNoTriangle where none won
+};
+
+// Whether the triangle's pixel box meets the tile.
+inline bool overlaps(const RasterTriangle& t, const TileBuffer& tile) {
+  return t.maxX >= tile.x0 && t.minX < tile.x0 + tile.width && t.maxY >= tile.y0 && t.minY < tile.y0 + tile.height;
+}
+
+// Depth-tests the triangle's covered pixel centres in the tile (less: an equal depth keeps the
+// earlier triangle) and records its packed id where it wins.
+void rasterizeInTile(TileBuffer& tile, const RasterTriangle& triangle);
+
+// Writes the channels other than depth for every pixel a triangle of this batch won.
+void resolveTile(const TriangleBatch& batch, const TileBuffer& tile);
+
+}  // namespace pbs::triangles

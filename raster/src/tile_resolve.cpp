@@ -1,0 +1,78 @@
+// Resolving a tile: for each pixel a triangle of this batch won, its attributes are interpolated
+// once (perspective-correct) into the channels the framebuffer has; nothing else is computed.
+#include "tile_buffer.hpp"
+
+#include <cmath>
+
+namespace pbs::triangles {
+namespace {
+
+// The interpolated vertex normal, or where it has no direction (opposed or missing vertex
+// normals) the face normal; interpolated n/w has the direction of n (w > 0), so no division.
+glm::vec3 unitNormal(const float* normalPart, float dx, float dy) {
+  const glm::vec3 n = evaluatePlane<3>(normalPart, dx, dy);
+  const float length2 = glm::dot(n, n);
+  if (length2 > 1e-24f && length2 < 1e30f) return n * (1.0f / std::sqrt(length2));
+  const glm::vec3 face = loadVector<3>(normalPart + 9);
+  const float face2 = glm::dot(face, face);
+  return face2 > 0.0f && face2 < 1e30f ? face * (1.0f / std::sqrt(face2)) : glm::vec3(0.0f);
+}
+
+// Rows of the channels lie a window width apart: fetch the next row's lines for writing while
+// this row is shaded, so that the stores do not wait on them one by one.
+template <class Pixel>
+void prefetchSpan(const std::vector<Pixel>& channel, std::size_t first, int count) {
+  if (channel.empty()) return;
+  const char* begin = reinterpret_cast<const char*>(channel.data() + first);
+  const char* end = reinterpret_cast<const char*>(channel.data() + first + count);
+  for (const char* line = begin; line < end; line += 64) __builtin_prefetch(line, 1);
+}
+
+void prefetchRow(const Framebuffer& framebuffer, int x0, int y, int width) {
+  const std::size_t first = std::size_t(y) * framebuffer.width + std::size_t(x0);
+  prefetchSpan(framebuffer.position, first, width);
+  prefetchSpan(framebuffer.normal, first, width);
+  prefetchSpan(framebuffer.color, first, width);
+  prefetchSpan(framebuffer.ids, first, width);
+}
+
+}  // namespace
+
+void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
+  Framebuffer& framebuffer = batch.framebuffer;
+  const ShadingLayout& layout = batch.layout;
+  const bool color = framebuffer.has(kChannelColor), ids = framebuffer.has(kChannelIds);
+  for (int row = 0; row < tile.height; ++row) {
+    const int y = tile.y0 + row;
+    if (row + 1 < tile.height) prefetchRow(framebuffer, tile.x0, y + 1, tile.width);
+    for (int column = 0; column < tile.width; ++column) {
+      const std::uint32_t id = tile.ids[row * kTileStride + column];
+      if (id == kNoTriangle) continue;
+      const int x = tile.x0 + column;
+      const std::size_t pixel = std::size_t(y) * framebuffer.width + std::size_t(x);
+      const float* record = batch.chunks[idChunk(id)].record(idLocal(id), layout);
+      const ShadingHeader header = loadHeader(record);
+      const TriangleSpan& span = batch.spans[header.span];
+      const float dx = float(x - header.minX), dy = float(y - header.minY);
+      // w at the pixel, for the attributes interpolated over w; exactly 1 for affine spans.
+      const float w = span.affine || layout.inverseW == ShadingLayout::kAbsent
+                          ? 1.0f
+                          : 1.0f / evaluatePlane<1>(record + layout.inverseW, dx, dy).x;
+      if (layout.position != ShadingLayout::kAbsent)
+        framebuffer.position[pixel] = evaluatePlane<3>(record + layout.position, dx, dy) * w;
+      if (layout.normal != ShadingLayout::kAbsent)
+        framebuffer.normal[pixel] = unitNormal(record + layout.normal, dx, dy);
+      if (color) {
+        if (span.texture) {
+          const glm::vec2 uv = evaluatePlane<2>(record + layout.uv, dx, dy) * w;
+          framebuffer.color[pixel] = toUnorm8(span.baseColor * sampleTexture(*span.texture, uv));
+        } else {
+          framebuffer.color[pixel] = header.flatColor;
+        }
+      }
+      if (ids) framebuffer.ids[pixel] = {span.draw->nodeId, span.draw->instanceId, header.primitive};
+    }
+  }
+}
+
+}  // namespace pbs::triangles

@@ -1,0 +1,97 @@
+// One batch of triangles on its way through the stages: vertex projection, setup, binning, tiles.
+#pragma once
+
+#include "triangle_records.hpp"
+
+#include "pbs/raster/triangles.hpp"
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace pbs::triangles {
+
+// Source triangles set up and binned at once: bounds the memory of any draw list.
+inline constexpr std::uint32_t kBatchTriangles = 1u << 18;
+// Source triangles per setup task; with at most kMaxClipVertices − 2 triangles out of clipping
+// each, a chunk's output fits the 16 local bits of a packed id.
+inline constexpr std::uint32_t kChunkTriangles = 2048;
+// A triangle spanning more tiles than this is not listed in each tile's bin; the tiles scan the
+// batch's short list of such triangles instead, so bins stay bounded by triangles × 16.
+inline constexpr int kMaxBinnedTiles = 16;
+
+// A run of consecutive triangles of one draw and one mesh part.
+struct TriangleSpan {
+  const TriangleDraw* draw = nullptr;
+  glm::vec4 baseColor{1.0f};                  // the material's (white without one)
+  const Texture* texture = nullptr;           // null: not sampled (no colour channel, or no usable texture)
+  std::size_t firstIndex = 0;                 // into draw->indices
+  std::uint32_t firstPrimitive = 0;
+  std::uint32_t count = 0;       // triangles
+  std::uint32_t batchStart = 0;  // the batch position of its first triangle
+
+  glm::dmat4 clipFromObject{1.0};
+  glm::dmat4 worldFromObject{1.0};
+  glm::dmat3 normalFromObject{1.0};  // inverse transpose of the linear part
+  bool mirrored = false;             // negative determinant: front faces turn clockwise
+  bool affine = false;               // clip w ≡ 1 (orthographic): no perspective division needed
+  glm::u8vec4 flatColor{255};        // baseColor as RGBA8, for untextured triangles
+
+  // Vertices firstVertex … firstVertex + vertexCount − 1 are projected once into the batch's cache
+  // at cacheOffset; vertexCount 0 means the span's index range was too wide to cache and its
+  // vertices are projected per triangle.
+  std::uint32_t firstVertex = 0;
+  std::uint32_t vertexCount = 0;
+  std::size_t cacheOffset = 0;
+};
+
+// A vertex projected once per batch: snapped when it needs no clipping, plus the attributes the
+// channels need; one cache line. Clipping makes vertices of the same kind. Triangles that need
+// clipping recompute clip positions (clipPosition), which keeps this record small.
+struct ProjectedVertex {
+  double depth;  // window depth; with invW, x and y only valid when `inside`
+  double invW;
+  std::int32_t x, y;
+  glm::vec3 world;   // world position − positionOrigin (position and normal channels)
+  glm::vec3 normal;  // unit world normal, zero when the draw has none (normal channel)
+  glm::vec2 uv;      // texture coordinate (spans that sample a texture)
+  bool inside;       // finite, w > 0, within near, far and the guard band
+};
+
+inline glm::dvec4 clipPosition(const TriangleSpan& span, std::uint32_t index) {
+  return span.clipFromObject * glm::dvec4(glm::dvec3(span.draw->positions[index]), 1.0);
+}
+
+struct TriangleBatch {
+  TriangleBatch(Framebuffer& framebuffer, const Camera& camera, const TriangleOptions& options);
+
+  Framebuffer& framebuffer;
+  const Camera& camera;
+  TriangleOptions options;
+  ShadingLayout layout;    // per batch, from the channels and the spans
+  double guardX, guardY;   // the guard band as bounds on |x/w| and |y/w|
+  int tilesX, tilesY;
+
+  std::vector<TriangleSpan> spans;
+  std::uint32_t triangleCount = 0;
+  BatchVector<ProjectedVertex> vertices;
+  std::vector<TriangleChunk> chunks;
+  // Bins: one per tile, then one of the triangles spanning more than kMaxBinnedTiles tiles, which
+  // every tile scans. Bin b is bins[binStart[b] … binStart[b + 1]), in submission order.
+  BatchVector<std::uint32_t> tileCounts;  // per chunk, per bin: counts, then write offsets
+  BatchVector<std::uint32_t> binStart;
+  BatchVector<std::uint32_t> bins;  // packed ids
+
+  int tileCount() const { return tilesX * tilesY; }
+};
+
+// The stages, in order; each runs in parallel on the current TBB arena.
+void projectVertices(TriangleBatch& batch);
+ProjectedVertex projectVertex(const TriangleBatch& batch, const TriangleSpan& span, std::uint32_t index);
+void setupTriangles(TriangleBatch& batch);
+void binTriangles(TriangleBatch& batch);
+void rasterizeTiles(const TriangleBatch& batch);
+
+}  // namespace pbs::triangles

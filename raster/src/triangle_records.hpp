@@ -1,0 +1,128 @@
+// The compact per-triangle records that triangle setup writes and the tile rasterizer reads.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <tbb/scalable_allocator.h>
+
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace pbs::triangles {
+
+// Batch buffers come from TBB's scalable allocator, which keeps freed large blocks for reuse:
+// with the default one every draw call page-faults its buffers in afresh, about a fifth of the
+// time of a bunny view.
+template <class T>
+using BatchVector = std::vector<T, tbb::scalable_allocator<T>>;
+
+inline constexpr int kSubpixelBits = 8;
+inline constexpr std::int64_t kSubpixelScale = std::int64_t(1) << kSubpixelBits;
+inline constexpr int kTileSize = 64;   // pixels a side; each tile is one TBB task
+inline constexpr int kBlockSize = 8;   // pixels a side; the unit of trivial accept and reject
+
+// Guard band: vertices farther than 2^21 pixels from the window origin are clipped in x/y (in
+// homogeneous space, like near and far); everything within is rasterized unclipped. It keeps
+// snapped coordinates within ±2^29 subpixels, so an edge coefficient is below 2^30 and an edge
+// function at any pixel centre of a ≤ 16384² viewport sums two products below 2^60: exact in int64.
+inline constexpr double kGuardBandPixels = double(1 << 21);
+
+// A triangle as coverage and depth need it: 48 bytes.
+struct RasterTriangle {
+  std::int32_t x[3];  // snapped window positions in 1/256 pixel, ordered so that twice the signed
+  std::int32_t y[3];  // area is positive (clockwise on the y-down screen)
+  std::uint16_t minX, minY, maxX, maxY;  // the pixels whose centres its box holds, within the viewport
+  // Window depth at pixel (px, py) is (z0 + zy·dy) + zx·dx with dx = px − minX, dy = py − minY.
+  float z0, zx, zy;
+  std::uint32_t id;  // packed id of its shading record
+};
+
+// An attribute as a plane over pixel offsets dx = px − minX, dy = py − minY from the triangle's
+// first pixel: value = (c + y·dy) + x·dx (evaluatePlane). For perspective-correct interpolation
+// the planes hold attribute/w, and the value is divided by the plane of 1/w.
+template <class Value>
+struct AttributePlane {
+  Value c, x, y;
+};
+
+struct ShadingHeader {
+  std::uint32_t span;       // index into TriangleBatch::spans
+  std::uint32_t primitive;  // triangle index within its mesh
+  std::uint16_t minX, minY; // the planes' origin pixel
+  glm::u8vec4 flatColor;    // the base colour of an untextured triangle
+};
+
+// What a pixel's winner needs to fill the channels, packed into one record of floats per
+// triangle holding only the parts the framebuffer's channels use: one or two cache lines instead
+// of one per attribute array. Offsets count floats; kAbsent marks a part not stored.
+struct ShadingLayout {
+  static constexpr std::uint32_t kAbsent = 0xffffffffu;
+  static constexpr std::uint32_t kHeaderFloats = 4;
+  std::uint32_t inverseW = kAbsent;  // AttributePlane<float> where a span has perspective; (1, 0, 0) where w ≡ 1
+  std::uint32_t position = kAbsent;  // AttributePlane<glm::vec3>, world − positionOrigin
+  std::uint32_t normal = kAbsent;    // AttributePlane<glm::vec3> of vertex normals, then the face normal
+  std::uint32_t uv = kAbsent;        // AttributePlane<glm::vec2>
+  std::uint32_t stride = kHeaderFloats;
+};
+inline constexpr std::uint32_t kMaxRecordFloats = ShadingLayout::kHeaderFloats + 3 + 9 + 12 + 6;
+
+// Records are read float by float, straight into registers: copying whole parts through the
+// stack stalls on store forwarding in the per-pixel loop. Integers travel bit-cast.
+inline void storeHeader(float* record, const ShadingHeader& h) {
+  record[0] = std::bit_cast<float>(h.span);
+  record[1] = std::bit_cast<float>(h.primitive);
+  record[2] = std::bit_cast<float>(std::uint32_t(h.minX) | std::uint32_t(h.minY) << 16);
+  record[3] = std::bit_cast<float>(h.flatColor);
+}
+inline ShadingHeader loadHeader(const float* record) {
+  const std::uint32_t origin = std::bit_cast<std::uint32_t>(record[2]);
+  return {std::bit_cast<std::uint32_t>(record[0]), std::bit_cast<std::uint32_t>(record[1]),
+          std::uint16_t(origin & 0xffffu), std::uint16_t(origin >> 16), std::bit_cast<glm::u8vec4>(record[3])};
+}
+
+template <int N>
+glm::vec<N, float> loadVector(const float* p) {
+  glm::vec<N, float> v;
+  for (int i = 0; i < N; ++i) v[i] = p[i];
+  return v;
+}
+template <int N>
+void storeVector(float* p, const glm::vec<N, float>& v) {
+  for (int i = 0; i < N; ++i) p[i] = v[i];
+}
+
+// The value of a stored plane at a pixel, component by component in registers.
+template <int N>
+glm::vec<N, float> evaluatePlane(const float* plane, float dx, float dy) {
+  glm::vec<N, float> v;
+  for (int i = 0; i < N; ++i) v[i] = (plane[i] + plane[2 * N + i] * dy) + plane[N + i] * dx;
+  return v;
+}
+template <int N>
+void storePlane(float* p, const AttributePlane<glm::vec<N, float>>& plane) {
+  storeVector(p, plane.c);
+  storeVector(p + N, plane.x);
+  storeVector(p + 2 * N, plane.y);
+}
+
+// What one setup task produced, in submission order: raster[i] and shading record i belong together.
+struct TriangleChunk {
+  BatchVector<RasterTriangle> raster;
+  BatchVector<float> shading;  // raster.size() records of ShadingLayout::stride floats
+
+  const float* record(std::uint32_t local, const ShadingLayout& layout) const {
+    return shading.data() + std::size_t(local) * layout.stride;
+  }
+};
+
+// Triangles are named by chunk and position within it; the packed id grows with submission order.
+inline constexpr int kLocalIdBits = 16;
+inline constexpr std::uint32_t kNoTriangle = 0xffffffffu;
+inline std::uint32_t packTriangleId(std::uint32_t chunk, std::uint32_t local) {
+  return (chunk << kLocalIdBits) | local;
+}
+inline std::uint32_t idChunk(std::uint32_t id) { return id >> kLocalIdBits; }
+inline std::uint32_t idLocal(std::uint32_t id) { return id & ((1u << kLocalIdBits) - 1); }
+
+}  // namespace pbs::triangles

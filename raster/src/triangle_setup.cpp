@@ -1,0 +1,268 @@
+// Triangle setup: per source triangle, clipping where needed, snapping, culling, the pixel box,
+// the depth plane and the attribute planes of its shading record, and the bin counts.
+// Parallel over chunks of source triangles; each chunk's output keeps submission order.
+#include "homogeneous_clip.hpp"
+#include "tile_bins.hpp"
+#include "triangle_batch.hpp"
+#include "window_snap.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace pbs::triangles {
+namespace {
+
+// The source triangle: what identifies it in the ids channel, and its vertices' world positions
+// for the face normal.
+struct SourceTriangle {
+  std::uint32_t span;
+  std::uint32_t primitive;
+  std::uint32_t index[3];
+  const ProjectedVertex* vertex[3];
+};
+
+// Screen-space barycentrics of vertices 1 and 2 as planes over pixel offsets, so an attribute
+// is a0 + λ1·(a1 − a0) + λ2·(a2 − a0).
+struct Barycentrics {
+  double c[2], x[2], y[2];
+};
+
+AttributePlane<double> deltaPlane(const Barycentrics& l, double a0, double a1, double a2) {
+  const double d1 = a1 - a0, d2 = a2 - a0;
+  return {a0 + l.c[0] * d1 + l.c[1] * d2, l.x[0] * d1 + l.x[1] * d2, l.y[0] * d1 + l.y[1] * d2};
+}
+
+// Attributes travel in float: relative to positionOrigin and to vertex 0, a float plane keeps
+// far more digits than the float channel it fills.
+template <int N>
+void storeAttribute(float* out, const AttributePlane<glm::vec2>& l, const glm::vec<N, float>& a0,
+                    const glm::vec<N, float>& a1, const glm::vec<N, float>& a2) {
+  const glm::vec<N, float> d1 = a1 - a0, d2 = a2 - a0;
+  storePlane<N>(out, {a0 + d1 * l.c.x + d2 * l.c.y, d1 * l.x.x + d2 * l.x.y, d1 * l.y.x + d2 * l.y.y});
+}
+
+class ChunkWriter {
+ public:
+  ChunkWriter(TriangleBatch& batch, std::uint32_t chunkIndex)
+      : batch_(batch),
+        layout_(batch.layout),
+        chunk_(batch.chunks[chunkIndex]),
+        chunkIndex_(chunkIndex),
+        binCounts_(batch.tileCounts.data() + chunkIndex * binCount(batch)) {}
+
+  void emit(const SourceTriangle& source, const ProjectedVertex* v0, const ProjectedVertex* v1,
+            const ProjectedVertex* v2) {
+    std::int64_t area2 = (std::int64_t(v1->x) - v0->x) * (std::int64_t(v2->y) - v0->y) -
+                         (std::int64_t(v1->y) - v0->y) * (std::int64_t(v2->x) - v0->x);
+    if (area2 == 0) return;
+    const TriangleSpan& span = batch_.spans[source.span];
+    // Negative area is counter-clockwise in clip space (y up): a front face unless mirrored.
+    const bool front = (area2 < 0) != span.mirrored;
+    if (batch_.options.cullBackFaces && !front) return;
+    if (area2 < 0) {
+      std::swap(v1, v2);
+      area2 = -area2;
+    }
+
+    // Pixels whose centres 256·p + 128 lie within the snapped box.
+    const auto [minX, maxX] = std::minmax({v0->x, v1->x, v2->x});
+    const auto [minY, maxY] = std::minmax({v0->y, v1->y, v2->y});
+    const std::int64_t half = kSubpixelScale / 2;
+    const std::int64_t px0 = std::max<std::int64_t>(0, (minX - half + kSubpixelScale - 1) >> kSubpixelBits);
+    const std::int64_t px1 = std::min<std::int64_t>(batch_.framebuffer.width - 1, (maxX - half) >> kSubpixelBits);
+    const std::int64_t py0 = std::max<std::int64_t>(0, (minY - half + kSubpixelScale - 1) >> kSubpixelBits);
+    const std::int64_t py1 = std::min<std::int64_t>(batch_.framebuffer.height - 1, (maxY - half) >> kSubpixelBits);
+    if (px0 > px1 || py0 > py1) return;
+
+    // λ of vertex 1 is the edge function of edge 2 → 0 over twice the area, λ of vertex 2 that of
+    // edge 0 → 1 (exact in int64 up to the division), as planes from the box's first pixel centre.
+    const std::int64_t ox = px0 * kSubpixelScale + half, oy = py0 * kSubpixelScale + half;
+    const double inverseArea = 1.0 / double(area2);
+    Barycentrics l;
+    const ProjectedVertex* edgeStart[2] = {v2, v0};
+    const ProjectedVertex* edgeEnd[2] = {v0, v1};
+    for (int i = 0; i < 2; ++i) {
+      const ProjectedVertex& a = *edgeStart[i];
+      const ProjectedVertex& b = *edgeEnd[i];
+      const std::int64_t edgeA = std::int64_t(a.y) - b.y, edgeB = std::int64_t(b.x) - a.x;
+      l.c[i] = double(edgeA * (ox - a.x) + edgeB * (oy - a.y)) * inverseArea;
+      l.x[i] = double(edgeA * kSubpixelScale) * inverseArea;
+      l.y[i] = double(edgeB * kSubpixelScale) * inverseArea;
+    }
+    const AttributePlane<double> depth = deltaPlane(l, v0->depth, v1->depth, v2->depth);
+    const std::uint32_t local = std::uint32_t(chunk_.raster.size());
+    const RasterTriangle& raster = chunk_.raster.emplace_back(RasterTriangle{
+        {v0->x, v1->x, v2->x}, {v0->y, v1->y, v2->y}, std::uint16_t(px0), std::uint16_t(py0), std::uint16_t(px1),
+        std::uint16_t(py1), float(depth.c), float(depth.x), float(depth.y), packTriangleId(chunkIndex_, local)});
+    forEachBin(batch_, raster, [&](int bin) { ++binCounts_[bin]; });
+    appendRecord(source, span, l, v0, v1, v2, std::uint16_t(px0), std::uint16_t(py0));
+  }
+
+ private:
+  void appendRecord(const SourceTriangle& source, const TriangleSpan& span, const Barycentrics& l,
+                    const ProjectedVertex* v0, const ProjectedVertex* v1, const ProjectedVertex* v2, std::uint16_t px0,
+                    std::uint16_t py0) {
+    float record[kMaxRecordFloats];
+    storeHeader(record, ShadingHeader{source.span, source.primitive, px0, py0, span.flatColor});
+    // 1/w and a/w are affine in the window, so dividing one by the other is perspective-correct.
+    // Where w ≡ 1 the plane is exactly 1, so the division changes nothing and can be skipped.
+    if (layout_.inverseW != ShadingLayout::kAbsent) {
+      const AttributePlane<double> q =
+          span.affine ? AttributePlane<double>{1.0, 0.0, 0.0} : deltaPlane(l, v0->invW, v1->invW, v2->invW);
+      storePlane<1>(record + layout_.inverseW,
+                    {glm::vec1(float(q.c)), glm::vec1(float(q.x)), glm::vec1(float(q.y))});
+    }
+    const AttributePlane<glm::vec2> lf{
+        {float(l.c[0]), float(l.c[1])}, {float(l.x[0]), float(l.x[1])}, {float(l.y[0]), float(l.y[1])}};
+    const float w0 = float(v0->invW), w1 = float(v1->invW), w2 = float(v2->invW);
+    if (layout_.position != ShadingLayout::kAbsent)
+      storeAttribute<3>(record + layout_.position, lf, v0->world * w0, v1->world * w1, v2->world * w2);
+    if (layout_.normal != ShadingLayout::kAbsent) {
+      storeAttribute<3>(record + layout_.normal, lf, v0->normal * w0, v1->normal * w1, v2->normal * w2);
+      storeVector(record + layout_.normal + 9, faceNormal(source, span.mirrored));
+    }
+    if (layout_.uv != ShadingLayout::kAbsent)
+      storeAttribute<2>(record + layout_.uv, lf, v0->uv * w0, v1->uv * w1, v2->uv * w2);
+    chunk_.shading.insert(chunk_.shading.end(), record, record + layout_.stride);
+  }
+
+  static glm::vec3 faceNormal(const SourceTriangle& source, bool mirrored) {
+    const glm::vec3 a = source.vertex[1]->world - source.vertex[0]->world;
+    const glm::vec3 b = source.vertex[2]->world - source.vertex[0]->world;
+    // A mirroring transform turns the object's counter-clockwise winding clockwise in the world.
+    return glm::cross(a, b) * (mirrored ? -1.0f : 1.0f);
+  }
+
+  const TriangleBatch& batch_;
+  const ShadingLayout& layout_;
+  TriangleChunk& chunk_;
+  std::uint32_t chunkIndex_;
+  std::uint32_t* binCounts_;
+};
+
+bool isFinite(const glm::dvec4& c) {
+  return std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z) && std::isfinite(c.w);
+}
+
+// A source triangle that leaves near, far or the guard band: clipped, snapped, fanned from the
+// polygon's first vertex (as the reference pipeline does); attributes follow the barycentrics.
+void emitClipped(const TriangleBatch& batch, ChunkWriter& writer, const SourceTriangle& source) {
+  const TriangleSpan& span = batch.spans[source.span];
+  const ClipVertex triangle[3] = {{clipPosition(span, source.index[0]), {1.0, 0.0, 0.0}},
+                                  {clipPosition(span, source.index[1]), {0.0, 1.0, 0.0}},
+                                  {clipPosition(span, source.index[2]), {0.0, 0.0, 1.0}}};
+  if (!(isFinite(triangle[0].clip) && isFinite(triangle[1].clip) && isFinite(triangle[2].clip))) return;
+  ClipVertex polygon[kMaxClipVertices];
+  const int count = clipTriangle(triangle, batch.guardX, batch.guardY, polygon);
+  ProjectedVertex clipped[kMaxClipVertices];
+  const ProjectedVertex* const* s = source.vertex;
+  for (int i = 0; i < count; ++i) {
+    // w > 0 holds after near and far clipping for any projection that keeps the eye outside the
+    // volume; a polygon touching w = 0 has no window position.
+    if (!(polygon[i].clip.w > 0.0)) return;
+    const WindowVertex window = snapToWindow(batch.camera, polygon[i].clip);
+    const glm::vec3 b(polygon[i].barycentric);
+    clipped[i] = {window.depth,
+                  window.invW,
+                  window.x,
+                  window.y,
+                  b.x * s[0]->world + b.y * s[1]->world + b.z * s[2]->world,
+                  b.x * s[0]->normal + b.y * s[1]->normal + b.z * s[2]->normal,
+                  b.x * s[0]->uv + b.y * s[1]->uv + b.z * s[2]->uv,
+                  true};
+  }
+  for (int i = 1; i + 1 < count; ++i) writer.emit(source, &clipped[0], &clipped[i], &clipped[i + 1]);
+}
+
+void setupChunk(TriangleBatch& batch, std::uint32_t chunkIndex) {
+  TriangleChunk& chunk = batch.chunks[chunkIndex];
+  chunk.raster.clear();
+  chunk.shading.clear();
+  chunk.raster.reserve(kChunkTriangles);
+  chunk.shading.reserve(std::size_t(kChunkTriangles) * batch.layout.stride);
+  std::fill_n(batch.tileCounts.data() + chunkIndex * binCount(batch), binCount(batch), 0u);
+  ChunkWriter writer(batch, chunkIndex);
+
+  const std::uint32_t begin = chunkIndex * kChunkTriangles;
+  const std::uint32_t end = std::min(begin + kChunkTriangles, batch.triangleCount);
+  const auto spanAfter = std::upper_bound(batch.spans.begin(), batch.spans.end(), begin,
+                                          [](std::uint32_t position, const TriangleSpan& span) {
+                                            return position < span.batchStart;
+                                          });
+  std::uint32_t spanIndex = std::uint32_t(spanAfter - batch.spans.begin()) - 1;
+  ProjectedVertex projected[3];
+  for (std::uint32_t position = begin; position < end; ++position) {
+    while (position >= batch.spans[spanIndex].batchStart + batch.spans[spanIndex].count) ++spanIndex;
+    const TriangleSpan& span = batch.spans[spanIndex];
+    const TriangleDraw& draw = *span.draw;
+    const std::uint32_t local = position - span.batchStart;
+    const std::size_t first = span.firstIndex + std::size_t(local) * 3;
+    const std::uint32_t* indices = draw.indices.data() + first;
+    // Cached vertices are read in index order, not memory order: fetch a few triangles ahead.
+    constexpr std::size_t kAhead = 8 * 3;
+    if (span.vertexCount > 0 && local + kAhead / 3 < span.count)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t ahead = indices[kAhead + k] - span.firstVertex;
+        if (ahead < span.vertexCount) __builtin_prefetch(&batch.vertices[span.cacheOffset + ahead]);
+      }
+
+    SourceTriangle source{spanIndex, span.firstPrimitive + local, {indices[0], indices[1], indices[2]}, {}};
+    bool valid = true;
+    for (int k = 0; k < 3 && valid; ++k) {
+      const std::uint32_t index = indices[k];
+      valid = index < draw.positions.size();
+      if (!valid) break;
+      if (span.vertexCount > 0) {
+        source.vertex[k] = &batch.vertices[span.cacheOffset + (index - span.firstVertex)];
+      } else {
+        projected[k] = projectVertex(batch, span, index);
+        source.vertex[k] = &projected[k];
+      }
+    }
+    if (!valid) continue;
+    const ProjectedVertex* const* v = source.vertex;
+    if (v[0]->inside && v[1]->inside && v[2]->inside)
+      writer.emit(source, v[0], v[1], v[2]);
+    else
+      emitClipped(batch, writer, source);
+  }
+}
+
+ShadingLayout shadingLayout(const TriangleBatch& batch) {
+  const Framebuffer& framebuffer = batch.framebuffer;
+  const auto any = [&](auto predicate) { return std::any_of(batch.spans.begin(), batch.spans.end(), predicate); };
+  const bool sampled = any([](const TriangleSpan& span) { return span.texture != nullptr; });
+  const bool perspective = any([](const TriangleSpan& span) { return !span.affine; });
+  ShadingLayout layout;
+  const auto add = [&](std::uint32_t& offset, std::uint32_t floats) {
+    offset = layout.stride;
+    layout.stride += floats;
+  };
+  // Untextured colour is flat per triangle (in the header); every other channel interpolates,
+  // positions and uvs over w where some span has a perspective projection (normals are
+  // normalised anyway, and 1/w > 0 does not turn them).
+  if (perspective && (framebuffer.has(kChannelPosition) || sampled)) add(layout.inverseW, 3);
+  if (framebuffer.has(kChannelPosition)) add(layout.position, 9);
+  if (framebuffer.has(kChannelNormal)) add(layout.normal, 12);
+  if (sampled) add(layout.uv, 6);
+  return layout;
+}
+
+}  // namespace
+
+void setupTriangles(TriangleBatch& batch) {
+  batch.layout = shadingLayout(batch);
+  const std::uint32_t chunkCount = (batch.triangleCount + kChunkTriangles - 1) / kChunkTriangles;
+  batch.chunks.resize(chunkCount);
+  batch.tileCounts.resize(chunkCount * binCount(batch));
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, chunkCount, 1),
+                    [&](const tbb::blocked_range<std::uint32_t>& r) {
+                      for (std::uint32_t c = r.begin(); c < r.end(); ++c) setupChunk(batch, c);
+                    });
+}
+
+}  // namespace pbs::triangles

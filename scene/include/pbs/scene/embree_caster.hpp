@@ -1,0 +1,48 @@
+// Ray casting a scene with Embree 3 into the rasterizer's G-buffer: the reference that checks the
+// rasterizer's visibility, and a peer it is benchmarked against.
+#pragma once
+
+#include "pbs/raster/camera.hpp"
+#include "pbs/raster/framebuffer.hpp"
+#include "pbs/scene/hierarchy.hpp"
+#include "pbs/scene/scene.hpp"
+
+#include <memory>
+
+namespace pbs {
+
+// Build once, cast many cameras. One bottom-level BVH per mesh that some node uses, shared by all
+// its instances; a top-level BVH of the instances (node world transforms).
+//
+// Embree works in single precision, so its world is translated by origin() (the centre of the
+// scene's bounds): instance transforms and ray origins are made relative to it in double before
+// rounding, and far-from-origin scenes keep their digits. Every result is in world space.
+class EmbreeScene {
+ public:
+  // Builds the BVHs (this is the whole build cost; time it here). `scene` and `hierarchy` (from
+  // analyzeHierarchy(scene)) must outlive this object and stay unchanged: render reads meshes,
+  // materials, textures and world transforms from them rather than keep copies. Embree errors throw
+  // std::runtime_error.
+  EmbreeScene(const Scene& scene, const Hierarchy& hierarchy);
+  ~EmbreeScene();
+  EmbreeScene(EmbreeScene&&) noexcept;  // a moved-from EmbreeScene may only be destroyed or assigned to
+  EmbreeScene& operator=(EmbreeScene&&) noexcept;
+
+  // Overwrites every pixel of the channels `framebuffer` has, with the rasterizer's conventions:
+  // one ray per pixel centre (windowRay); the nearest hit inside the camera's near/far range gives
+  // depth (windowDepth of the hit point), colour (material base colour × bilinear texture, RGBA8),
+  // position (hit − positionOrigin), normal (interpolated vertex normal through the
+  // inverse-transpose, unit length) and ids (node, mesh, triangle); a miss gives the cleared values.
+  // Faces are never culled. Runs on the current TBB arena, 16-ray packets of 4×4 pixels; the
+  // result does not depend on the thread count. Throws std::invalid_argument when the framebuffer
+  // is not the camera's size.
+  void render(const Camera& camera, Framebuffer& framebuffer) const;
+
+  const glm::dvec3& origin() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;  // holds the Embree objects, so no Embree header leaks out of here
+};
+
+}  // namespace pbs

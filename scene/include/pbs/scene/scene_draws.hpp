@@ -1,0 +1,44 @@
+// Drawing a scene's mesh instances with the rasterizer: the one place that turns the scene model
+// into TriangleDraws (used by capture, exact rendering and the comparison with the ray caster).
+#pragma once
+
+#include "pbs/raster/bounds.hpp"
+#include "pbs/raster/camera.hpp"
+#include "pbs/raster/framebuffer.hpp"
+#include "pbs/raster/triangles.hpp"
+#include "pbs/scene/hierarchy.hpp"
+#include "pbs/scene/scene.hpp"
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace pbs {
+
+// Scene::materials as the rasterizer sees them, converted once per scene. Texture pointers point
+// into Scene::textures, so the Scene must outlive this object.
+struct SceneMaterials {
+  std::vector<SurfaceMaterial> textured;    // texture bound where the material has one
+  std::vector<SurfaceMaterial> untextured;  // the same without textures: for meshes with no uvs
+
+  // A mesh without uvs cannot sample a texture; it shows the base colour factor alone.
+  std::span<const SurfaceMaterial> forMesh(const Mesh& mesh) const {
+    return mesh.uvs.empty() ? std::span<const SurfaceMaterial>(untextured) : std::span<const SurfaceMaterial>(textured);
+  }
+};
+
+SceneMaterials makeSceneMaterials(const Scene& scene);
+
+// A world box around node `node`'s own mesh (not its subtree); empty for nodes without a mesh.
+Bounds instanceWorldBounds(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node);
+
+// True when the box lies entirely outside one plane of the camera's clip volume. Conservative:
+// a box that may show any pixel is never reported outside.
+bool outsideClipVolume(const Camera& camera, const Bounds& worldBox);
+
+// Draws every mesh instance (nodes in index order; PixelIds: node = node index, instance = mesh
+// index, primitive = triangle index in the mesh), skipping instances outside the clip volume.
+void drawSceneTriangles(const Scene& scene, const Hierarchy& hierarchy, const Camera& camera,
+                        Framebuffer& framebuffer, const TriangleOptions& options = {});
+
+}  // namespace pbs

@@ -1,0 +1,49 @@
+// Creates Embree objects behind owners, on a device that turns every Embree error into an exception.
+#include "embree_handles.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace pbs {
+namespace {
+
+const char* errorName(RTCError code) {
+  switch (code) {
+    case RTC_ERROR_NONE: return "no error";
+    case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
+    case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
+    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
+    case RTC_ERROR_CANCELLED: return "cancelled";
+    default: return "unknown error";
+  }
+}
+
+[[noreturn]] void throwEmbreeError(RTCError code, const char* message) {
+  throw std::runtime_error(std::string("Embree: ") + errorName(code) + (message ? std::string(": ") + message : ""));
+}
+
+// Embree calls this on the thread of the failing API call, which the exception then leaves.
+void onEmbreeError(void*, RTCError code, const char* message) { throwEmbreeError(code, message); }
+
+}  // namespace
+
+EmbreeDevice makeEmbreeDevice() {
+  EmbreeDevice device(rtcNewDevice(nullptr));
+  // A device that failed to start has no callback yet: its error is kept for the null device.
+  if (!device) throwEmbreeError(rtcGetDeviceError(nullptr), "could not create a device");
+  rtcSetDeviceErrorFunction(device.get(), onEmbreeError, nullptr);
+  return device;
+}
+
+EmbreeSceneHandle makeEmbreeScene(RTCDevice device, RTCSceneFlags flags) {
+  EmbreeSceneHandle scene(rtcNewScene(device));
+  rtcSetSceneFlags(scene.get(), flags);
+  return scene;
+}
+
+EmbreeGeometry makeEmbreeGeometry(RTCDevice device, RTCGeometryType type) {
+  return EmbreeGeometry(rtcNewGeometry(device, type));
+}
+
+}  // namespace pbs

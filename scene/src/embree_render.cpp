@@ -1,0 +1,80 @@
+// Renders an EmbreeScene: coherent 16-ray packets over 4×4 pixel blocks, rows of blocks in parallel.
+#include "embree_rays.hpp"
+#include "embree_scene_impl.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <stdexcept>
+
+namespace pbs {
+namespace {
+
+constexpr std::uint32_t kBlock = 4;  // 4×4 pixels, one rtcIntersect16 packet
+
+}  // namespace
+
+void EmbreeScene::render(const Camera& camera, Framebuffer& framebuffer) const {
+  if (framebuffer.width != camera.width || framebuffer.height != camera.height)
+    throw std::invalid_argument("EmbreeScene::render: the framebuffer is not the size of the camera's viewport");
+  const Impl& impl = *impl_;
+  const ShadingView view{&camera, camera.clipFromWorld()};
+  const WindowRays rays(camera);
+  const std::uint32_t blocksX = (camera.width + kBlock - 1) / kBlock;
+  const std::uint32_t blocksY = (camera.height + kBlock - 1) / kBlock;
+
+  // Every pixel depends on its own ray only, so any split of the rows gives the same image.
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, blocksY), [&](const tbb::blocked_range<std::uint32_t>& rows) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    RTCRayHit16 packet;
+    alignas(64) int valid[16];
+    std::size_t pixels[16];
+
+    for (std::uint32_t by = rows.begin(); by != rows.end(); ++by) {
+      for (std::uint32_t bx = 0; bx < blocksX; ++bx) {
+        for (std::uint32_t lane = 0; lane < 16; ++lane) {
+          const std::uint32_t px = bx * kBlock + lane % kBlock;
+          const std::uint32_t py = by * kBlock + lane / kBlock;
+          valid[lane] = 0;
+          if (px >= camera.width || py >= camera.height) continue;
+          pixels[lane] = std::size_t(py) * camera.width + px;
+          const RaySegment segment = rays.at(px + 0.5, py + 0.5);
+          if (!(segment.tNear <= segment.tFar)) {
+            clearPixel(framebuffer, pixels[lane]);
+            continue;
+          }
+          valid[lane] = -1;
+          const Ray& ray = segment.ray;
+          const glm::vec3 origin(ray.origin - impl.origin);
+          packet.ray.org_x[lane] = origin.x;
+          packet.ray.org_y[lane] = origin.y;
+          packet.ray.org_z[lane] = origin.z;
+          packet.ray.dir_x[lane] = float(ray.direction.x);
+          packet.ray.dir_y[lane] = float(ray.direction.y);
+          packet.ray.dir_z[lane] = float(ray.direction.z);
+          packet.ray.tnear[lane] = float(segment.tNear);
+          packet.ray.tfar[lane] = float(segment.tFar);
+          packet.ray.time[lane] = 0.0f;
+          packet.ray.mask[lane] = 0xffffffffu;
+          packet.ray.flags[lane] = 0;
+          packet.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+          packet.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect16(valid, impl.top.get(), &context, &packet);
+        for (std::uint32_t lane = 0; lane < 16; ++lane) {
+          if (!valid[lane]) continue;
+          if (packet.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) {
+            clearPixel(framebuffer, pixels[lane]);
+            continue;
+          }
+          shadeHit(view, impl.instances[packet.hit.instID[0][lane]], packet.hit.primID[lane], packet.hit.u[lane],
+                   packet.hit.v[lane], framebuffer, pixels[lane]);
+        }
+      }
+    }
+  });
+}
+
+}  // namespace pbs

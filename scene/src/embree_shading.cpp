@@ -1,0 +1,78 @@
+// Ray-hit shading for the Embree caster: interpolates the hit triangle's attributes exactly as the
+// rasterizer's channels define them.
+#include "embree_shading.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pbs {
+namespace {
+
+// The part holding `triangle`: parts cover the indices in order, so the last one starting at or
+// before it.
+const MeshPart& partOf(const Mesh& mesh, std::uint32_t triangle) {
+  const auto after = std::upper_bound(mesh.parts.begin(), mesh.parts.end(), std::uint64_t(triangle) * 3,
+                                      [](std::uint64_t index, const MeshPart& part) { return index < part.firstIndex; });
+  return *(after - 1);
+}
+
+}  // namespace
+
+void shadeHit(const ShadingView& view, const ShadedInstance& instance, std::uint32_t triangle, float u, float v,
+              Framebuffer& framebuffer, std::size_t pixel) {
+  const Mesh& mesh = *instance.mesh;
+  const std::uint32_t i0 = mesh.indices[std::size_t(triangle) * 3 + 0];
+  const std::uint32_t i1 = mesh.indices[std::size_t(triangle) * 3 + 1];
+  const std::uint32_t i2 = mesh.indices[std::size_t(triangle) * 3 + 2];
+  const double b1 = u;
+  const double b2 = v;
+  const double b0 = 1.0 - b1 - b2;
+
+  // The hit point from the barycentrics on the double-precision triangle rather than from the ray's
+  // float t: it lies on the triangle's plane, as the rasterizer's interpolated depth does.
+  const glm::dvec3 object = b0 * glm::dvec3(mesh.positions[i0]) + b1 * glm::dvec3(mesh.positions[i1]) +
+                            b2 * glm::dvec3(mesh.positions[i2]);
+  const glm::dvec3 world = glm::dvec3(*instance.worldFromObject * glm::dvec4(object, 1.0));
+  const double depth = windowFromClip(*view.camera, view.clipFromWorld * glm::dvec4(world, 1.0)).z;
+  // The near/far interval of the ray already bounds the hit; rounding may still step just outside.
+  framebuffer.depth[pixel] = float(std::clamp(depth, 0.0, 1.0));
+
+  if (framebuffer.has(kChannelColor)) {
+    const SurfaceMaterial& material = instance.materials[partOf(mesh, triangle).material];
+    glm::vec4 color = material.baseColor;
+    if (material.texture && isSampleable(*material.texture)) {
+      const glm::vec2 uv = float(b0) * mesh.uvs[i0] + float(b1) * mesh.uvs[i1] + float(b2) * mesh.uvs[i2];
+      color *= sampleTexture(*material.texture, uv);
+    }
+    framebuffer.color[pixel] = toUnorm8(color);
+  }
+  if (framebuffer.has(kChannelPosition)) framebuffer.position[pixel] = glm::vec3(world - framebuffer.positionOrigin);
+  if (framebuffer.has(kChannelNormal)) {
+    // Computed per hit rather than stored per instance; cheap beside the rest of the shading.
+    const glm::dmat3 normalFromObject = glm::transpose(glm::inverse(glm::dmat3(*instance.worldFromObject)));
+    // As the rasterizer does it: each vertex normal to world space and unit length, then interpolated.
+    const auto worldNormal = [&](std::uint32_t index) {
+      const glm::dvec3 n = normalFromObject * glm::dvec3(mesh.normals[index]);
+      const double length = glm::length(n);
+      return length > 0.0 && std::isfinite(length) ? n / length : glm::dvec3(0.0);
+    };
+    glm::dvec3 normal = b0 * worldNormal(i0) + b1 * worldNormal(i1) + b2 * worldNormal(i2);
+    // Opposite vertex normals can cancel; the face's own normal is then the only direction there is.
+    if (!(glm::dot(normal, normal) > 1e-24)) {
+      const glm::dvec3 p0(mesh.positions[i0]);
+      normal = normalFromObject * glm::cross(glm::dvec3(mesh.positions[i1]) - p0, glm::dvec3(mesh.positions[i2]) - p0);
+    }
+    framebuffer.normal[pixel] = glm::vec3(glm::normalize(normal));
+  }
+  if (framebuffer.has(kChannelIds)) framebuffer.ids[pixel] = PixelIds{instance.node, instance.meshIndex, triangle};
+}
+
+void clearPixel(Framebuffer& framebuffer, std::size_t pixel) {
+  framebuffer.depth[pixel] = kClearDepth;
+  if (framebuffer.has(kChannelColor)) framebuffer.color[pixel] = glm::u8vec4(0);
+  if (framebuffer.has(kChannelPosition)) framebuffer.position[pixel] = glm::vec3(0.0f);
+  if (framebuffer.has(kChannelNormal)) framebuffer.normal[pixel] = glm::vec3(0.0f);
+  if (framebuffer.has(kChannelIds)) framebuffer.ids[pixel] = PixelIds{};
+}
+
+}  // namespace pbs

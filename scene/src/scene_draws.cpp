@@ -1,0 +1,74 @@
+// Turns the scene model into TriangleDraws, culls instances outside the view and draws the rest.
+#include "pbs/scene/scene_draws.hpp"
+
+#include <algorithm>
+#include <array>
+
+namespace pbs {
+
+SceneMaterials makeSceneMaterials(const Scene& scene) {
+  SceneMaterials result;
+  result.textured.reserve(scene.materials.size());
+  result.untextured.reserve(scene.materials.size());
+  for (const Material& material : scene.materials) {
+    const Texture* texture =
+        material.baseColorTexture >= 0 ? &scene.textures[std::size_t(material.baseColorTexture)] : nullptr;
+    result.textured.push_back({material.baseColorFactor, texture});
+    result.untextured.push_back({material.baseColorFactor, nullptr});
+  }
+  return result;
+}
+
+Bounds instanceWorldBounds(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node) {
+  const std::int32_t mesh = scene.nodes[node].mesh;
+  if (mesh < 0) return {};
+  // Both boxes hold the mesh's world vertices: the transformed corners (loose under rotation) and
+  // the exact subtree box (loose when the node has children), so their intersection does too.
+  const Bounds corners = transformCorners(scene.meshes[std::size_t(mesh)].bounds, hierarchy.world[node]);
+  const Bounds& subtree = hierarchy.worldBounds[node];
+  Bounds result;
+  result.min = glm::max(corners.min, subtree.min);
+  result.max = glm::min(corners.max, subtree.max);
+  return result;
+}
+
+bool outsideClipVolume(const Camera& camera, const Bounds& worldBox) {
+  if (worldBox.empty()) return true;
+  const glm::dmat4 clipFromWorld = camera.clipFromWorld();
+  // Signed distances to the six planes −w ≤ x, y, z ≤ w; outside one plane with all eight corners
+  // means outside the volume (the converse does not hold, which only makes the test conservative).
+  std::array<bool, 6> allOutside{true, true, true, true, true, true};
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 p{(corner & 1) ? worldBox.max.x : worldBox.min.x, (corner & 2) ? worldBox.max.y : worldBox.min.y,
+                       (corner & 4) ? worldBox.max.z : worldBox.min.z};
+    const glm::dvec4 c = clipFromWorld * glm::dvec4(p, 1.0);
+    const std::array<double, 6> distance{c.w + c.x, c.w - c.x, c.w + c.y, c.w - c.y, c.w + c.z, c.w - c.z};
+    for (int plane = 0; plane < 6; ++plane) allOutside[plane] = allOutside[plane] && distance[plane] < 0.0;
+  }
+  return std::any_of(allOutside.begin(), allOutside.end(), [](bool outside) { return outside; });
+}
+
+void drawSceneTriangles(const Scene& scene, const Hierarchy& hierarchy, const Camera& camera,
+                        Framebuffer& framebuffer, const TriangleOptions& options) {
+  const SceneMaterials materials = makeSceneMaterials(scene);
+  std::vector<TriangleDraw> draws;
+  for (std::uint32_t node = 0; node < scene.nodes.size(); ++node) {
+    const std::int32_t meshIndex = scene.nodes[node].mesh;
+    if (meshIndex < 0 || outsideClipVolume(camera, instanceWorldBounds(scene, hierarchy, node))) continue;
+    const Mesh& mesh = scene.meshes[std::size_t(meshIndex)];
+    TriangleDraw draw;
+    draw.positions = mesh.positions;
+    draw.normals = mesh.normals;
+    draw.uvs = mesh.uvs;
+    draw.indices = mesh.indices;
+    draw.parts = mesh.parts;
+    draw.materials = materials.forMesh(mesh);
+    draw.worldFromObject = hierarchy.world[node];
+    draw.nodeId = node;
+    draw.instanceId = std::uint32_t(meshIndex);
+    draws.push_back(draw);
+  }
+  drawTriangles(framebuffer, camera, draws, options);
+}
+
+}  // namespace pbs
