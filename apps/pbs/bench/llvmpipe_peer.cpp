@@ -107,7 +107,7 @@ LlvmpipePeer::LlvmpipePeer(std::uint32_t width, std::uint32_t height, int thread
 
 LlvmpipePeer::~LlvmpipePeer() {
   if (gl_ && context_) gl_->destroyContext(context_);
-  if (library_) dlclose(library_);
+  // The library stays loaded: Mesa and its LLVM are not safe to unload within a process.
 }
 
 void LlvmpipePeer::setViewport(std::uint32_t width, std::uint32_t height) {
