@@ -126,6 +126,19 @@ TEST(Cli, RasterBenchDrawsTheSameViewsAsItsPeers) {
   EXPECT_GT(json["threads"].get<int>(), 0);
 }
 
+TEST(Cli, OrderBenchMeasuresAllThreeOrderings) {
+  const CommandResult result = runPbs("bench order --points 20000 --max 2000 --json");
+  ASSERT_EQ(result.status, 0) << result.err;
+  const auto json = nlohmann::json::parse(result.out);
+  for (const char* name : {"farthest", "dart", "random"}) {
+    ASSERT_TRUE(json.contains(name)) << name;
+    for (const char* key : {"seconds", "rho_min", "rho_mean"}) EXPECT_TRUE(json[name].contains(key)) << name << key;
+  }
+  EXPECT_EQ(json["farthest"]["count"], 2000);
+  EXPECT_GT(json["farthest"]["rho_min"].get<double>(), json["dart"]["rho_min"].get<double>());
+  EXPECT_GT(json["dart"]["rho_min"].get<double>(), json["random"]["rho_min"].get<double>());
+}
+
 // The bar: over a billion instanced triangles load in seconds and well under 1 GB.
 // Wall time is printed for the record, not asserted (tests check correctness, not speed).
 TEST(Cli, BillionTriangleCityLoadsInLittleMemory) {

@@ -1,4 +1,5 @@
 // `pbs bench raster [SCENE] [--json]`: the rasterizer against llvmpipe and Embree, same run.
+#include "bench/order_bench.hpp"
 #include "bench/raster_bench.hpp"
 #include "commands.hpp"
 #include "scene_report.hpp"
@@ -46,6 +47,18 @@ void printRasterReport(const nlohmann::json& r) {
   }
 }
 
+void printOrderReport(const nlohmann::json& r) {
+  std::printf("ordering %s of %s points on a unit sphere, one thread\n", withThousands(r["max"].get<std::uint64_t>()).c_str(),
+              withThousands(r["points"].get<std::uint64_t>()).c_str());
+  for (const char* name : {"farthest", "dart", "random"}) {
+    const auto& o = r[name];
+    std::printf("  %-9s %8.3f s  rho_min %.3f  rho_mean %.3f  (%s surfels)\n", name, o["seconds"].get<double>(),
+                o["rho_min"].get<double>(), o["rho_mean"].get<double>(),
+                withThousands(o["count"].get<std::uint64_t>()).c_str());
+  }
+  std::printf("  dart takes %.1fx the time of farthest\n", r["ratios"]["dart_over_farthest_seconds"].get<double>());
+}
+
 }  // namespace
 
 void addBenchCommand(CLI::App& app) {
@@ -77,6 +90,30 @@ void addBenchCommand(CLI::App& app) {
       std::cout << report.dump(2) << "\n";
     else
       printRasterReport(report);
+  });
+
+  struct OrderOptions {
+    std::uint64_t points = 1'000'000;
+    std::uint32_t max = 100'000;
+    std::uint64_t seed = 1;
+    bool json = false;
+  };
+  auto order = std::make_shared<OrderOptions>();
+  CLI::App* orderCommand = bench->add_subcommand("order", "farthest, dart and random orderings on a sphere");
+  orderCommand->add_option("--points", order->points, "initial points on the unit sphere")
+      ->check(CLI::Range(1, 100'000'000))
+      ->capture_default_str();
+  orderCommand->add_option("--max", order->max, "surfels to order")->check(CLI::Range(1, 100'000'000))->capture_default_str();
+  orderCommand->add_option("--seed", order->seed, "seed of the points and the orderings")->capture_default_str();
+  orderCommand->add_flag("--json", order->json, "print JSON instead of text");
+  orderCommand->callback([order] {
+    nlohmann::json report = bench::benchOrder(order->points, order->max, order->seed);
+    report["points"] = order->points;
+    report["max"] = order->max;
+    if (order->json)
+      std::cout << report.dump(2) << "\n";
+    else
+      printOrderReport(report);
   });
 }
 

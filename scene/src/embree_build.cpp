@@ -5,14 +5,22 @@
 
 #include <cmath>
 #include <cstring>
+#include <numeric>
 
 namespace pbs {
 namespace {
 
-glm::dvec3 sceneCenter(const Scene& scene, const Hierarchy& hierarchy) {
+// Every node's subtree box lies inside its root's, so over all nodes this is the scene's centre.
+glm::dvec3 nodesCenter(const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes) {
   Bounds bounds;
-  for (std::uint32_t root : scene.roots) bounds.extend(hierarchy.worldBounds[root]);
+  for (std::uint32_t node : nodes) bounds.extend(hierarchy.worldBounds[node]);
   return bounds.empty() ? glm::dvec3(0.0) : bounds.center();
+}
+
+std::vector<std::uint32_t> allNodes(const Scene& scene) {
+  std::vector<std::uint32_t> nodes(scene.nodes.size());
+  std::iota(nodes.begin(), nodes.end(), 0u);
+  return nodes;
 }
 
 // A singular transform flattens the mesh into zero-area triangles, which cover no pixel (as in the
@@ -55,16 +63,20 @@ void attachInstance(RTCDevice device, RTCScene top, unsigned int id, RTCScene me
 
 }  // namespace
 
-EmbreeScene::EmbreeScene(const Scene& scene, const Hierarchy& hierarchy) : impl_(std::make_unique<Impl>()) {
+EmbreeScene::EmbreeScene(const Scene& scene, const Hierarchy& hierarchy)
+    : EmbreeScene(scene, hierarchy, allNodes(scene)) {}
+
+EmbreeScene::EmbreeScene(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes)
+    : impl_(std::make_unique<Impl>()) {
   Impl& impl = *impl_;
   impl.materials = makeSceneMaterials(scene);
-  impl.origin = sceneCenter(scene, hierarchy);
+  impl.origin = nodesCenter(hierarchy, nodes);
   impl.device = makeEmbreeDevice();
   RTCDevice device = impl.device.get();
 
   std::vector<std::uint32_t> drawnNodes;
   std::vector<char> meshUsed(scene.meshes.size(), 0);
-  for (std::uint32_t node = 0; node < scene.nodes.size(); ++node) {
+  for (std::uint32_t node : nodes) {
     const std::int32_t mesh = scene.nodes[node].mesh;
     if (mesh < 0 || scene.meshes[std::size_t(mesh)].triangleCount() == 0 || !drawableTransform(hierarchy.world[node]))
       continue;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <numeric>
 
 namespace pbs {
 
@@ -50,9 +51,30 @@ bool outsideClipVolume(const Camera& camera, const Bounds& worldBox) {
 
 void drawSceneTriangles(const Scene& scene, const Hierarchy& hierarchy, const Camera& camera,
                         Framebuffer& framebuffer, const TriangleOptions& options) {
+  std::vector<std::uint32_t> nodes(scene.nodes.size());
+  std::iota(nodes.begin(), nodes.end(), 0u);
+  drawNodeTriangles(scene, hierarchy, nodes, camera, framebuffer, options);
+}
+
+std::vector<std::uint32_t> subtreeNodes(const Scene& scene, std::uint32_t root) {
+  std::vector<std::uint32_t> result;
+  std::vector<std::uint32_t> stack{root};
+  while (!stack.empty()) {
+    const std::uint32_t node = stack.back();
+    stack.pop_back();
+    result.push_back(node);
+    // Pushed in reverse so children come out in their listed order.
+    const std::vector<std::uint32_t>& children = scene.nodes[node].children;
+    stack.insert(stack.end(), children.rbegin(), children.rend());
+  }
+  return result;
+}
+
+void drawNodeTriangles(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
+                       const Camera& camera, Framebuffer& framebuffer, const TriangleOptions& options) {
   const SceneMaterials materials = makeSceneMaterials(scene);
   std::vector<TriangleDraw> draws;
-  for (std::uint32_t node = 0; node < scene.nodes.size(); ++node) {
+  for (std::uint32_t node : nodes) {
     const std::int32_t meshIndex = scene.nodes[node].mesh;
     if (meshIndex < 0 || outsideClipVolume(camera, instanceWorldBounds(scene, hierarchy, node))) continue;
     const Mesh& mesh = scene.meshes[std::size_t(meshIndex)];

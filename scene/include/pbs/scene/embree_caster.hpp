@@ -7,7 +7,9 @@
 #include "pbs/scene/hierarchy.hpp"
 #include "pbs/scene/scene.hpp"
 
+#include <cstdint>
 #include <memory>
+#include <span>
 
 namespace pbs {
 
@@ -24,6 +26,9 @@ class EmbreeScene {
   // materials, textures and world transforms from them rather than keep copies. Embree errors throw
   // std::runtime_error.
   EmbreeScene(const Scene& scene, const Hierarchy& hierarchy);
+  // The same restricted to the mesh instances of `nodes` (e.g. subtreeNodes of a node being
+  // captured); origin() is then the centre of those nodes' world bounds.
+  EmbreeScene(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes);
   ~EmbreeScene();
   EmbreeScene(EmbreeScene&&) noexcept;  // a moved-from EmbreeScene may only be destroyed or assigned to
   EmbreeScene& operator=(EmbreeScene&&) noexcept;

@@ -41,4 +41,11 @@ bool outsideClipVolume(const Camera& camera, const Bounds& worldBox);
 void drawSceneTriangles(const Scene& scene, const Hierarchy& hierarchy, const Camera& camera,
                         Framebuffer& framebuffer, const TriangleOptions& options = {});
 
+// The nodes of `root`'s subtree, parents before children (root first): what a node's capture draws.
+std::vector<std::uint32_t> subtreeNodes(const Scene& scene, std::uint32_t root);
+
+// drawSceneTriangles restricted to the mesh instances of `nodes`, drawn in the given order.
+void drawNodeTriangles(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
+                       const Camera& camera, Framebuffer& framebuffer, const TriangleOptions& options = {});
+
 }  // namespace pbs

@@ -1,0 +1,66 @@
+// Blue-noise measures of ordered prefixes, all from incremental nearest-neighbour queries.
+#include "order_nearest_grid.hpp"
+
+#include <pbs/surfels/blue_noise_metrics.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pbs {
+
+std::vector<double> prefixMinDistances(std::span<const glm::vec3> points, std::span<const std::uint32_t> order) {
+  std::vector<double> minDistance(order.size(), std::numeric_limits<double>::infinity());
+  NearestPointGrid prefix(points);
+  double running = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const float d2 = prefix.nearestSquared(points[order[k]]);
+    running = std::min(running, std::sqrt(static_cast<double>(d2)));
+    minDistance[k] = running;
+    prefix.insert(order[k]);
+  }
+  return minDistance;
+}
+
+double relativeRadius(double minDistance, std::size_t k, double area) {
+  if (area <= 0.0 || k == 0) return 0.0;
+  return minDistance / std::sqrt(2.0 * area / (std::sqrt(3.0) * static_cast<double>(k)));
+}
+
+double meanNearestNeighbourDistance(std::span<const glm::vec3> points, std::span<const std::uint32_t> order,
+                                    std::size_t count) {
+  count = std::min(count, order.size());
+  if (count < 2) return 0.0;
+  NearestPointGrid prefix(points);
+  for (std::size_t k = 0; k < count; ++k) prefix.insert(order[k]);
+  double sum = 0.0;
+  for (std::size_t k = 0; k < count; ++k) {
+    sum += std::sqrt(static_cast<double>(prefix.nearestSquared(points[order[k]], order[k])));
+  }
+  return sum / static_cast<double>(count);
+}
+
+BlueNoiseSummary summarizeBlueNoise(std::span<const glm::vec3> points, std::span<const std::uint32_t> order,
+                                    double area) {
+  BlueNoiseSummary summary;
+  const std::size_t n = order.size();
+  if (n < 2) return summary;
+  const std::vector<double> minDistance = prefixMinDistances(points, order);
+  const auto rho = [&](std::size_t k) { return relativeRadius(minDistance[k - 1], k, area); };
+  // Below ~100 points ρ measures the luck of the first few picks rather than the ordering.
+  const std::size_t firstK = std::min<std::size_t>(100, n);
+  const std::size_t startK = std::max<std::size_t>(2, firstK);
+  summary.rhoMin = std::numeric_limits<double>::infinity();
+  for (std::size_t k = startK; k <= n; ++k) summary.rhoMin = std::min(summary.rhoMin, rho(k));
+  constexpr int kSamples = 32;
+  const double logSpan = std::log(static_cast<double>(n) / static_cast<double>(startK));
+  double sum = 0.0;
+  for (int i = 0; i < kSamples; ++i) {
+    const double k = static_cast<double>(startK) * std::exp(logSpan * i / (kSamples - 1));
+    sum += rho(std::clamp<std::size_t>(static_cast<std::size_t>(std::llround(k)), startK, n));
+  }
+  summary.rhoMean = sum / kSamples;
+  return summary;
+}
+
+}  // namespace pbs

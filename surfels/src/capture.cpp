@@ -1,0 +1,72 @@
+// captureNode: renders a node's subtree from each capture direction and turns covered pixels into surfels.
+#include "pbs/surfels/capture.hpp"
+
+#include "capture_coverage.hpp"
+#include "pbs/raster/box_view.hpp"
+#include "pbs/raster/framebuffer.hpp"
+#include "pbs/scene/embree_caster.hpp"
+#include "pbs/scene/scene_draws.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <optional>
+#include <stdexcept>
+
+namespace pbs {
+namespace {
+
+using RenderView = std::function<void(const Camera&, Framebuffer&)>;
+
+void appendSurfels(const Framebuffer& framebuffer, std::vector<Surfel>& surfels) {
+  for (std::size_t pixel = 0; pixel < framebuffer.pixelCount(); ++pixel) {
+    if (!framebuffer.covered(pixel)) continue;
+    surfels.push_back({framebuffer.position[pixel], framebuffer.normal[pixel], framebuffer.color[pixel]});
+  }
+}
+
+}  // namespace
+
+CaptureResult captureNode(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node,
+                          const CaptureOptions& options) {
+  if (node >= scene.nodes.size()) throw std::invalid_argument("captureNode: node index out of range");
+  if (options.resolution == 0) throw std::invalid_argument("captureNode: resolution must be at least 1");
+  const std::vector<glm::dvec3> directions = captureDirections(options.directions);
+
+  CaptureResult result;
+  const Bounds& box = hierarchy.worldBounds[node];
+  if (box.empty()) return result;
+  result.origin = box.center();
+
+  const std::vector<std::uint32_t> nodes = subtreeNodes(scene, node);
+  // Built once for all views: the BVH build is the Embree backend's main fixed cost.
+  std::optional<EmbreeScene> embree;
+  RenderView render;
+  if (options.backend == CaptureOptions::Backend::Embree) {
+    embree.emplace(scene, hierarchy, nodes);
+    render = [&](const Camera& camera, Framebuffer& framebuffer) { embree->render(camera, framebuffer); };
+  } else {
+    render = [&](const Camera& camera, Framebuffer& framebuffer) {
+      drawNodeTriangles(scene, hierarchy, nodes, camera, framebuffer, TriangleOptions{.cullBackFaces = false});
+    };
+  }
+
+  double boxArea = 0.0;
+  for (const glm::dvec3& direction : directions) {
+    const Camera camera = boxViewCamera(box, direction, options.resolution);
+    Framebuffer framebuffer = makeFramebuffer(camera.width, camera.height,
+                                              kChannelColor | kChannelPosition | kChannelNormal, result.origin);
+    render(camera, framebuffer);
+    const std::size_t before = result.surfels.size();
+    appendSurfels(framebuffer, result.surfels);
+    result.coveredPixels += result.surfels.size() - before;
+    boxArea += projectedBoxPixels(camera, box);
+    ++result.views;
+  }
+  result.boxPixels = static_cast<std::uint64_t>(std::llround(boxArea));
+  const double denominator = std::max(boxArea, double(result.coveredPixels));
+  result.coverage = denominator > 0.0 ? double(result.coveredPixels) / denominator : 0.0;
+  return result;
+}
+
+}  // namespace pbs

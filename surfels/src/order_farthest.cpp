@@ -1,0 +1,163 @@
+// orderFarthest: the exact greedy permutation with per-point distances, a cell grid and a lazy heap of cells.
+#include <pbs/surfels/ordering.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+
+namespace pbs {
+
+namespace {
+
+// The input sorted cell by cell into a uniform grid once, so a radius query reads contiguous memory.
+struct CellSortedPoints {
+  glm::vec3 lo{0.0f};
+  float cellSize = 1.0f;
+  glm::ivec3 dims{1};
+  std::vector<std::uint32_t> cellStart;  // per cell, first slot; one extra entry at the end
+  std::vector<glm::vec3> position;       // per slot
+  std::vector<std::uint32_t> index;      // per slot: the input index
+  std::vector<std::uint32_t> slotOf;     // per input index: its slot
+
+  glm::ivec3 cellOf(const glm::vec3& p) const {
+    return glm::clamp(glm::ivec3(glm::floor((p - lo) / cellSize)), glm::ivec3(0), dims - 1);
+  }
+  std::size_t linear(const glm::ivec3& c) const {
+    return (static_cast<std::size_t>(c.z) * dims.y + c.y) * dims.x + c.x;
+  }
+};
+
+glm::ivec3 dimsFor(const glm::vec3& extent, float cellSize) {
+  return glm::ivec3(glm::floor(extent / cellSize)) + 1;
+}
+
+// Cells about the spacing of the last chosen points (extent / sqrt(max) on a surface), but no more
+// cells than twice the points, so memory and empty-cell visits stay linear.
+CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t max) {
+  CellSortedPoints grid;
+  glm::vec3 hi = points[0];
+  grid.lo = points[0];
+  for (const glm::vec3& p : points) {
+    grid.lo = glm::min(grid.lo, p);
+    hi = glm::max(hi, p);
+  }
+  const glm::vec3 extent = hi - grid.lo;
+  const float maxExtent = std::max({extent.x, extent.y, extent.z});
+  if (maxExtent > 0.0f) {
+    grid.cellSize = maxExtent / std::sqrt(static_cast<float>(std::max(1u, max)));
+    const double cellLimit = 2.0 * static_cast<double>(points.size()) + 8.0;
+    for (;;) {
+      const glm::dvec3 d(dimsFor(extent, grid.cellSize));
+      if (d.x * d.y * d.z <= cellLimit) break;
+      grid.cellSize *= 1.25f;
+    }
+  }
+  grid.dims = dimsFor(extent, grid.cellSize);
+  const std::size_t cells = static_cast<std::size_t>(grid.dims.x) * grid.dims.y * grid.dims.z;
+  std::vector<std::uint32_t> cellOfPoint(points.size());
+  grid.cellStart.assign(cells + 1, 0);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    cellOfPoint[i] = static_cast<std::uint32_t>(grid.linear(grid.cellOf(points[i])));
+    ++grid.cellStart[cellOfPoint[i] + 1];
+  }
+  for (std::size_t c = 0; c < cells; ++c) grid.cellStart[c + 1] += grid.cellStart[c];
+  std::vector<std::uint32_t> fill(grid.cellStart.begin(), grid.cellStart.end() - 1);
+  grid.position.resize(points.size());
+  grid.index.resize(points.size());
+  grid.slotOf.resize(points.size());
+  for (std::uint32_t i = 0; i < points.size(); ++i) {
+    const std::uint32_t slot = fill[cellOfPoint[i]]++;
+    grid.position[slot] = points[i];
+    grid.index[slot] = i;
+    grid.slotOf[i] = slot;
+  }
+  return grid;
+}
+
+// A heap key: the squared distance's bits (monotone for non-negative floats) above the complemented
+// index, so the largest key is the farthest point and, among equals, the lowest index.
+std::uint64_t heapKey(float squaredDistance, std::uint32_t index) {
+  return (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(squaredDistance)) << 32) | ~index;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> orderFarthest(std::span<const glm::vec3> points, std::uint32_t max, std::uint64_t seed) {
+  std::vector<std::uint32_t> order;
+  if (points.empty() || max == 0) return order;
+  const CellSortedPoints grid = sortIntoCells(points, max);
+  OrderRng rng(seed);
+  const std::uint32_t first = static_cast<std::uint32_t>(rng.below(points.size()));
+  order.push_back(first);
+
+  // Per slot: squared distance to the nearest chosen point; chosen points hold -1 so no update applies.
+  std::vector<float> distance(points.size(), std::numeric_limits<float>::infinity());
+  distance[grid.slotOf[first]] = -1.0f;
+
+  // Per cell: the heap key of its farthest pool point, 0 when it has none. The heap holds cells, not
+  // points: a few cells per chosen point change, and a heap of cells stays small enough for the cache.
+  const std::size_t cells = grid.cellStart.size() - 1;
+  std::vector<std::uint64_t> cellBest(cells, 0);
+  // Rescans a cell after its distances changed: a cell is small, and it was just read anyway.
+  const auto updateCell = [&](std::size_t c, const glm::vec3& chosen) {
+    std::uint64_t best = 0;
+    for (std::uint32_t s = grid.cellStart[c]; s < grid.cellStart[c + 1]; ++s) {
+      const glm::vec3 d = grid.position[s] - chosen;
+      distance[s] = std::min(distance[s], glm::dot(d, d));
+      if (distance[s] >= 0.0f) best = std::max(best, heapKey(distance[s], grid.index[s]));
+    }
+    cellBest[c] = best;
+  };
+  using Entry = std::pair<std::uint64_t, std::uint32_t>;  // (cell's key when pushed, cell)
+  std::vector<Entry> heap;
+  for (std::uint32_t c = 0; c < cells; ++c) {
+    updateCell(c, points[first]);
+    if (cellBest[c] != 0) heap.emplace_back(cellBest[c], c);
+  }
+  std::make_heap(heap.begin(), heap.end());
+
+  // Keys only shrink and the heap is not told: each entry is an upper bound of its cell's key, so a
+  // top that is current holds the true farthest point; a stale top is pushed back with its current key.
+  while (order.size() < max && !heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end());
+    const auto [key, cell] = heap.back();
+    heap.pop_back();
+    if (cellBest[cell] != key) {
+      if (cellBest[cell] != 0) {
+        heap.emplace_back(cellBest[cell], cell);
+        std::push_heap(heap.begin(), heap.end());
+      }
+      continue;
+    }
+    const std::uint32_t index = ~static_cast<std::uint32_t>(key);
+    const std::uint32_t slot = grid.slotOf[index];
+    const float radius2 = distance[slot];
+    order.push_back(index);
+    distance[slot] = -1.0f;
+    // Only points within the chosen point's own distance can have it as their new nearest.
+    const glm::vec3 p = grid.position[slot];
+    // A relative margin so float rounding of cell bounds never skips a point inside the radius.
+    const float reach = std::sqrt(radius2) * 1.0001f;
+    const glm::ivec3 lo = grid.cellOf(p - reach);
+    const glm::ivec3 hi = grid.cellOf(p + reach);
+    for (int z = lo.z; z <= hi.z; ++z) {
+      for (int y = lo.y; y <= hi.y; ++y) {
+        for (int x = lo.x; x <= hi.x; ++x) {
+          const glm::vec3 boxLo = grid.lo + glm::vec3(x, y, z) * grid.cellSize;
+          const glm::vec3 gap = glm::max(glm::max(boxLo - p, p - (boxLo + grid.cellSize)), glm::vec3(0.0f));
+          if (glm::dot(gap, gap) <= reach * reach) updateCell(grid.linear({x, y, z}), p);
+        }
+      }
+    }
+    // The chosen point's own entry was consumed; its cell (always within reach) needs a new one.
+    const std::uint32_t own = static_cast<std::uint32_t>(grid.linear(grid.cellOf(p)));
+    if (cellBest[own] != 0) {
+      heap.emplace_back(cellBest[own], own);
+      std::push_heap(heap.begin(), heap.end());
+    }
+  }
+  return order;
+}
+
+}  // namespace pbs

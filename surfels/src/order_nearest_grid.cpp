@@ -1,0 +1,111 @@
+// NearestPointGrid: cells hashed into a table (chains of entries); searched in growing shells of cells.
+#include "order_nearest_grid.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+namespace pbs {
+
+namespace {
+
+// Cells per axis are capped so cell coordinates and their hash stay well inside 32 bits.
+constexpr int kMaxDims = 1 << 20;
+// A rebuild happens whenever the count has grown this much: on a surface the spacing then halves.
+constexpr std::size_t kGrowth = 4;
+
+}  // namespace
+
+NearestPointGrid::NearestPointGrid(std::span<const glm::vec3> points) : points_(points) {
+  if (points.empty()) return;
+  glm::vec3 hi = points[0];
+  lo_ = points[0];
+  for (const glm::vec3& p : points) {
+    lo_ = glm::min(lo_, p);
+    hi = glm::max(hi, p);
+  }
+  extent_ = hi - lo_;
+}
+
+glm::ivec3 NearestPointGrid::cellOf(const glm::vec3& p) const {
+  const glm::ivec3 cell(glm::floor((p - lo_) / cellSize_));
+  return glm::clamp(cell, glm::ivec3(0), dims_ - 1);
+}
+
+std::uint32_t NearestPointGrid::slotOf(const glm::ivec3& cell) const {
+  const std::uint32_t h = static_cast<std::uint32_t>(cell.x) * 73856093u ^
+                          static_cast<std::uint32_t>(cell.y) * 19349663u ^
+                          static_cast<std::uint32_t>(cell.z) * 83492791u;
+  return h & static_cast<std::uint32_t>(head_.size() - 1);
+}
+
+void NearestPointGrid::link(std::uint32_t entry) {
+  const std::uint32_t slot = slotOf(cellOf(position_[entry]));
+  next_[entry] = head_[slot];
+  head_[slot] = static_cast<std::int32_t>(entry);
+}
+
+void NearestPointGrid::rebuild() {
+  const std::size_t count = inserted_.size();
+  rebuildAt_ = std::max<std::size_t>(16, kGrowth * count);
+  // On a surface the spacing of n points is about extent / sqrt(n); cells of twice that keep a
+  // typical nearest neighbour within the first shell around the query's cell.
+  const float maxExtent = std::max({extent_.x, extent_.y, extent_.z});
+  cellSize_ = maxExtent > 0.0f ? 2.0f * maxExtent / std::sqrt(static_cast<float>(count)) : 1.0f;
+  cellSize_ = std::max(cellSize_, maxExtent / static_cast<float>(kMaxDims - 1));
+  dims_ = glm::min(glm::ivec3(glm::floor(extent_ / cellSize_)) + 1, glm::ivec3(kMaxDims));
+  head_.assign(std::bit_ceil(rebuildAt_), -1);
+  next_.resize(count);
+  for (std::uint32_t e = 0; e < count; ++e) link(e);
+}
+
+void NearestPointGrid::insert(std::uint32_t index) {
+  inserted_.push_back(index);
+  position_.push_back(points_[index]);
+  if (inserted_.size() >= rebuildAt_) {
+    rebuild();
+    return;
+  }
+  next_.push_back(-1);
+  link(static_cast<std::uint32_t>(inserted_.size() - 1));
+}
+
+float NearestPointGrid::nearestSquared(const glm::vec3& query, std::uint32_t skip) const {
+  float best = std::numeric_limits<float>::infinity();
+  if (inserted_.empty()) return best;
+  const glm::ivec3 c = cellOf(query);
+  const auto visit = [&](int x, int y, int z) {
+    // Skip cells that cannot hold anything nearer than the best so far (cheaper than their memory).
+    const glm::vec3 boxLo = lo_ + glm::vec3(x, y, z) * cellSize_;
+    const glm::vec3 gap = glm::max(glm::max(boxLo - query, query - (boxLo + cellSize_)), glm::vec3(0.0f));
+    if (glm::dot(gap, gap) > best) return;
+    for (std::int32_t e = head_[slotOf({x, y, z})]; e >= 0; e = next_[e]) {
+      const std::uint32_t index = inserted_[e];
+      if (index == skip) continue;
+      const glm::vec3 d = position_[e] - query;
+      best = std::min(best, glm::dot(d, d));
+    }
+  };
+  const glm::ivec3 far = glm::max(c, dims_ - 1 - c);
+  const int lastShell = std::max({far.x, far.y, far.z});
+  for (int s = 0; s <= lastShell; ++s) {
+    const glm::ivec3 lo = glm::max(c - s, glm::ivec3(0));
+    const glm::ivec3 hi = glm::min(c + s, dims_ - 1);
+    for (int z = lo.z; z <= hi.z; ++z) {
+      for (int y = lo.y; y <= hi.y; ++y) {
+        if (std::abs(z - c.z) == s || std::abs(y - c.y) == s) {
+          for (int x = lo.x; x <= hi.x; ++x) visit(x, y, z);
+        } else {
+          if (c.x - s >= 0) visit(c.x - s, y, z);
+          if (c.x + s < dims_.x) visit(c.x + s, y, z);
+        }
+      }
+    }
+    // Every point outside the shells searched so far is at least s cells away.
+    const float reach = static_cast<float>(s) * cellSize_;
+    if (best <= reach * reach) break;
+  }
+  return best;
+}
+
+}  // namespace pbs

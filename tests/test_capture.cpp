@@ -1,0 +1,246 @@
+// Capture of initial surfels (paper, Sec. 2.1): geometry of the surfels, subtree isolation, view
+// counts, raster/Embree agreement on the shared scenes, stiff inputs, textures and determinism.
+#include "pbs/raster/thread_arena.hpp"
+#include "pbs/scene/load_scene.hpp"
+#include "pbs/surfels/capture.hpp"
+#include "test_support.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <set>
+
+namespace pbs {
+namespace {
+
+// The cube [−0.5, 0.5]³, four vertices a face so every face has its own axis-aligned normal.
+Mesh cubeMesh() {
+  Mesh mesh;
+  mesh.name = "cube";
+  for (int axis = 0; axis < 3; ++axis) {
+    for (float sign : {-1.0f, 1.0f}) {
+      glm::vec3 normal(0.0f);
+      normal[axis] = sign;
+      const glm::vec3 u = glm::vec3(normal.y, normal.z, normal.x) * 0.5f;  // two axes in the face
+      const glm::vec3 v = glm::cross(normal, u);
+      const auto first = std::uint32_t(mesh.positions.size());
+      for (const glm::vec2 corner : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)}) {
+        mesh.positions.push_back(normal * 0.5f + corner.x * u + corner.y * v);
+        mesh.normals.push_back(normal);
+      }
+      for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) mesh.indices.push_back(first + i);
+    }
+  }
+  mesh.parts = {MeshPart{0, std::uint32_t(mesh.indices.size()), 0}};
+  updateMeshBounds(mesh);
+  return mesh;
+}
+
+Mesh trianglesMesh(std::vector<glm::vec3> positions) {
+  Mesh mesh;
+  mesh.name = "flat";
+  mesh.positions = std::move(positions);
+  for (std::uint32_t i = 0; i < mesh.positions.size(); ++i) mesh.indices.push_back(i);
+  mesh.normals = computeVertexNormals(mesh.positions, mesh.indices);
+  mesh.parts = {MeshPart{0, std::uint32_t(mesh.indices.size()), 0}};
+  updateMeshBounds(mesh);
+  return mesh;
+}
+
+// One root per world transform, each drawing `mesh` with one plain material.
+Scene sceneOf(Mesh mesh, const std::vector<glm::dmat4>& worlds) {
+  Scene scene;
+  scene.materials.push_back(Material{"plain", glm::vec4(0.2f, 0.4f, 0.6f, 1.0f), -1});
+  scene.meshes.push_back(std::move(mesh));
+  for (const glm::dmat4& world : worlds) {
+    scene.roots.push_back(std::uint32_t(scene.nodes.size()));
+    scene.nodes.push_back(Node{"node", world, {}, 0});
+  }
+  validateScene(scene, "test scene");
+  return scene;
+}
+
+glm::dmat4 placed(const glm::dvec3& offset, double scale) {
+  return glm::scale(glm::translate(glm::dmat4(1.0), offset), glm::dvec3(scale));
+}
+
+void expectFinite(const CaptureResult& result) {
+  EXPECT_TRUE(std::isfinite(result.coverage));
+  EXPECT_GE(result.coverage, 0.0);
+  EXPECT_LE(result.coverage, 1.0);
+  for (const Surfel& surfel : result.surfels) {
+    ASSERT_TRUE(std::isfinite(surfel.position.x) && std::isfinite(surfel.position.y) && std::isfinite(surfel.position.z));
+    ASSERT_TRUE(std::isfinite(surfel.normal.x) && std::isfinite(surfel.normal.y) && std::isfinite(surfel.normal.z));
+  }
+}
+
+// Every surfel on the surface of a cube of half size `half` around the origin (within `tolerance`),
+// with an axis-aligned normal.
+void expectOnCube(const CaptureResult& result, float half, float tolerance) {
+  ASSERT_FALSE(result.surfels.empty());
+  for (const Surfel& surfel : result.surfels) {
+    const glm::vec3 a = glm::abs(surfel.position);
+    ASSERT_NEAR(std::max({a.x, a.y, a.z}), half, tolerance);
+    const glm::vec3 n = glm::abs(surfel.normal);
+    ASSERT_NEAR(std::max({n.x, n.y, n.z}), 1.0f, 1e-5f);
+  }
+}
+
+bool sameSurfels(const CaptureResult& a, const CaptureResult& b) {
+  return a.surfels.size() == b.surfels.size() && a.coveredPixels == b.coveredPixels && a.coverage == b.coverage &&
+         std::memcmp(a.surfels.data(), b.surfels.data(), a.surfels.size() * sizeof(Surfel)) == 0;
+}
+
+constexpr std::array<CaptureOptions::Backend, 2> kBackends{CaptureOptions::Backend::Raster,
+                                                           CaptureOptions::Backend::Embree};
+
+TEST(Capture, UnitCubeSurfelsLieOnItsSurface) {
+  const Scene scene = sceneOf(cubeMesh(), {glm::dmat4(1.0)});
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  for (const auto backend : kBackends) {
+    const CaptureResult result = captureNode(scene, hierarchy, 0, {.resolution = 64, .backend = backend});
+    EXPECT_EQ(result.views, 8u);
+    EXPECT_EQ(result.origin, glm::dvec3(0.0));
+    expectOnCube(result, 0.5f, 1.8f / 64.0f);
+    expectFinite(result);
+    // From a corner the cube's silhouette is its box's: nearly every pixel of it is covered.
+    EXPECT_GT(result.coverage, 0.95);
+    EXPECT_GT(result.boxPixels, 0u);
+  }
+}
+
+TEST(Capture, DrawsOnlyTheSubtree) {
+  // root ─┬─ inner (moved) ── cube
+  //       └─ sibling: a cube three times larger around the same place, which would hide the inner one.
+  Scene scene = sceneOf(cubeMesh(), {});
+  const glm::dvec3 centre(10.0, 20.0, 30.0);
+  scene.nodes = {Node{"root", glm::dmat4(1.0), {1, 3}, -1}, Node{"inner", placed(centre, 1.0), {2}, -1},
+                 Node{"cube", glm::dmat4(1.0), {}, 0}, Node{"sibling", placed(centre, 3.0), {}, 0}};
+  scene.roots = {0};
+  validateScene(scene, "test scene");
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  for (const auto backend : kBackends) {
+    const CaptureResult result = captureNode(scene, hierarchy, 1, {.resolution = 64, .backend = backend});
+    EXPECT_EQ(result.origin, centre);
+    expectOnCube(result, 0.5f, 1.8f / 64.0f);
+  }
+}
+
+TEST(Capture, DirectionCountsGiveThatManyViews) {
+  const Scene scene = sceneOf(cubeMesh(), {glm::dmat4(1.0)});
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  for (std::uint32_t count : {16u, 32u}) {
+    const std::vector<glm::dvec3> directions = captureDirections(count);
+    ASSERT_EQ(directions.size(), count);
+    for (const glm::dvec3& d : directions) EXPECT_NEAR(glm::length(d), 1.0, 1e-12);
+    const CaptureResult result = captureNode(scene, hierarchy, 0, {.resolution = 32, .directions = count});
+    EXPECT_EQ(result.views, count);
+    expectOnCube(result, 0.5f, 1.8f / 32.0f);
+    EXPECT_GT(result.coverage, 0.9);
+  }
+  EXPECT_THROW(captureDirections(0), std::invalid_argument);
+}
+
+TEST(Capture, StiffInputsStayDefined) {
+  const Mesh quad = trianglesMesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, -1, 0}, {1, 1, 0}, {-1, 1, 0}});
+  const Mesh triangle = trianglesMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  for (const Mesh& flat : {quad, triangle}) {
+    const Scene scene = sceneOf(flat, {glm::dmat4(1.0)});
+    const Hierarchy hierarchy = analyzeHierarchy(scene);
+    for (std::uint32_t count : {8u, 16u, 32u}) {
+      for (const auto backend : kBackends) {
+        const CaptureResult result =
+            captureNode(scene, hierarchy, 0, {.resolution = 32, .directions = count, .backend = backend});
+        expectFinite(result);
+        EXPECT_FALSE(result.surfels.empty());
+        for (const Surfel& surfel : result.surfels) EXPECT_EQ(surfel.position.z, 0.0f);
+      }
+    }
+  }
+  // Far from the origin and at extreme scales the surfels keep the cube's shape relative to the origin.
+  const Scene unitScene = sceneOf(cubeMesh(), {glm::dmat4(1.0)});
+  const CaptureResult unit = captureNode(unitScene, analyzeHierarchy(unitScene), 0, {.resolution = 32});
+  for (const auto& [offset, scale] : {std::pair{glm::dvec3(1e6, -1e6, 1e6), 1.0}, std::pair{glm::dvec3(0.0), 1e-6},
+                                      std::pair{glm::dvec3(0.0), 1e6}, std::pair{glm::dvec3(1e6), 1e-3}}) {
+    const Scene scene = sceneOf(cubeMesh(), {placed(offset, scale)});
+    const Hierarchy hierarchy = analyzeHierarchy(scene);
+    for (const auto backend : kBackends) {
+      const CaptureResult result = captureNode(scene, hierarchy, 0, {.resolution = 32, .backend = backend});
+      expectFinite(result);
+      EXPECT_EQ(result.origin, offset);
+      expectOnCube(result, float(0.5 * scale), float(scale * 1.8 / 32.0));
+      EXPECT_NEAR(double(result.surfels.size()), double(unit.surfels.size()), 0.02 * unit.surfels.size());
+    }
+  }
+}
+
+TEST(Capture, RasterAndEmbreeAgreeOnSharedScenes) {
+  PBS_SHARED_SCENE(dir, "");
+  for (const char* file : {"bunny.glb", "fandisk.glb", "horse.glb", "rocker-arm.glb", "spot.glb", "suzanne.glb",
+                           "teapot.glb"}) {
+    const Scene scene = loadScene((dir / file).string()).scene;
+    const Hierarchy hierarchy = analyzeHierarchy(scene);
+    for (std::uint32_t root : scene.roots) {
+      CaptureResult results[2];
+      double milliseconds[2];
+      for (std::size_t b = 0; b < kBackends.size(); ++b) {
+        const auto start = std::chrono::steady_clock::now();
+        results[b] = captureNode(scene, hierarchy, root, {.resolution = 512, .backend = kBackends[b]});
+        milliseconds[b] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      }
+      const CaptureResult& raster = results[0];
+      const CaptureResult& embree = results[1];
+      const double countDiff = std::abs(double(raster.surfels.size()) - double(embree.surfels.size())) /
+                               double(std::max<std::size_t>(raster.surfels.size(), 1));
+      const double coverageDiff = std::abs(raster.coverage - embree.coverage) / std::max(raster.coverage, 1e-12);
+      std::printf("%-16s node %u: surfels raster %zu embree %zu (%.3f%%), coverage %.4f / %.4f (%.3f%%), "
+                  "%.0f / %.0f ms\n",
+                  file, root, raster.surfels.size(), embree.surfels.size(), 100.0 * countDiff, raster.coverage,
+                  embree.coverage, 100.0 * coverageDiff, milliseconds[0], milliseconds[1]);
+      EXPECT_LT(countDiff, 0.01) << file;
+      EXPECT_LT(coverageDiff, 0.005) << file;
+      expectFinite(raster);
+      expectFinite(embree);
+    }
+  }
+}
+
+TEST(Capture, TexturedSpotGivesTextureColours) {
+  PBS_SHARED_SCENE(spot, "spot.glb");
+  const Scene scene = loadScene(spot.string()).scene;
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  for (const auto backend : kBackends) {
+    const CaptureResult result = captureNode(scene, hierarchy, scene.roots[0], {.resolution = 64, .backend = backend});
+    std::set<std::uint32_t> colours;
+    std::size_t white = 0;
+    for (const Surfel& surfel : result.surfels) {
+      std::uint32_t packed;
+      std::memcpy(&packed, &surfel.color, sizeof(packed));
+      colours.insert(packed);
+      white += surfel.color == glm::u8vec4(255);
+    }
+    EXPECT_LT(white, result.surfels.size() / 2);
+    EXPECT_GT(colours.size(), 16u);
+  }
+}
+
+TEST(Capture, SameSurfelsForOneAndTwoThreads) {
+  PBS_SHARED_SCENE(spot, "spot.glb");
+  const Scene scene = loadScene(spot.string()).scene;
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  for (const auto backend : kBackends) {
+    CaptureResult one, two;
+    const CaptureOptions options{.resolution = 128, .directions = 16, .backend = backend};
+    runWithThreads(1, [&] { one = captureNode(scene, hierarchy, scene.roots[0], options); });
+    runWithThreads(2, [&] { two = captureNode(scene, hierarchy, scene.roots[0], options); });
+    EXPECT_TRUE(sameSurfels(one, two));
+  }
+}
+
+}  // namespace
+}  // namespace pbs

@@ -1,0 +1,252 @@
+// Progressive orderings and blue-noise metrics: exactness against brute force, ρ ranges, stiff inputs.
+#include <pbs/surfels/blue_noise_metrics.hpp>
+#include <pbs/surfels/ordering.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <set>
+
+namespace pbs {
+namespace {
+
+std::vector<glm::vec3> spherePoints(std::size_t count, std::uint64_t seed) {
+  OrderRng rng(seed);
+  std::vector<glm::vec3> points(count);
+  for (glm::vec3& p : points) {
+    const double z = 2.0 * rng.unit() - 1.0;
+    const double phi = 2.0 * std::numbers::pi * rng.unit();
+    const double r = std::sqrt(1.0 - z * z);
+    p = glm::vec3(glm::dvec3(r * std::cos(phi), r * std::sin(phi), z));
+  }
+  return points;
+}
+
+// Uniform in the unit square at z = 0 (area 1).
+std::vector<glm::vec3> planePoints(std::size_t count, std::uint64_t seed) {
+  OrderRng rng(seed);
+  std::vector<glm::vec3> points(count);
+  for (glm::vec3& p : points) p = glm::vec3(rng.unit(), rng.unit(), 0.0);
+  return points;
+}
+
+float squaredDistance(const glm::vec3& a, const glm::vec3& b) {
+  const glm::vec3 d = a - b;
+  return glm::dot(d, d);
+}
+
+// Squared distance of `p` to the nearest of `chosen` by a linear scan.
+float nearestChosen(std::span<const glm::vec3> points, const std::vector<std::uint32_t>& chosen, const glm::vec3& p) {
+  float best = std::numeric_limits<float>::infinity();
+  for (std::uint32_t c : chosen) best = std::min(best, squaredDistance(points[c], p));
+  return best;
+}
+
+// The greedy permutation in O(n²): same first draw, ties to the lower index.
+std::vector<std::uint32_t> bruteFarthest(std::span<const glm::vec3> points, std::uint32_t max, std::uint64_t seed) {
+  std::vector<std::uint32_t> order;
+  if (points.empty() || max == 0) return order;
+  OrderRng rng(seed);
+  order.push_back(static_cast<std::uint32_t>(rng.below(points.size())));
+  std::vector<float> distance(points.size());
+  std::vector<bool> taken(points.size(), false);
+  taken[order[0]] = true;
+  for (std::size_t i = 0; i < points.size(); ++i) distance[i] = squaredDistance(points[i], points[order[0]]);
+  while (order.size() < std::min<std::size_t>(max, points.size())) {
+    std::uint32_t best = 0;
+    float bestD = -1.0f;
+    for (std::uint32_t i = 0; i < points.size(); ++i) {
+      if (!taken[i] && distance[i] > bestD) bestD = distance[i], best = i;
+    }
+    order.push_back(best);
+    taken[best] = true;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      distance[i] = std::min(distance[i], squaredDistance(points[i], points[best]));
+    }
+  }
+  return order;
+}
+
+// Dart throwing by its definition with linear-scan distances and the same draws as orderDart.
+std::vector<std::uint32_t> bruteDart(std::span<const glm::vec3> points, std::uint32_t max, std::uint64_t seed,
+                                     std::uint32_t candidates) {
+  std::vector<std::uint32_t> order, pool(points.size());
+  if (points.empty() || max == 0) return order;
+  for (std::uint32_t i = 0; i < pool.size(); ++i) pool[i] = i;
+  OrderRng rng(seed);
+  const auto take = [&pool](std::size_t pos) {
+    pool[pos] = pool.back();
+    pool.pop_back();
+  };
+  const std::size_t first = rng.below(pool.size());
+  order.push_back(pool[first]);
+  take(first);
+  while (order.size() < max && !pool.empty()) {
+    std::size_t farPos = 0, nearPos = 0;
+    float farD = -1.0f, nearD = std::numeric_limits<float>::infinity();
+    for (std::uint32_t c = 0; c < candidates; ++c) {
+      const std::size_t pos = rng.below(pool.size());
+      const float d = nearestChosen(points, order, points[pool[pos]]);
+      if (d > farD || (d == farD && pool[pos] < pool[farPos])) farD = d, farPos = pos;
+      if (d < nearD || (d == nearD && pool[pos] < pool[nearPos])) nearD = d, nearPos = pos;
+    }
+    order.push_back(pool[farPos]);
+    take(std::max(farPos, nearPos));
+    if (farPos != nearPos) take(std::min(farPos, nearPos));
+  }
+  return order;
+}
+
+void expectDistinctIndices(const std::vector<std::uint32_t>& order, std::size_t n) {
+  std::set<std::uint32_t> seen;
+  for (std::uint32_t i : order) {
+    ASSERT_LT(i, n);
+    ASSERT_TRUE(seen.insert(i).second) << "repeated index " << i;
+  }
+}
+
+TEST(Ordering, PrefixesArePermutationsWithoutRepeats) {
+  const auto points = spherePoints(3000, 7);
+  for (std::uint32_t max : {0u, 1u, 1000u, 5000u}) {
+    const auto random = orderRandom(points, max, 3);
+    const auto farthest = orderFarthest(points, max, 3);
+    const auto dart = orderDart(points, max, 3, 50);
+    EXPECT_EQ(random.size(), std::min<std::size_t>(max, points.size()));
+    EXPECT_EQ(farthest.size(), std::min<std::size_t>(max, points.size()));
+    EXPECT_LE(dart.size(), std::min<std::size_t>(max, points.size()));
+    expectDistinctIndices(random, points.size());
+    expectDistinctIndices(farthest, points.size());
+    expectDistinctIndices(dart, points.size());
+  }
+}
+
+TEST(Ordering, FarthestIsTheExactGreedyPermutation) {
+  for (std::uint64_t seed : {1u, 2u, 3u}) {
+    const auto sphere = spherePoints(2000, seed);
+    EXPECT_EQ(orderFarthest(sphere, 2000, seed), bruteFarthest(sphere, 2000, seed));
+    const auto plane = planePoints(2000, seed + 10);
+    EXPECT_EQ(orderFarthest(plane, 700, seed), bruteFarthest(plane, 700, seed));
+  }
+}
+
+TEST(Ordering, DartFollowsItsDefinition) {
+  for (std::uint64_t seed : {1u, 5u}) {
+    const auto points = spherePoints(2000, seed);
+    EXPECT_EQ(orderDart(points, 600, seed, 20), bruteDart(points, 600, seed, 20));
+    // Until the pool runs dry: each round takes one and drops one.
+    const auto all = orderDart(points, 5000, seed, 8);
+    EXPECT_EQ(all, bruteDart(points, 5000, seed, 8));
+    EXPECT_GE(all.size(), 1000u);
+  }
+}
+
+TEST(Ordering, DeterministicForASeed) {
+  const auto points = spherePoints(5000, 11);
+  EXPECT_EQ(orderFarthest(points, 1000, 4), orderFarthest(points, 1000, 4));
+  EXPECT_EQ(orderDart(points, 1000, 4), orderDart(points, 1000, 4));
+  EXPECT_EQ(orderRandom(points, 1000, 4), orderRandom(points, 1000, 4));
+  EXPECT_NE(orderFarthest(points, 1000, 4), orderFarthest(points, 1000, 5));
+  EXPECT_NE(orderDart(points, 1000, 4), orderDart(points, 1000, 5));
+  EXPECT_NE(orderRandom(points, 1000, 4), orderRandom(points, 1000, 5));
+}
+
+TEST(BlueNoiseMetrics, RhoRangesOnASphere) {
+  const auto points = spherePoints(20000, 21);
+  const double area = 4.0 * std::numbers::pi;
+  const BlueNoiseSummary farthest = summarizeBlueNoise(points, orderFarthest(points, 5000, 1), area);
+  const BlueNoiseSummary dart = summarizeBlueNoise(points, orderDart(points, 5000, 1), area);
+  const BlueNoiseSummary random = summarizeBlueNoise(points, orderRandom(points, 5000, 1), area);
+  EXPECT_GE(farthest.rhoMin, 0.6);
+  EXPECT_GE(farthest.rhoMean, farthest.rhoMin);
+  EXPECT_LE(farthest.rhoMean, 1.0);
+  EXPECT_GE(dart.rhoMin, 0.4);
+  EXPECT_LT(random.rhoMin, 0.2);
+}
+
+TEST(BlueNoiseMetrics, RhoRangesOnAPlanePatch) {
+  const auto points = planePoints(20000, 22);
+  const BlueNoiseSummary farthest = summarizeBlueNoise(points, orderFarthest(points, 5000, 1), 1.0);
+  const BlueNoiseSummary random = summarizeBlueNoise(points, orderRandom(points, 5000, 1), 1.0);
+  EXPECT_GE(farthest.rhoMin, 0.6);
+  EXPECT_LT(random.rhoMin, 0.2);
+}
+
+TEST(BlueNoiseMetrics, MinDistancesAreTheRunningMinimum) {
+  const auto points = planePoints(500, 3);
+  const auto order = orderRandom(points, 500, 9);
+  const auto minDistance = prefixMinDistances(points, order);
+  ASSERT_EQ(minDistance.size(), order.size());
+  EXPECT_TRUE(std::isinf(minDistance[0]));
+  double running = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    for (std::size_t j = 0; j < k; ++j) {
+      running = std::min(running, std::sqrt(double(squaredDistance(points[order[k]], points[order[j]]))));
+    }
+    EXPECT_NEAR(minDistance[k], running, 1e-6);
+  }
+}
+
+TEST(BlueNoiseMetrics, MeanNearestNeighbourOfAGrid) {
+  std::vector<glm::vec3> points;
+  for (int y = 0; y < 20; ++y) {
+    for (int x = 0; x < 20; ++x) points.emplace_back(0.5f * x, 0.5f * y, 2.0f);
+  }
+  const auto order = orderRandom(points, 400, 1);
+  EXPECT_NEAR(meanNearestNeighbourDistance(points, order, 400), 0.5, 1e-6);
+  EXPECT_EQ(meanNearestNeighbourDistance(points, order, 1), 0.0);
+}
+
+TEST(StiffInputs, EmptyInput) {
+  const std::vector<glm::vec3> none;
+  EXPECT_TRUE(orderRandom(none, 10, 1).empty());
+  EXPECT_TRUE(orderDart(none, 10, 1).empty());
+  EXPECT_TRUE(orderFarthest(none, 10, 1).empty());
+  EXPECT_TRUE(prefixMinDistances(none, {}).empty());
+  const BlueNoiseSummary summary = summarizeBlueNoise(none, {}, 1.0);
+  EXPECT_EQ(summary.rhoMin, 0.0);
+  EXPECT_EQ(summary.rhoMean, 0.0);
+}
+
+TEST(StiffInputs, AllPointsCoincident) {
+  const std::vector<glm::vec3> points(1000, glm::vec3(0.25f, -3.0f, 7.0f));
+  const auto farthest = orderFarthest(points, 300, 2);
+  const auto dart = orderDart(points, 300, 2);
+  ASSERT_EQ(farthest.size(), 300u);
+  ASSERT_EQ(dart.size(), 300u);
+  expectDistinctIndices(dart, points.size());
+  EXPECT_EQ(farthest, bruteFarthest(points, 300, 2));
+  // Every distance ties at 0, so after the random first point the rest come in index order.
+  EXPECT_TRUE(std::is_sorted(farthest.begin() + 1, farthest.end()));
+  const auto minDistance = prefixMinDistances(points, farthest);
+  for (std::size_t k = 1; k < minDistance.size(); ++k) EXPECT_EQ(minDistance[k], 0.0);
+  const BlueNoiseSummary summary = summarizeBlueNoise(points, farthest, 1.0);
+  EXPECT_EQ(summary.rhoMin, 0.0);
+  EXPECT_EQ(summary.rhoMean, 0.0);
+  EXPECT_EQ(meanNearestNeighbourDistance(points, farthest, 300), 0.0);
+}
+
+TEST(StiffInputs, CollinearEvenlySpaced) {
+  std::vector<glm::vec3> points;
+  for (int i = 0; i < 1024; ++i) points.emplace_back(0.0f, 0.125f * i, 0.0f);
+  EXPECT_EQ(orderFarthest(points, 1024, 6), bruteFarthest(points, 1024, 6));
+  EXPECT_EQ(orderDart(points, 300, 6, 30), bruteDart(points, 300, 6, 30));
+  const auto minDistance = prefixMinDistances(points, orderFarthest(points, 1024, 6));
+  EXPECT_DOUBLE_EQ(minDistance.back(), 0.125);
+}
+
+TEST(StiffInputs, TwoClustersFarApart) {
+  auto points = spherePoints(600, 8);
+  const auto other = spherePoints(600, 9);
+  for (const glm::vec3& p : other) points.push_back(p * 0.01f + glm::vec3(1e4f, 0.0f, 0.0f));
+  const auto farthest = orderFarthest(points, 1200, 3);
+  EXPECT_EQ(farthest, bruteFarthest(points, 1200, 3));
+  EXPECT_NE(farthest[0] < 600, farthest[1] < 600);  // the second point is in the other cluster
+  EXPECT_EQ(orderDart(points, 400, 3, 40), bruteDart(points, 400, 3, 40));
+  for (double d : prefixMinDistances(points, farthest)) EXPECT_FALSE(std::isnan(d));
+}
+
+}  // namespace
+}  // namespace pbs
