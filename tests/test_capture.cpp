@@ -3,6 +3,7 @@
 #include "pbs/raster/thread_arena.hpp"
 #include "pbs/scene/load_scene.hpp"
 #include "pbs/surfels/capture.hpp"
+#include "test_fixtures.hpp"
 #include "test_support.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -17,6 +18,8 @@
 
 namespace pbs {
 namespace {
+
+using test::sceneOf;
 
 // The cube [−0.5, 0.5]³, four vertices a face so every face has its own axis-aligned normal.
 Mesh cubeMesh() {
@@ -52,18 +55,6 @@ Mesh trianglesMesh(std::vector<glm::vec3> positions) {
   return mesh;
 }
 
-// One root per world transform, each drawing `mesh` with one plain material.
-Scene sceneOf(Mesh mesh, const std::vector<glm::dmat4>& worlds) {
-  Scene scene;
-  scene.materials.push_back(Material{"plain", glm::vec4(0.2f, 0.4f, 0.6f, 1.0f), -1});
-  scene.meshes.push_back(std::move(mesh));
-  for (const glm::dmat4& world : worlds) {
-    scene.roots.push_back(std::uint32_t(scene.nodes.size()));
-    scene.nodes.push_back(Node{"node", world, {}, 0});
-  }
-  validateScene(scene, "test scene");
-  return scene;
-}
 
 glm::dmat4 placed(const glm::dvec3& offset, double scale) {
   return glm::scale(glm::translate(glm::dmat4(1.0), offset), glm::dvec3(scale));

@@ -5,6 +5,7 @@
 #include "pbs/scene/embree_caster.hpp"
 #include "pbs/scene/load_scene.hpp"
 #include "pbs/scene/scene_draws.hpp"
+#include "test_fixtures.hpp"
 #include "test_support.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -15,6 +16,8 @@
 
 namespace pbs {
 namespace {
+
+using test::sceneOf;
 
 // A unit quad in the z = 0 plane, [−1, 1]², two triangles split along y = x, facing +Z.
 Mesh quadMesh() {
@@ -29,18 +32,6 @@ Mesh quadMesh() {
   return mesh;
 }
 
-// A scene of `mesh` drawn by one root per entry of `worlds`, with one plain material per part.
-Scene sceneOf(Mesh mesh, const std::vector<glm::dmat4>& worlds) {
-  Scene scene;
-  scene.materials.assign(mesh.parts.size(), Material{"plain", glm::vec4(0.2f, 0.4f, 0.6f, 1.0f), -1});
-  scene.meshes.push_back(std::move(mesh));
-  for (const glm::dmat4& world : worlds) {
-    scene.roots.push_back(std::uint32_t(scene.nodes.size()));
-    scene.nodes.push_back(Node{"node", world, {}, 0});
-  }
-  validateScene(scene, "test scene");
-  return scene;
-}
 
 glm::dmat4 lookFrom(const glm::dvec3& eye, const glm::dvec3& target) {
   return glm::lookAt(eye, target, glm::dvec3(0, 1, 0));

@@ -14,7 +14,7 @@ namespace pbs {
 namespace {
 
 std::vector<glm::vec3> spherePoints(std::size_t count, std::uint64_t seed) {
-  OrderRng rng(seed);
+  SeededRandom rng(seed);
   std::vector<glm::vec3> points(count);
   for (glm::vec3& p : points) {
     const double z = 2.0 * rng.unit() - 1.0;
@@ -27,7 +27,7 @@ std::vector<glm::vec3> spherePoints(std::size_t count, std::uint64_t seed) {
 
 // Uniform in the unit square at z = 0 (area 1).
 std::vector<glm::vec3> planePoints(std::size_t count, std::uint64_t seed) {
-  OrderRng rng(seed);
+  SeededRandom rng(seed);
   std::vector<glm::vec3> points(count);
   for (glm::vec3& p : points) p = glm::vec3(rng.unit(), rng.unit(), 0.0);
   return points;
@@ -49,7 +49,7 @@ float nearestChosen(std::span<const glm::vec3> points, const std::vector<std::ui
 std::vector<std::uint32_t> bruteFarthest(std::span<const glm::vec3> points, std::uint32_t max, std::uint64_t seed) {
   std::vector<std::uint32_t> order;
   if (points.empty() || max == 0) return order;
-  OrderRng rng(seed);
+  SeededRandom rng(seed);
   order.push_back(static_cast<std::uint32_t>(rng.below(points.size())));
   std::vector<float> distance(points.size());
   std::vector<bool> taken(points.size(), false);
@@ -76,7 +76,7 @@ std::vector<std::uint32_t> bruteDart(std::span<const glm::vec3> points, std::uin
   std::vector<std::uint32_t> order, pool(points.size());
   if (points.empty() || max == 0) return order;
   for (std::uint32_t i = 0; i < pool.size(); ++i) pool[i] = i;
-  OrderRng rng(seed);
+  SeededRandom rng(seed);
   const auto take = [&pool](std::size_t pos) {
     pool[pos] = pool.back();
     pool.pop_back();

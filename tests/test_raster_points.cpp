@@ -2,6 +2,8 @@
 #include "pbs/raster/points.hpp"
 #include "pbs/raster/thread_arena.hpp"
 
+#include "test_fixtures.hpp"
+
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -19,20 +21,13 @@
 namespace pbs {
 namespace {
 
-using PixelSet = std::set<std::pair<int, int>>;
+using test::PixelSet;
+using test::coveredPixels;
 
 // Orthographic camera whose window x and y are the world's x and y, with depth −z for z in [−1, 0]. With
 // power-of-two sizes every step is exact, so centres on pixel centres and corners test the edge rules exactly.
 Camera windowCamera(std::uint32_t width, std::uint32_t height) {
   return orthographicCamera(glm::dmat4(1.0), 0.0, width, height, 0.0, 0.0, 1.0, width, height);
-}
-
-PixelSet coveredPixels(const Framebuffer& framebuffer) {
-  PixelSet pixels;
-  for (std::uint32_t y = 0; y < framebuffer.height; ++y)
-    for (std::uint32_t x = 0; x < framebuffer.width; ++x)
-      if (framebuffer.covered(std::size_t(y) * framebuffer.width + x)) pixels.emplace(int(x), int(y));
-  return pixels;
 }
 
 // The coverage rules of points.hpp evaluated literally over every pixel, for a point at window (x, y) of

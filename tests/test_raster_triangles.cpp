@@ -6,6 +6,8 @@
 #include "pbs/raster/triangles.hpp"
 #include "reference_rasterizer.hpp"
 
+#include "test_fixtures.hpp"
+
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -24,7 +26,8 @@
 namespace pbs {
 namespace {
 
-using PixelSet = std::set<std::pair<int, int>>;
+using test::PixelSet;
+using test::coveredPixels;
 
 // Orthographic camera whose window x and y are the world's x and y, with depth −z for z in [−1, 0].
 // With power-of-two sizes every step is exact, so vertices on pixel centres test the fill rule exactly.
@@ -77,14 +80,6 @@ Framebuffer render(const Camera& camera, TestMesh& mesh, ChannelMask channels, c
   const TriangleDraw draw = mesh.draw(worldFromObject);
   drawTriangles(framebuffer, camera, {&draw, 1}, options);
   return framebuffer;
-}
-
-PixelSet coveredPixels(const Framebuffer& framebuffer) {
-  PixelSet pixels;
-  for (std::uint32_t y = 0; y < framebuffer.height; ++y)
-    for (std::uint32_t x = 0; x < framebuffer.width; ++x)
-      if (framebuffer.covered(std::size_t(y) * framebuffer.width + x)) pixels.emplace(int(x), int(y));
-  return pixels;
 }
 
 // A point at window position (x, y) and depth d for windowCamera.

@@ -5,7 +5,7 @@
 #include "mesh_merge.hpp"
 #include "pbs/scene/hierarchy.hpp"
 #include "pbs/scene/input_error.hpp"
-#include "seeded_random.hpp"
+#include "pbs/raster/seeded_random.hpp"
 #include "transform_shorthand.hpp"
 
 #include <algorithm>

@@ -3,7 +3,7 @@
 #include "pbs/scene/generate.hpp"
 
 #include "plant_catalog.hpp"
-#include "seeded_random.hpp"
+#include "pbs/raster/seeded_random.hpp"
 #include "transform_shorthand.hpp"
 
 #include <cmath>

@@ -87,7 +87,7 @@ std::vector<std::uint32_t> orderFarthest(std::span<const glm::vec3> points, std:
   std::vector<std::uint32_t> order;
   if (points.empty() || max == 0) return order;
   const CellSortedPoints grid = sortIntoCells(points, max);
-  OrderRng rng(seed);
+  SeededRandom rng(seed);
   const std::uint32_t first = static_cast<std::uint32_t>(rng.below(points.size()));
   order.push_back(first);
 

@@ -10,7 +10,7 @@ std::vector<std::uint32_t> orderRandom(std::span<const glm::vec3> points, std::u
   std::vector<std::uint32_t> indices(points.size());
   std::iota(indices.begin(), indices.end(), 0u);
   const std::size_t count = std::min<std::size_t>(max, indices.size());
-  OrderRng rng(seed);
+  SeededRandom rng(seed);
   for (std::size_t i = 0; i < count; ++i) {
     std::swap(indices[i], indices[i + rng.below(indices.size() - i)]);
   }

@@ -17,7 +17,7 @@ namespace {
 
 // Uniform on the sphere: z uniform in [-1, 1] and an independent uniform angle (Archimedes).
 std::vector<glm::vec3> spherePoints(std::uint64_t count, std::uint64_t seed) {
-  OrderRng rng(seed);
+  SeededRandom rng(seed);
   std::vector<glm::vec3> points(count);
   for (glm::vec3& p : points) {
     const double z = 2.0 * rng.unit() - 1.0;
