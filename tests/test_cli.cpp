@@ -90,6 +90,10 @@ TEST(Cli, DemoRunsOnTheEmbeddedDefault) {
   EXPECT_LE(json["triangles"].get<std::uint64_t>(), 50'000'000u);
   EXPECT_GE(json["max_depth"].get<int>(), 5);
   EXPECT_GT(json["surfel_nodes"].get<int>(), 0);
+  EXPECT_GT(json["captured_surfels"].get<std::uint64_t>(), 100'000u);
+  EXPECT_GT(json["coverage"].get<double>(), 0.0);
+  EXPECT_LE(json["coverage"].get<double>(), 1.0);
+  EXPECT_EQ(json["ordered_surfels"], 10000);
 }
 
 TEST(Cli, OctreeOptionGivesAFlatMeshAHierarchy) {
