@@ -143,6 +143,26 @@ TEST(Cli, OrderBenchMeasuresAllThreeOrderings) {
   EXPECT_GT(json["dart"]["rho_min"].get<double>(), json["random"]["rho_min"].get<double>());
 }
 
+TEST(Cli, CaptureWritesEveryViewsBuffersAsPng) {
+  PBS_SHARED_SCENE(suzanne, "suzanne.glb");
+  ScratchDir scratch;
+  const CommandResult result =
+      runPbs("capture '" + suzanne.string() + "' --resolution 64 -o '" + (scratch / "views").string() + "'");
+  ASSERT_EQ(result.status, 0) << result.err;
+  EXPECT_NE(result.out.find("8 views"), std::string::npos) << result.out;
+  int images = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(scratch / "views")) {
+    EXPECT_EQ(readFile(entry.path()).substr(0, 4), "\x89PNG") << entry.path();
+    EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos) << entry.path();
+    ++images;
+  }
+  EXPECT_EQ(images, 8 * 3);  // colour, position and normal per view, no temporary left behind
+
+  const CommandResult missing = runPbs("capture '" + suzanne.string() + "' --node nosuch -o '" + scratch.path().string() + "'");
+  EXPECT_EQ(missing.status, 1);
+  EXPECT_NE(missing.err.find("node nosuch"), std::string::npos) << missing.err;
+}
+
 // The bar: over a billion instanced triangles load in seconds and well under 1 GB.
 // Wall time is printed for the record, not asserted (tests check correctness, not speed).
 TEST(Cli, BillionTriangleCityLoadsInLittleMemory) {

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   pbs::cli::addDemoCommand(app);
   pbs::cli::addInfoCommand(app);
   pbs::cli::addGenerateCommand(app);
+  pbs::cli::addCaptureCommand(app);
   pbs::cli::addBenchCommand(app);
   try {
     app.parse(argc, argv);

@@ -57,6 +57,7 @@ CaptureResult captureNode(const Scene& scene, const Hierarchy& hierarchy, std::u
     Framebuffer framebuffer = makeFramebuffer(camera.width, camera.height,
                                               kChannelColor | kChannelPosition | kChannelNormal, result.origin);
     render(camera, framebuffer);
+    if (options.onView) options.onView(result.views, camera, framebuffer);
     const std::size_t before = result.surfels.size();
     appendSurfels(framebuffer, result.surfels);
     result.coveredPixels += result.surfels.size() - before;

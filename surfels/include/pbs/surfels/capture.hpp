@@ -5,9 +5,13 @@
 #include "pbs/scene/hierarchy.hpp"
 #include "pbs/scene/scene.hpp"
 
+#include "pbs/raster/camera.hpp"
+#include "pbs/raster/framebuffer.hpp"
+
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace pbs {
@@ -24,6 +28,9 @@ struct CaptureOptions {
   // set (deterministic, evenly spread), e.g. 16 or 32.
   std::uint32_t directions = 8;
   enum class Backend { Raster, Embree } backend = Backend::Raster;
+  // Called with every view's camera and G-buffer right after it is rendered (for pictures and
+  // debugging: `pbs capture` writes them as images); nothing is kept for it otherwise.
+  std::function<void(std::uint32_t view, const Camera& camera, const Framebuffer& gbuffer)> onView{};
 };
 
 struct CaptureResult {
