@@ -1,6 +1,7 @@
 // Small builders and readers shared by the raster, ray-casting and capture tests.
 #pragma once
 
+#include <pbs/raster/camera.hpp>
 #include <pbs/raster/framebuffer.hpp>
 #include <pbs/scene/hierarchy.hpp>
 
@@ -22,6 +23,13 @@ inline PixelSet coveredPixels(const Framebuffer& framebuffer) {
     for (std::uint32_t x = 0; x < framebuffer.width; ++x)
       if (framebuffer.covered(std::size_t(y) * framebuffer.width + x)) pixels.emplace(int(x), int(y));
   return pixels;
+}
+
+// Orthographic camera whose window x and y are the world's x and y, with depth −z for z in [−1, 0].
+// With power-of-two sizes every step is exact, so points and vertices on pixel centres and corners
+// test the edge rules exactly. It flips y: counter-clockwise on screen is clockwise in clip space.
+inline Camera windowCamera(std::uint32_t width, std::uint32_t height) {
+  return orthographicCamera(glm::dmat4(1.0), 0.0, width, height, 0.0, 0.0, 1.0, width, height);
 }
 
 // A validated scene of `mesh` drawn by one root per entry of `worlds`, one plain material per part.

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include "pbs/surfels/sphere_points.hpp"
+
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -12,18 +14,6 @@
 
 namespace pbs {
 namespace {
-
-std::vector<glm::vec3> spherePoints(std::size_t count, std::uint64_t seed) {
-  SeededRandom rng(seed);
-  std::vector<glm::vec3> points(count);
-  for (glm::vec3& p : points) {
-    const double z = 2.0 * rng.unit() - 1.0;
-    const double phi = 2.0 * std::numbers::pi * rng.unit();
-    const double r = std::sqrt(1.0 - z * z);
-    p = glm::vec3(glm::dvec3(r * std::cos(phi), r * std::sin(phi), z));
-  }
-  return points;
-}
 
 // Uniform in the unit square at z = 0 (area 1).
 std::vector<glm::vec3> planePoints(std::size_t count, std::uint64_t seed) {
@@ -109,7 +99,7 @@ void expectDistinctIndices(const std::vector<std::uint32_t>& order, std::size_t 
 }
 
 TEST(Ordering, PrefixesArePermutationsWithoutRepeats) {
-  const auto points = spherePoints(3000, 7);
+  const auto points = uniformSpherePoints(3000, 7);
   for (std::uint32_t max : {0u, 1u, 1000u, 5000u}) {
     const auto random = orderRandom(points, max, 3);
     const auto farthest = orderFarthest(points, max, 3);
@@ -125,7 +115,7 @@ TEST(Ordering, PrefixesArePermutationsWithoutRepeats) {
 
 TEST(Ordering, FarthestIsTheExactGreedyPermutation) {
   for (std::uint64_t seed : {1u, 2u, 3u}) {
-    const auto sphere = spherePoints(2000, seed);
+    const auto sphere = uniformSpherePoints(2000, seed);
     EXPECT_EQ(orderFarthest(sphere, 2000, seed), bruteFarthest(sphere, 2000, seed));
     const auto plane = planePoints(2000, seed + 10);
     EXPECT_EQ(orderFarthest(plane, 700, seed), bruteFarthest(plane, 700, seed));
@@ -134,7 +124,7 @@ TEST(Ordering, FarthestIsTheExactGreedyPermutation) {
 
 TEST(Ordering, DartFollowsItsDefinition) {
   for (std::uint64_t seed : {1u, 5u}) {
-    const auto points = spherePoints(2000, seed);
+    const auto points = uniformSpherePoints(2000, seed);
     EXPECT_EQ(orderDart(points, 600, seed, 20), bruteDart(points, 600, seed, 20));
     // Until the pool runs dry: each round takes one and drops one.
     const auto all = orderDart(points, 5000, seed, 8);
@@ -144,7 +134,7 @@ TEST(Ordering, DartFollowsItsDefinition) {
 }
 
 TEST(Ordering, DeterministicForASeed) {
-  const auto points = spherePoints(5000, 11);
+  const auto points = uniformSpherePoints(5000, 11);
   EXPECT_EQ(orderFarthest(points, 1000, 4), orderFarthest(points, 1000, 4));
   EXPECT_EQ(orderDart(points, 1000, 4), orderDart(points, 1000, 4));
   EXPECT_EQ(orderRandom(points, 1000, 4), orderRandom(points, 1000, 4));
@@ -154,7 +144,7 @@ TEST(Ordering, DeterministicForASeed) {
 }
 
 TEST(BlueNoiseMetrics, RhoRangesOnASphere) {
-  const auto points = spherePoints(20000, 21);
+  const auto points = uniformSpherePoints(20000, 21);
   const double area = 4.0 * std::numbers::pi;
   const BlueNoiseSummary farthest = summarizeBlueNoise(points, orderFarthest(points, 5000, 1), area);
   const BlueNoiseSummary dart = summarizeBlueNoise(points, orderDart(points, 5000, 1), area);
@@ -238,8 +228,8 @@ TEST(StiffInputs, CollinearEvenlySpaced) {
 }
 
 TEST(StiffInputs, TwoClustersFarApart) {
-  auto points = spherePoints(600, 8);
-  const auto other = spherePoints(600, 9);
+  auto points = uniformSpherePoints(600, 8);
+  const auto other = uniformSpherePoints(600, 9);
   for (const glm::vec3& p : other) points.push_back(p * 0.01f + glm::vec3(1e4f, 0.0f, 0.0f));
   const auto farthest = orderFarthest(points, 1200, 3);
   EXPECT_EQ(farthest, bruteFarthest(points, 1200, 3));

@@ -23,12 +23,8 @@ namespace {
 
 using test::PixelSet;
 using test::coveredPixels;
+using test::windowCamera;
 
-// Orthographic camera whose window x and y are the world's x and y, with depth −z for z in [−1, 0]. With
-// power-of-two sizes every step is exact, so centres on pixel centres and corners test the edge rules exactly.
-Camera windowCamera(std::uint32_t width, std::uint32_t height) {
-  return orthographicCamera(glm::dmat4(1.0), 0.0, width, height, 0.0, 0.0, 1.0, width, height);
-}
 
 // The coverage rules of points.hpp evaluated literally over every pixel, for a point at window (x, y) of
 // drawn size s. `ambiguous` is set when a pixel centre lies within `epsilon` of the splat's edge, where a

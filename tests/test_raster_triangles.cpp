@@ -28,13 +28,8 @@ namespace {
 
 using test::PixelSet;
 using test::coveredPixels;
+using test::windowCamera;
 
-// Orthographic camera whose window x and y are the world's x and y, with depth −z for z in [−1, 0].
-// With power-of-two sizes every step is exact, so vertices on pixel centres test the fill rule exactly.
-// It flips y, so counter-clockwise on screen is clockwise in clip space: culling tests use lookCamera.
-Camera windowCamera(std::uint32_t width, std::uint32_t height) {
-  return orthographicCamera(glm::dmat4(1.0), 0.0, width, height, 0.0, 0.0, 1.0, width, height);
-}
 
 // A camera at `eye` looking at the origin, y up.
 Camera lookCamera(const glm::dvec3& eye, bool perspective, std::uint32_t width, std::uint32_t height) {

@@ -4,9 +4,9 @@
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/surfels/blue_noise_metrics.hpp>
 #include <pbs/surfels/ordering.hpp>
+#include <pbs/surfels/sphere_points.hpp>
 
 #include <chrono>
-#include <cmath>
 #include <functional>
 #include <numbers>
 #include <vector>
@@ -14,19 +14,6 @@
 namespace pbs::bench {
 
 namespace {
-
-// Uniform on the sphere: z uniform in [-1, 1] and an independent uniform angle (Archimedes).
-std::vector<glm::vec3> spherePoints(std::uint64_t count, std::uint64_t seed) {
-  SeededRandom rng(seed);
-  std::vector<glm::vec3> points(count);
-  for (glm::vec3& p : points) {
-    const double z = 2.0 * rng.unit() - 1.0;
-    const double phi = 2.0 * std::numbers::pi * rng.unit();
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    p = glm::vec3(glm::dvec3(r * std::cos(phi), r * std::sin(phi), z));
-  }
-  return points;
-}
 
 using Ordering = std::function<std::vector<std::uint32_t>()>;
 
@@ -42,7 +29,7 @@ nlohmann::json measure(const std::vector<glm::vec3>& points, const Ordering& ord
 }  // namespace
 
 nlohmann::json benchOrder(std::uint64_t points, std::uint32_t max, std::uint64_t seed) {
-  const std::vector<glm::vec3> sphere = spherePoints(points, seed);
+  const std::vector<glm::vec3> sphere = uniformSpherePoints(points, seed);
   nlohmann::json report;
   report["points"] = points;
   report["max"] = max;
