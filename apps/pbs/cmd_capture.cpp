@@ -5,7 +5,6 @@
 #include "scene_report.hpp"
 
 #include <pbs/raster/thread_arena.hpp>
-#include <pbs/scene/input_error.hpp>
 #include <pbs/surfels/capture.hpp>
 
 #include <cstdio>
@@ -15,18 +14,6 @@
 
 namespace pbs::cli {
 namespace {
-
-// A node named `wanted`, or with that index; by default the first root.
-std::uint32_t findNode(const LoadedScene& loaded, const std::string& wanted) {
-  if (wanted.empty()) return loaded.scene.roots.front();
-  for (std::uint32_t n : loaded.hierarchy.preorder)
-    if (loaded.scene.nodes[n].name == wanted) return n;
-  if (wanted.find_first_not_of("0123456789") == std::string::npos && wanted.size() < 10) {
-    const auto index = std::stoul(wanted);
-    if (index < loaded.scene.nodes.size()) return std::uint32_t(index);
-  }
-  throw InputError(loaded.name, "node " + wanted, "no node has this name or index");
-}
 
 // One buffer as RGBA8: `toColor` maps a covered pixel; uncovered pixels are transparent.
 template <typename ToColor>
@@ -60,12 +47,7 @@ void addCaptureCommand(CLI::App& app) {
   command->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->required();
   command->add_option("--node", options->node, "node name or index (default: the first root)");
   command->add_option("-o,--output", options->output, "output folder (created if missing)")->required();
-  command->add_option("--resolution", options->capture.resolution, "pixels along the larger side of each view")
-      ->check(CLI::Range(1u, 16384u))
-      ->capture_default_str();
-  command->add_option("--directions", options->capture.directions, "8: the box corners; else spread over the sphere")
-      ->check(CLI::Range(1u, 1024u))
-      ->capture_default_str();
+  addCaptureOptions(*command, options->capture.resolution, options->capture.directions);
   command->add_option("--backend", options->backend, "raster or embree")
       ->check(CLI::IsMember({"raster", "embree"}))
       ->capture_default_str();

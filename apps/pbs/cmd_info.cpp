@@ -33,10 +33,4 @@ void addInfoCommand(CLI::App& app) {
   });
 }
 
-void addThreadsOption(CLI::App& command, int& threads) {
-  command.add_option("--threads", threads, "worker threads (0: all hardware threads)")
-      ->check(CLI::Range(0, 4096))
-      ->capture_default_str();
-}
-
 }  // namespace pbs::cli

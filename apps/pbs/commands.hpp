@@ -1,7 +1,11 @@
 // The subcommands of `pbs`: each file registers one on the application.
 #pragma once
 
+#include <pbs/surfels/ordering.hpp>
+
 #include <CLI/CLI.hpp>
+
+#include <cstdint>
 
 namespace pbs::cli {
 
@@ -10,8 +14,17 @@ void addInfoCommand(CLI::App& app);
 void addGenerateCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addCaptureCommand(CLI::App& app);
+void addAnalyzeCommand(CLI::App& app);
+void addPrefixesCommand(CLI::App& app);
+void addSurfelizeCommand(CLI::App& app);
 
 // The `--threads` option every command has (0: all hardware threads).
 void addThreadsOption(CLI::App& command, int& threads);
+
+// `--resolution` and `--directions` of the commands that capture nodes (see CaptureOptions).
+void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32_t& directions);
+
+// `--ordering farthest|dart|random`.
+void addOrderingOption(CLI::App& command, SurfelOrdering& ordering);
 
 }  // namespace pbs::cli

@@ -12,6 +12,9 @@ int main(int argc, char** argv) {
   pbs::cli::addInfoCommand(app);
   pbs::cli::addGenerateCommand(app);
   pbs::cli::addCaptureCommand(app);
+  pbs::cli::addAnalyzeCommand(app);
+  pbs::cli::addPrefixesCommand(app);
+  pbs::cli::addSurfelizeCommand(app);
   pbs::cli::addBenchCommand(app);
   try {
     app.parse(argc, argv);

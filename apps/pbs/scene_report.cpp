@@ -1,6 +1,8 @@
 // Scene loading with timings and the summary shared by `pbs info` and `pbs demo`.
 #include "scene_report.hpp"
 
+#include <pbs/scene/input_error.hpp>
+
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -24,6 +26,20 @@ std::string withThousands(std::uint64_t value) {
     grouped += digits[i];
   }
   return grouped;
+}
+
+std::uint32_t findNode(const LoadedScene& loaded, const std::string& wanted) {
+  if (wanted.empty()) {
+    if (loaded.scene.roots.empty()) throw InputError(loaded.name, "", "the scene has no root node");
+    return loaded.scene.roots.front();
+  }
+  for (std::uint32_t n : loaded.hierarchy.preorder)
+    if (loaded.scene.nodes[n].name == wanted) return n;
+  if (wanted.find_first_not_of("0123456789") == std::string::npos && wanted.size() < 10) {
+    const auto index = std::stoul(wanted);
+    if (index < loaded.scene.nodes.size()) return std::uint32_t(index);
+  }
+  throw InputError(loaded.name, "node " + wanted, "no node has this name or index");
 }
 
 LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options) {

@@ -22,6 +22,10 @@ struct LoadedScene {
 // Loads and analyses; prints the importer's warnings to stderr as "warning: …" lines.
 LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options);
 
+// The node named `wanted`, or with that index; the first root when `wanted` is empty. Throws
+// InputError when no node matches or the scene has no root.
+std::uint32_t findNode(const LoadedScene& loaded, const std::string& wanted);
+
 nlohmann::json summaryJson(const LoadedScene& loaded);
 void printSummary(const LoadedScene& loaded);
 

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <string>
 
 namespace pbs {
@@ -118,7 +119,11 @@ void validateScene(const Scene& scene, std::string_view source) {
   }
 }
 
-Hierarchy analyzeHierarchy(const Scene& scene) {
+namespace {
+
+// The hierarchy below `starts`; a start's world transform is its local one, or the identity when
+// `startsInOwnFrame` (then everything is seen from the start node's own frame).
+Hierarchy analyzeFrom(const Scene& scene, std::span<const std::uint32_t> starts, bool startsInOwnFrame) {
   const std::size_t count = scene.nodes.size();
   Hierarchy h;
   h.parent.assign(count, -1);
@@ -128,13 +133,14 @@ Hierarchy analyzeHierarchy(const Scene& scene) {
   h.subtreeTriangles.assign(count, 0);
   h.preorder.reserve(count);
 
-  std::vector<std::uint32_t> stack(scene.roots.rbegin(), scene.roots.rend());
+  std::vector<std::uint32_t> stack(starts.rbegin(), starts.rend());
   while (!stack.empty()) {
     const std::uint32_t n = stack.back();
     stack.pop_back();
     h.preorder.push_back(n);
     const Node& node = scene.nodes[n];
-    h.world[n] = h.parent[n] < 0 ? node.local : h.world[h.parent[n]] * node.local;
+    if (h.parent[n] >= 0) h.world[n] = h.world[h.parent[n]] * node.local;
+    else if (!startsInOwnFrame) h.world[n] = node.local;
     for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) {
       h.parent[*child] = std::int32_t(n);
       h.depth[*child] = h.depth[n] + 1;
@@ -170,6 +176,15 @@ Hierarchy analyzeHierarchy(const Scene& scene) {
     h.subtreeTriangles[p] += h.subtreeTriangles[*it];
   }
   return h;
+}
+
+}  // namespace
+
+Hierarchy analyzeHierarchy(const Scene& scene) { return analyzeFrom(scene, scene.roots, false); }
+
+Hierarchy analyzeSubtree(const Scene& scene, std::uint32_t node) {
+  const std::uint32_t start[] = {node};
+  return analyzeFrom(scene, start, true);
 }
 
 SceneSummary summarizeScene(const Scene& scene, const Hierarchy& hierarchy) {

@@ -6,12 +6,31 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace pbs {
 
+namespace {
+
+// An order from a file or a caller may hold anything: an index past the points is an error, not a read.
+void checkIndices(std::span<const glm::vec3> points, std::span<const std::uint32_t> order, const char* who) {
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    if (order[k] >= points.size()) {
+      std::string message(who);
+      message.append(": order entry ").append(std::to_string(k)).append(" is ").append(std::to_string(order[k]));
+      message.append(", past the ").append(std::to_string(points.size())).append(" points");
+      throw std::invalid_argument(message);
+    }
+  }
+}
+
+}  // namespace
+
 std::vector<double> prefixMinDistances(std::span<const glm::vec3> points, std::span<const std::uint32_t> order) {
+  checkIndices(points, order, "prefixMinDistances");
   std::vector<double> minDistance(order.size(), std::numeric_limits<double>::infinity());
-  NearestPointGrid prefix(points);
+  NearestPointGrid prefix(points, "prefixMinDistances");
   double running = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < order.size(); ++k) {
     const float d2 = prefix.nearestSquared(points[order[k]]);
@@ -23,7 +42,7 @@ std::vector<double> prefixMinDistances(std::span<const glm::vec3> points, std::s
 }
 
 double relativeRadius(double minDistance, std::size_t k, double area) {
-  if (area <= 0.0 || k == 0) return 0.0;
+  if (!(area > 0.0) || k == 0) return 0.0;  // negated so a NaN area gives 0 too
   return minDistance / std::sqrt(2.0 * area / (std::sqrt(3.0) * static_cast<double>(k)));
 }
 
@@ -31,7 +50,8 @@ double meanNearestNeighbourDistance(std::span<const glm::vec3> points, std::span
                                     std::size_t count) {
   count = std::min(count, order.size());
   if (count < 2) return 0.0;
-  NearestPointGrid prefix(points);
+  checkIndices(points, order.first(count), "meanNearestNeighbourDistance");
+  NearestPointGrid prefix(points, "meanNearestNeighbourDistance");
   for (std::size_t k = 0; k < count; ++k) prefix.insert(order[k]);
   double sum = 0.0;
   for (std::size_t k = 0; k < count; ++k) {

@@ -10,53 +10,36 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <optional>
 #include <stdexcept>
 
 namespace pbs {
 namespace {
 
-using RenderView = std::function<void(const Camera&, Framebuffer&)>;
+// The authors' coverage rule: alpha > 0.1 in RGBA8.
+constexpr std::uint8_t kMinCoveredAlpha = 26;
 
 void appendSurfels(const Framebuffer& framebuffer, std::vector<Surfel>& surfels) {
   for (std::size_t pixel = 0; pixel < framebuffer.pixelCount(); ++pixel) {
-    if (!framebuffer.covered(pixel)) continue;
+    if (!framebuffer.covered(pixel) || framebuffer.color[pixel].a < kMinCoveredAlpha) continue;
     surfels.push_back({framebuffer.position[pixel], framebuffer.normal[pixel], framebuffer.color[pixel]});
   }
 }
 
 }  // namespace
 
-CaptureResult captureNode(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node,
-                          const CaptureOptions& options) {
-  if (node >= scene.nodes.size()) throw std::invalid_argument("captureNode: node index out of range");
-  if (options.resolution == 0) throw std::invalid_argument("captureNode: resolution must be at least 1");
+CaptureResult captureBox(const Bounds& box, const CaptureOptions& options, const DrawCaptureView& draw) {
+  if (options.resolution == 0) throw std::invalid_argument("capture: resolution must be at least 1");
   const std::vector<glm::dvec3> directions = captureDirections(options.directions);
-
   CaptureResult result;
-  const Bounds& box = hierarchy.worldBounds[node];
   if (box.empty()) return result;
   result.origin = box.center();
-
-  const std::vector<std::uint32_t> nodes = subtreeNodes(scene, node);
-  // Built once for all views: the BVH build is the Embree backend's main fixed cost.
-  std::optional<EmbreeScene> embree;
-  RenderView render;
-  if (options.backend == CaptureOptions::Backend::Embree) {
-    embree.emplace(scene, hierarchy, nodes);
-    render = [&](const Camera& camera, Framebuffer& framebuffer) { embree->render(camera, framebuffer); };
-  } else {
-    render = [&](const Camera& camera, Framebuffer& framebuffer) {
-      drawNodeTriangles(scene, hierarchy, nodes, camera, framebuffer, TriangleOptions{.cullBackFaces = false});
-    };
-  }
 
   double boxArea = 0.0;
   for (const glm::dvec3& direction : directions) {
     const Camera camera = boxViewCamera(box, direction, options.resolution);
     Framebuffer framebuffer = makeFramebuffer(camera.width, camera.height,
                                               kChannelColor | kChannelPosition | kChannelNormal, result.origin);
-    render(camera, framebuffer);
+    draw(camera, framebuffer);
     if (options.onView) options.onView(result.views, camera, framebuffer);
     const std::size_t before = result.surfels.size();
     appendSurfels(framebuffer, result.surfels);
@@ -68,6 +51,23 @@ CaptureResult captureNode(const Scene& scene, const Hierarchy& hierarchy, std::u
   const double denominator = std::max(boxArea, double(result.coveredPixels));
   result.coverage = denominator > 0.0 ? double(result.coveredPixels) / denominator : 0.0;
   return result;
+}
+
+CaptureResult captureNode(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node,
+                          const CaptureOptions& options) {
+  if (node >= scene.nodes.size()) throw std::invalid_argument("captureNode: node index out of range");
+  const Bounds& box = hierarchy.worldBounds[node];
+  if (box.empty()) return captureBox(box, options, {});
+
+  const std::vector<std::uint32_t> nodes = subtreeNodes(scene, node);
+  if (options.backend == CaptureOptions::Backend::Embree) {
+    // Built once for all views: the BVH build is the Embree backend's main fixed cost.
+    const EmbreeScene embree(scene, hierarchy, nodes);
+    return captureBox(box, options, [&](const Camera& camera, Framebuffer& framebuffer) { embree.render(camera, framebuffer); });
+  }
+  return captureBox(box, options, [&](const Camera& camera, Framebuffer& framebuffer) {
+    drawNodeTriangles(scene, hierarchy, nodes, camera, framebuffer, TriangleOptions{.cullBackFaces = false});
+  });
 }
 
 }  // namespace pbs

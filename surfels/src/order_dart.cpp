@@ -30,7 +30,7 @@ std::vector<std::uint32_t> orderDart(std::span<const glm::vec3> points, std::uin
   Pool pool;
   pool.indices.resize(points.size());
   std::iota(pool.indices.begin(), pool.indices.end(), 0u);
-  NearestPointGrid chosen(points);
+  NearestPointGrid chosen(points, "orderDart");
   SeededRandom rng(seed);
   const auto choose = [&](std::size_t position) {
     order.push_back(pool.indices[position]);

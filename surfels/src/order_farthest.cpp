@@ -1,4 +1,6 @@
 // orderFarthest: the exact greedy permutation with per-point distances, a cell grid and a lazy heap of cells.
+#include "order_nearest_grid.hpp"
+
 #include <pbs/surfels/ordering.hpp>
 
 #include <algorithm>
@@ -36,13 +38,10 @@ glm::ivec3 dimsFor(const glm::vec3& extent, float cellSize) {
 // cells than twice the points, so memory and empty-cell visits stay linear.
 CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t max) {
   CellSortedPoints grid;
-  glm::vec3 hi = points[0];
-  grid.lo = points[0];
-  for (const glm::vec3& p : points) {
-    grid.lo = glm::min(grid.lo, p);
-    hi = glm::max(hi, p);
-  }
-  const glm::vec3 extent = hi - grid.lo;
+  // Finite, at most 1e18 wide, and 0 wide below float's smallest normal (so cellSize never becomes 0).
+  const OrderableBox box = orderableBox(points, "orderFarthest");
+  grid.lo = box.lo;
+  const glm::vec3 extent = box.extent;
   const float maxExtent = std::max({extent.x, extent.y, extent.z});
   if (maxExtent > 0.0f) {
     grid.cellSize = maxExtent / std::sqrt(static_cast<float>(std::max(1u, max)));
@@ -135,6 +134,14 @@ std::vector<std::uint32_t> orderFarthest(std::span<const glm::vec3> points, std:
     const float radius2 = distance[slot];
     order.push_back(index);
     distance[slot] = -1.0f;
+    if (radius2 == 0.0f) {
+      // The farthest pool point is at distance 0, so all are, and stay so: ties go to the lower index,
+      // so the rest of the order is the pool in index order. Taken in one pass, as rescanning the
+      // chosen point's cell for each of n coincident points would cost n².
+      for (std::uint32_t i = 0; i < points.size() && order.size() < max; ++i)
+        if (distance[grid.slotOf[i]] >= 0.0f) order.push_back(i);
+      break;
+    }
     // Only points within the chosen point's own distance can have it as their new nearest.
     const glm::vec3 p = grid.position[slot];
     // A relative margin so float rounding of cell bounds never skips a point inside the radius.

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace pbs {
 
@@ -16,15 +18,44 @@ constexpr std::size_t kGrowth = 4;
 
 }  // namespace
 
-NearestPointGrid::NearestPointGrid(std::span<const glm::vec3> points) : points_(points) {
-  if (points.empty()) return;
-  glm::vec3 hi = points[0];
-  lo_ = points[0];
+OrderableBox orderableBox(std::span<const glm::vec3> points, const char* who) {
+  OrderableBox box;
+  if (points.empty()) return box;
+  glm::vec3 lo = points[0], hi = points[0];
+  bool finite = true;
   for (const glm::vec3& p : points) {
-    lo_ = glm::min(lo_, p);
+    finite &= glm::all(glm::lessThanEqual(glm::abs(p), glm::vec3(std::numeric_limits<float>::max())));  // NaN: false
+    lo = glm::min(lo, p);
     hi = glm::max(hi, p);
   }
-  extent_ = hi - lo_;
+  const auto fail = [&](std::size_t index, const char* problem) {
+    std::string message(who);
+    message.append(": point ").append(std::to_string(index)).append(problem);
+    throw std::invalid_argument(message);
+  };
+  if (!finite) {
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (!std::isfinite(points[i].x) || !std::isfinite(points[i].y) || !std::isfinite(points[i].z))
+        fail(i, " is not finite");
+  }
+  const glm::vec3 extent = hi - lo;
+  if (std::max({extent.x, extent.y, extent.z}) > kMaxOrderableExtent) {
+    // Point 0 lies in the box, so some point is more than half the extent away from it.
+    std::size_t far = 0;
+    while (far + 1 < points.size() &&
+           !glm::any(glm::greaterThan(glm::abs(points[far] - points[0]), glm::vec3(0.5f * kMaxOrderableExtent))))
+      ++far;
+    fail(far, " makes the points span more than 1e18: squared distances would overflow float");
+  }
+  box.lo = lo;
+  if (std::max({extent.x, extent.y, extent.z}) >= std::numeric_limits<float>::min()) box.extent = extent;
+  return box;
+}
+
+NearestPointGrid::NearestPointGrid(std::span<const glm::vec3> points, const char* who) : points_(points) {
+  const OrderableBox box = orderableBox(points, who);
+  lo_ = box.lo;
+  extent_ = box.extent;
 }
 
 glm::ivec3 NearestPointGrid::cellOf(const glm::vec3& p) const {
@@ -84,6 +115,8 @@ float NearestPointGrid::nearestSquared(const glm::vec3& query, std::uint32_t ski
       if (index == skip) continue;
       const glm::vec3 d = position_[e] - query;
       best = std::min(best, glm::dot(d, d));
+      // Nothing is nearer than 0: without this, n coincident points cost n per query (n² in all).
+      if (best == 0.0f) return;
     }
   };
   const glm::ivec3 far = glm::max(c, dims_ - 1 - c);

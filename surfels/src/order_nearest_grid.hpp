@@ -10,12 +10,25 @@
 
 namespace pbs {
 
+// The bounding box of points the orderings and metrics can measure. Throws std::invalid_argument,
+// naming `who` and the first offending index, for a non-finite coordinate (it has no distances) or a
+// box wider than kMaxOrderableExtent (squared distances would overflow float). A box narrower than
+// float's smallest normal number comes back as a single point: its squared distances underflow to 0
+// anyway, and cells sized from it would be 0 (divisions by zero, endless cell-size loops).
+struct OrderableBox {
+  glm::vec3 lo{0.0f};
+  glm::vec3 extent{0.0f};
+};
+inline constexpr float kMaxOrderableExtent = 1e18f;  // 3·(1e18)² stays below FLT_MAX ≈ 3.4e38
+OrderableBox orderableBox(std::span<const glm::vec3> points, const char* who);
+
 class NearestPointGrid {
  public:
   static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
-  // `points` is every point that may be inserted; its bounding box fixes the grid's extent.
-  explicit NearestPointGrid(std::span<const glm::vec3> points);
+  // `points` is every point that may be inserted; its bounding box fixes the grid's extent. Throws
+  // std::invalid_argument (see orderableBox) for points it cannot measure.
+  NearestPointGrid(std::span<const glm::vec3> points, const char* who);
 
   void insert(std::uint32_t index);
 

@@ -1,5 +1,7 @@
-// Selection of the nodes complex enough to be replaced by surfels.
+// Selection of the nodes complex enough to be replaced by surfels, and their stable paths.
 #include "pbs/surfels/surfel_nodes.hpp"
+
+#include <algorithm>
 
 namespace pbs {
 
@@ -8,6 +10,18 @@ std::vector<std::uint32_t> nodesNeedingSurfels(const Hierarchy& hierarchy, std::
   for (std::uint32_t n : hierarchy.preorder)
     if (hierarchy.subtreeTriangles[n] > minTriangles) nodes.push_back(n);
   return nodes;
+}
+
+std::string nodePath(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node) {
+  std::vector<std::size_t> steps;
+  for (std::int64_t n = node; n >= 0; n = hierarchy.parent[std::size_t(n)]) {
+    const std::int32_t parent = hierarchy.parent[std::size_t(n)];
+    const std::vector<std::uint32_t>& siblings = parent >= 0 ? scene.nodes[std::size_t(parent)].children : scene.roots;
+    steps.push_back(std::size_t(std::find(siblings.begin(), siblings.end(), std::uint32_t(n)) - siblings.begin()));
+  }
+  std::string path;
+  for (auto step = steps.rbegin(); step != steps.rend(); ++step) path.append("/").append(std::to_string(*step));
+  return path;
 }
 
 }  // namespace pbs

@@ -27,6 +27,13 @@ struct Hierarchy {
 // Requires a scene that passed validateScene. Runs in parallel over the nodes that carry meshes.
 Hierarchy analyzeHierarchy(const Scene& scene);
 
+// The same for `node`'s subtree alone, seen from the node's own frame: world[node] is the identity
+// (its own transform left out), world[n] below it chains the local transforms, worldBounds are tight
+// boxes in that frame, preorder lists the subtree and parent[node] is -1. Entries of nodes outside the
+// subtree keep their defaults. This is the frame a node's surfels are made and stored in, so every
+// instance of the same subtree shares them.
+Hierarchy analyzeSubtree(const Scene& scene, std::uint32_t node);
+
 struct SceneSummary {
   std::uint64_t nodes = 0;
   std::uint64_t meshes = 0;

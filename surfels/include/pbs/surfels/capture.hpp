@@ -7,6 +7,7 @@
 
 #include "pbs/raster/camera.hpp"
 #include "pbs/raster/framebuffer.hpp"
+#include "pbs/surfels/surfel.hpp"
 
 #include <glm/glm.hpp>
 
@@ -15,12 +16,6 @@
 #include <vector>
 
 namespace pbs {
-
-struct Surfel {
-  glm::vec3 position;  // relative to CaptureResult::origin, so far-from-origin nodes keep their digits
-  glm::vec3 normal;    // world-space unit normal of the surface as stored (not flipped toward the view)
-  glm::u8vec4 color;   // base colour: material factor × texture where the material has one
-};
 
 struct CaptureOptions {
   std::uint32_t resolution = 512;  // pixels along the larger side of each view's projected box
@@ -50,6 +45,16 @@ struct CaptureResult {
 // The view directions (unit vectors the cameras look along) for `count` views; see
 // CaptureOptions::directions. Throws std::invalid_argument for 0.
 std::vector<glm::dvec3> captureDirections(std::uint32_t count);
+
+// Draws one capture view: fills the G-buffer (colour, position relative to the box centre, normal) as
+// seen by `camera`.
+using DrawCaptureView = std::function<void(const Camera& camera, Framebuffer& gbuffer)>;
+
+// The capture of `box` with whatever `draw` puts in each view: the views, surfels and coverage of
+// captureNode, for captures that draw something other than a subtree's triangles (a node's children's
+// surfels, say). options.backend is not used. A pixel gives a surfel when it is covered and its colour
+// alpha exceeds 0.1 (the authors' rule: fully transparent texels make no surfels).
+CaptureResult captureBox(const Bounds& box, const CaptureOptions& options, const DrawCaptureView& draw);
 
 // Captures `node`'s whole subtree (world transforms applied; nothing outside the subtree drawn), one
 // orthographic view per direction fitted to hierarchy.worldBounds[node], faces never culled.

@@ -1,0 +1,191 @@
+// `pbs prefixes SCENE -o F.png`: prefixes of 100, 200, 400 … surfels of one node drawn side by side, point
+// sizes shrinking as the count grows so every prefix covers the surface about equally (the paper's Figure 2).
+#include "commands.hpp"
+#include "image_files.hpp"
+#include "scene_report.hpp"
+
+#include <pbs/raster/camera.hpp>
+#include <pbs/raster/framebuffer.hpp>
+#include <pbs/raster/points.hpp>
+#include <pbs/raster/thread_arena.hpp>
+#include <pbs/surfels/capture.hpp>
+#include <pbs/surfels/ordering.hpp>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+namespace pbs::cli {
+namespace {
+
+// The fixed 3/4 view every panel shares: from above, front and right, so three faces of a box show.
+const glm::dvec3 kViewDirection = glm::normalize(glm::dvec3(-0.55, -0.45, -0.7));
+
+// An orthographic camera looking along kViewDirection at the box, its square view fitted to the box's
+// projected corners with a small margin. A point-like or empty box gets a unit box so the camera stays
+// defined.
+Camera panelCamera(const Bounds& box, std::uint32_t size) {
+  const glm::dvec3 center = box.empty() ? glm::dvec3(0.0) : box.center();
+  double radius = 0.5 * glm::length(box.size());
+  if (!(radius > 0.0) || !std::isfinite(radius)) radius = 1.0;
+  const glm::dvec3 eye = center - kViewDirection * (2.0 * radius);
+  const glm::dmat4 view = glm::lookAt(eye, center, glm::dvec3(0.0, 1.0, 0.0));
+  double half = 0.0;
+  for (int c = 0; c < 8 && !box.empty(); ++c) {
+    const glm::dvec3 p{(c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
+                       (c & 4) ? box.max.z : box.min.z};
+    const glm::dvec3 eyeSpace(view * glm::dvec4(p, 1.0));
+    half = std::max({half, std::abs(eyeSpace.x), std::abs(eyeSpace.y)});
+  }
+  half = 1.04 * (half > 0.0 ? half : radius);
+  return orthographicCamera(view, -half, half, -half, half, 0.5 * radius, 3.5 * radius, size, size);
+}
+
+// Area in pixels of the convex hull of the box's 8 projected corners (its silhouette in the panel).
+double projectedBoxArea(const Camera& camera, const Bounds& box) {
+  if (box.empty()) return 0.0;
+  std::array<glm::dvec2, 8> corners;
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 p{(c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
+                       (c & 4) ? box.max.z : box.min.z};
+    corners[std::size_t(c)] = glm::dvec2(windowFromClip(camera, camera.clipFromWorld() * glm::dvec4(p, 1.0)));
+  }
+  std::sort(corners.begin(), corners.end(),
+            [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+  const auto cross = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
+    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+  };
+  // Andrew's monotone chain: lower hull, then upper hull.
+  std::vector<glm::dvec2> hull;
+  for (int pass = 0; pass < 2; ++pass) {
+    const std::size_t start = hull.size();
+    for (int i = 0; i < 8; ++i) {
+      const glm::dvec2& p = corners[std::size_t(pass == 0 ? i : 7 - i)];
+      while (hull.size() >= start + 2 && cross(hull[hull.size() - 2], hull.back(), p) <= 0.0) hull.pop_back();
+      hull.push_back(p);
+    }
+    hull.pop_back();  // the last point of each chain starts the other
+  }
+  double twiceArea = 0.0;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const glm::dvec2& a = hull[i];
+    const glm::dvec2& b = hull[(i + 1) % hull.size()];
+    twiceArea += a.x * b.y - a.y * b.x;
+  }
+  return 0.5 * std::abs(twiceArea);
+}
+
+// Point size for k splats covering `surfacePixels` (the surface's silhouette) about once: a closed
+// surface faces the camera with about half its surfels, so each visible one stands for 2 ×
+// surfacePixels / k pixels, a square of that area. Shrinks as 1/sqrt(k); clamped to [1, 16] pixels.
+float pointSizeFor(double surfacePixels, std::size_t k) {
+  const double side = k > 0 ? std::sqrt(2.0 * std::max(surfacePixels, 0.0) / static_cast<double>(k)) : 1.0;
+  return static_cast<float>(std::clamp(side, 1.0, 16.0));
+}
+
+}  // namespace
+
+void addPrefixesCommand(CLI::App& app) {
+  struct Options {
+    std::string scene;
+    std::string node;
+    std::string output;
+    std::uint32_t resolution = 256;
+    std::uint32_t directions = 8;
+    SurfelOrdering ordering = SurfelOrdering::Farthest;
+    std::uint64_t seed = 1;
+    std::uint32_t panels = 8;
+    std::uint32_t panelSize = 320;
+    int threads = 0;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* command =
+      app.add_subcommand("prefixes", "Draw a node's surfel prefixes of 100, 200, 400 … side by side as one PNG");
+  command->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->required();
+  command->add_option("--node", options->node, "node name or index (default: the first root)");
+  command->add_option("-o,--output", options->output, "output image (PNG)")->required();
+  addCaptureOptions(*command, options->resolution, options->directions);
+  addOrderingOption(*command, options->ordering);
+  command->add_option("--seed", options->seed, "seed of the ordering")->capture_default_str();
+  command->add_option("--panels", options->panels, "panels of 100·2^i surfels, i = 0 … panels−1")
+      ->check(CLI::Range(1u, 16u))
+      ->capture_default_str();
+  command->add_option("--panel-size", options->panelSize, "pixels along each side of a panel")
+      ->check(CLI::Range(8u, 4096u))
+      ->capture_default_str();
+  addThreadsOption(*command, options->threads);
+  command->callback([options] {
+    runWithThreads(options->threads, [&] {
+      const LoadedScene loaded = loadAndAnalyze(options->scene, LoadOptions{});
+      const std::uint32_t node = findNode(loaded, options->node);
+      CaptureOptions captureOptions;
+      captureOptions.resolution = options->resolution;
+      captureOptions.directions = options->directions;
+      const CaptureResult capture = captureNode(loaded.scene, loaded.hierarchy, node, captureOptions);
+
+      std::vector<std::uint32_t> counts;
+      for (std::uint32_t i = 0; i < options->panels; ++i) counts.push_back(100u << i);
+      std::vector<glm::vec3> positions;
+      positions.reserve(capture.surfels.size());
+      for (const Surfel& surfel : capture.surfels) positions.push_back(surfel.position);
+      const std::uint32_t max = counts.back();
+      const std::vector<std::uint32_t> order = orderPoints(options->ordering, positions, max, options->seed);
+
+      // The ordered surfels once, colours shaded by a headlight so the shape reads without lights.
+      std::vector<glm::vec3> orderedPositions, orderedNormals;
+      std::vector<glm::u8vec4> orderedColors;
+      for (std::uint32_t index : order) {
+        const Surfel& surfel = capture.surfels[index];
+        orderedPositions.push_back(surfel.position);
+        orderedNormals.push_back(surfel.normal);
+        const float facing = std::abs(glm::dot(glm::dvec3(surfel.normal), kViewDirection));
+        const glm::vec3 shaded = glm::vec3(surfel.color) * (0.3f + 0.7f * facing);
+        orderedColors.emplace_back(glm::u8vec3(glm::clamp(shaded + 0.5f, 0.0f, 255.0f)), 255);
+      }
+
+      const Bounds& box = loaded.hierarchy.worldBounds[node];
+      const std::uint32_t size = options->panelSize;
+      const Camera camera = panelCamera(box, size);
+      // The surface's share of the box silhouette, as the capture measured it over its views.
+      const double surfacePixels = projectedBoxArea(camera, box) * capture.coverage;
+      const std::uint32_t width = size * options->panels;
+      std::vector<std::uint8_t> image(std::size_t(width) * size * 4, 0);  // transparent background
+      std::printf("node %u (%s): %s surfels captured, coverage %.3f, %s ordering\n", node,
+                  loaded.scene.nodes[node].name.c_str(), withThousands(capture.surfels.size()).c_str(),
+                  capture.coverage, std::string(orderingName(options->ordering)).c_str());
+      for (std::uint32_t panel = 0; panel < options->panels; ++panel) {
+        const std::size_t k = std::min<std::size_t>(counts[panel], order.size());
+        PointSet set;
+        set.positions = std::span<const glm::vec3>(orderedPositions).first(k);
+        set.normals = std::span<const glm::vec3>(orderedNormals).first(k);
+        set.colors = std::span<const glm::u8vec4>(orderedColors).first(k);
+        set.worldFromObject = glm::translate(glm::dmat4(1.0), capture.origin);
+        set.pointSize = pointSizeFor(surfacePixels, k);
+        set.nodeId = node;
+        Framebuffer framebuffer = makeFramebuffer(size, size, kChannelColor);
+        drawPoints(framebuffer, camera, std::span<const PointSet>(&set, 1));
+        for (std::uint32_t y = 0; y < size; ++y) {
+          for (std::uint32_t x = 0; x < size; ++x) {
+            const std::size_t pixel = std::size_t(y) * size + x;
+            if (!framebuffer.covered(pixel)) continue;
+            const std::size_t out = (std::size_t(y) * width + std::size_t(panel) * size + x) * 4;
+            const glm::u8vec4 c = framebuffer.color[pixel];
+            for (int channel = 0; channel < 3; ++channel) image[out + std::size_t(channel)] = c[channel];
+            image[out + 3] = 255;
+          }
+        }
+        std::printf("panel %u: %s surfels, point size %.2f px\n", panel, withThousands(k).c_str(),
+                    double(set.pointSize));
+      }
+      writeImage8(options->output, width, size, 4, image);
+      std::printf("wrote %s (%u x %u)\n", options->output.c_str(), width, size);
+    });
+  });
+}
+
+}  // namespace pbs::cli

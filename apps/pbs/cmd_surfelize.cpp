@@ -1,0 +1,118 @@
+// `pbs surfelize SCENE -o OUT.surfels`: ordered surfel arrays for every complex node of a scene,
+// shared between instances, written as one .surfels file (paper, Sec. 2).
+#include "commands.hpp"
+#include "progress_meter.hpp"
+#include "scene_report.hpp"
+
+#include <pbs/raster/thread_arena.hpp>
+#include <pbs/surfels/surfelize.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+
+namespace pbs::cli {
+namespace {
+
+std::string progressDetail(const SurfelizeProgress& p) {
+  return std::to_string(p.arraysDone) + "/" + std::to_string(p.arraysTotal) + " arrays, " + withThousands(p.surfels) +
+         " surfels";
+}
+
+}  // namespace
+
+void addSurfelizeCommand(CLI::App& app) {
+  struct Options {
+    std::string scene;
+    std::string output;
+    SurfelizeOptions surfelize;
+    std::string source = "triangles";
+    bool json = false;
+    bool quiet = false;
+    int threads = 0;
+  };
+  auto options = std::make_shared<Options>();
+  SurfelFileOptions& file = options->surfelize.file;
+  CLI::App* command = app.add_subcommand("surfelize", "Make ordered surfel arrays for every complex node of a scene");
+  command->add_option("scene", options->scene, "a .gltf/.glb file, or 'default' for the embedded scene")->required();
+  command->add_option("-o,--output", options->output, "the .surfels file to write")->required();
+  command->add_option("--threshold", file.threshold, "nodes above this many subtree triangles get surfels")
+      ->capture_default_str();
+  command->add_option("--max-surfels", file.maxSurfels, "surfels per array at most")
+      ->check(CLI::Range(1u, 1u << 26))
+      ->capture_default_str();
+  addCaptureOptions(*command, file.resolution, file.directions);
+  addOrderingOption(*command, file.ordering);
+  command->add_option("--capture-from", options->source,
+                      "what an inner node's capture draws: its subtree's triangles (exact) or its children's surfels "
+                      "(fast)")
+      ->check(CLI::IsMember({"triangles", "children"}))
+      ->capture_default_str();
+  command->add_option("--seed", file.seed, "seed of the orderings")->capture_default_str();
+  command->add_flag("--json", options->json, "print JSON instead of text");
+  command->add_flag("-q,--quiet", options->quiet, "no progress on stderr");
+  addThreadsOption(*command, options->threads);
+  command->callback([options] {
+    runWithThreads(options->threads, [&] {
+      const auto start = std::chrono::steady_clock::now();
+      const LoadedScene loaded = loadAndAnalyze(options->scene, LoadOptions{});
+      SurfelizeOptions settings = options->surfelize;
+      settings.source = options->source == "children" ? CaptureSource::ChildSurfels : CaptureSource::Triangles;
+      ProgressMeter meter("surfelize", ProgressMeter::styleFor(options->quiet || options->json));
+      settings.onProgress = [&](const SurfelizeProgress& p) {
+        // Triangle captures cost about their subtree's triangles; child-surfel captures about the same each.
+        const double fraction = settings.source == CaptureSource::Triangles
+                                    ? double(p.trianglesDone) / double(std::max<std::uint64_t>(p.trianglesTotal, 1))
+                                    : double(p.arraysDone) / double(std::max<std::uint32_t>(p.arraysTotal, 1));
+        meter.update(fraction, progressDetail(p));
+      };
+      SurfelizeStats stats;
+      const SurfelFile surfels = surfelize(loaded.scene, loaded.hierarchy, settings, &stats);
+      if (stats.arrays > 0) meter.finish(std::to_string(stats.arrays) + " arrays, " + withThousands(stats.surfels) + " surfels");
+      writeSurfelFile(options->output, surfels);
+      const std::uint64_t bytes = std::filesystem::file_size(options->output);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+      if (options->json) {
+        const nlohmann::json report = {
+            {"scene", loaded.name},
+            {"output", options->output},
+            {"nodes_with_surfels", stats.nodesWithSurfels},
+            {"arrays", stats.arrays},
+            {"captures", stats.arrays},
+            {"surfels", stats.surfels},
+            {"candidates", stats.candidates},
+            {"seconds", seconds},
+            {"load_seconds", loaded.parseSeconds + loaded.hierarchySeconds},
+            {"bytes", bytes},
+            {"bytes_per_surfel", stats.surfels > 0 ? double(bytes) / double(stats.surfels) : 0.0},
+            {"threshold", settings.file.threshold},
+            {"max_surfels", settings.file.maxSurfels},
+            {"resolution", settings.file.resolution},
+            {"ordering", orderingName(settings.file.ordering)},
+            {"capture_from", options->source},
+            {"seed", settings.file.seed},
+        };
+        std::cout << report.dump(2) << "\n";
+        return;
+      }
+      if (stats.nodesWithSurfels == 0) {
+        std::printf("%s: no node has more than %s triangles: no surfels needed (wrote an empty %s)\n",
+                    loaded.name.c_str(), withThousands(settings.file.threshold).c_str(), options->output.c_str());
+        return;
+      }
+      std::printf("%s: %s nodes above %s triangles share %s arrays (%s captures): %s surfels from %s candidates\n",
+                  loaded.name.c_str(), withThousands(stats.nodesWithSurfels).c_str(),
+                  withThousands(settings.file.threshold).c_str(), withThousands(stats.arrays).c_str(),
+                  withThousands(stats.arrays).c_str(), withThousands(stats.surfels).c_str(),
+                  withThousands(stats.candidates).c_str());
+      std::printf("wrote %s: %s bytes (%.2f per surfel) in %.2f s\n", options->output.c_str(),
+                  withThousands(bytes).c_str(), stats.surfels > 0 ? double(bytes) / double(stats.surfels) : 0.0, seconds);
+    });
+  });
+}
+
+}  // namespace pbs::cli

@@ -1,0 +1,32 @@
+// The options several commands share, defined once so their names, checks and help agree.
+#include "commands.hpp"
+
+#include <map>
+#include <string>
+
+namespace pbs::cli {
+
+void addThreadsOption(CLI::App& command, int& threads) {
+  command.add_option("--threads", threads, "worker threads (0: all hardware threads)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+}
+
+void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32_t& directions) {
+  command.add_option("--resolution", resolution, "capture pixels along the larger side of each view")
+      ->check(CLI::Range(1u, 16384u))
+      ->capture_default_str();
+  command.add_option("--directions", directions, "capture views: 8 for the box corners, else N spread over the sphere")
+      ->check(CLI::Range(1u, 1024u))
+      ->capture_default_str();
+}
+
+void addOrderingOption(CLI::App& command, SurfelOrdering& ordering) {
+  std::map<std::string, SurfelOrdering> names;
+  for (SurfelOrdering o : {SurfelOrdering::Farthest, SurfelOrdering::Dart, SurfelOrdering::Random})
+    names.emplace(std::string(orderingName(o)), o);
+  command.add_option("--ordering", ordering, "surfel order: farthest (default), dart or random")
+      ->transform(CLI::CheckedTransformer(names));
+}
+
+}  // namespace pbs::cli

@@ -1,0 +1,138 @@
+// The .surfels file: every surfel array of a scene, stored so that any prefix of any array can be read
+// on its own, checked by checksums, and tied to the scene it was made from by a fingerprint.
+//
+// Layout (version 1, little-endian, every offset in bytes from the start of the file):
+//   header      fixed size: magic "PBSURFEL", version, scene fingerprint, the options the arrays were
+//               made with, the counts and offsets of the two tables, a checksum of the header itself
+//   array table one fixed-size record per array: box, coverage, packing, area, surfel count, data
+//               offset; followed by a checksum of the whole table
+//   node table  one record per node: its stable path and the array it uses (instances share arrays);
+//               followed by a checksum of the whole table
+//   data        per array: its surfels in order, kSurfelBytes each, in chunks of kSurfelsPerChunk, and
+//               after the last chunk one 64-bit checksum per chunk. Reading the first k surfels reads
+//               the chunks holding them (and their checksums) and nothing else.
+//
+// A surfel takes 16 bytes (the authors' format used 20): position quantized to 21 bits per axis
+// against the array's box (one 64-bit word), normal octahedron-encoded as two 16-bit snorms, RGBA8.
+#pragma once
+
+#include "pbs/raster/bounds.hpp"
+#include "pbs/surfels/ordering.hpp"
+#include "pbs/surfels/surfel.hpp"
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace pbs {
+
+inline constexpr std::uint32_t kSurfelFileVersion = 1;
+inline constexpr std::size_t kSurfelBytes = 16;
+inline constexpr std::uint32_t kSurfelsPerChunk = 1024;
+inline constexpr std::uint32_t kPositionBits = 21;
+
+// The options an array set was made with: part of the file so that a reader knows what it holds.
+struct SurfelFileOptions {
+  std::uint64_t threshold = 10000;   // nodes above this many subtree triangles have arrays
+  std::uint32_t maxSurfels = 10000;  // array length limit
+  std::uint32_t resolution = 512;    // capture resolution
+  std::uint32_t directions = 8;      // capture view count
+  SurfelOrdering ordering = SurfelOrdering::Farthest;  // which ordering made the arrays
+  std::uint64_t seed = 1;
+};
+
+// One array: surfels in the frame of the node(s) using it (world = node's world transform × point).
+struct SurfelArray {
+  Bounds box;             // node-frame box; positions are quantized against it. Its centre is the origin
+                          // the surfel positions are relative to.
+  double coverage = 0.0;  // capture coverage estimate in [0, 1]
+  double packing = 0.0;   // (mean nearest-neighbour distance of the first min(1000, N) surfels)² × N
+  double area = 0.0;      // surface area of the node's subtree in the node frame (ρ(k) needs it)
+  std::vector<Surfel> surfels;  // in order: every prefix is a usable, evenly spread subset
+};
+
+struct SurfelNodeRecord {
+  std::string path;     // stable path of the node in the scene graph (see nodePath in surfel_nodes.hpp)
+  std::uint32_t array;  // index into the arrays
+};
+
+struct SurfelFile {
+  std::uint64_t sceneFingerprint = 0;  // sceneFingerprint() of the scene the arrays belong to
+  SurfelFileOptions options;
+  std::vector<SurfelArray> arrays;
+  std::vector<SurfelNodeRecord> nodes;  // in preorder of the scene
+};
+
+// Writes `file` to a temporary name beside `path`, then renames it over `path`: readers see the old
+// file or the whole new one, never a part. Throws std::runtime_error naming the path on I/O failure
+// (the temporary is removed), std::invalid_argument for a node naming a missing array.
+void writeSurfelFile(const std::filesystem::path& path, const SurfelFile& file);
+
+// The per-array values of the array table, without the surfels.
+struct SurfelArrayInfo {
+  Bounds box;
+  double coverage = 0.0;
+  double packing = 0.0;
+  double area = 0.0;
+  std::uint32_t count = 0;
+  std::uint64_t dataOffset = 0;
+};
+
+// Random access to a .surfels file. Opening reads and checks the header and both tables (magic,
+// version, checksums, every offset and count inside the file); readPrefix reads only the chunks
+// holding the requested surfels and checks their checksums. Every problem throws InputError naming
+// the file and the element ("header", "array table", "node /0/3" or, for data shared by several
+// nodes, the first node using the array).
+class SurfelFileReader {
+ public:
+  explicit SurfelFileReader(const std::filesystem::path& path);
+
+  std::uint64_t sceneFingerprint() const { return fingerprint_; }
+  const SurfelFileOptions& options() const { return options_; }
+  std::span<const SurfelArrayInfo> arrays() const { return arrays_; }
+  std::span<const SurfelNodeRecord> nodes() const { return nodes_; }
+
+  // Throws InputError naming the file and "header" unless the file was made for the scene with this
+  // sceneFingerprint(): surfels of another scene (or an edited one) must never be drawn in its place.
+  void requireScene(std::uint64_t fingerprint) const;
+
+  // The first min(count, arrays()[array].count) surfels of an array, decoded (positions relative to the
+  // box centre). Throws std::out_of_range for an array index out of range.
+  std::vector<Surfel> readPrefix(std::uint32_t array, std::uint32_t count);
+
+  // Bytes read from the file by readPrefix calls so far (the data of the chunks and their checksums):
+  // lets a test check that a prefix costs only its own bytes.
+  std::uint64_t dataBytesRead() const { return dataBytesRead_; }
+
+ private:
+  std::filesystem::path path_;
+  std::ifstream stream_;
+  std::uint64_t fingerprint_ = 0;
+  SurfelFileOptions options_;
+  std::vector<SurfelArrayInfo> arrays_;
+  std::vector<SurfelNodeRecord> nodes_;
+  std::uint64_t dataBytesRead_ = 0;
+};
+
+// The whole file, every checksum checked.
+SurfelFile readSurfelFile(const std::filesystem::path& path);
+
+// The codec, exposed for tests and for the error bounds they assert. surfel.position is relative to
+// box.center(), as in SurfelArray.
+// Position: each axis maps [box.min, box.max] onto 0 … 2^21 − 1, rounding to nearest, so the error per
+// axis is at most (box extent on that axis) / (2^21 − 1) / 2 plus float rounding; an axis of zero
+// extent decodes exactly to the box's value. Points outside the box are clamped to it.
+// Normal: octahedral map, 16-bit snorm per coordinate; decoded normals are unit length and within
+// kMaxNormalErrorRadians of a unit input. A zero or non-finite normal encodes as +Z.
+// NaN positions encode as the box centre. Neither function ever produces NaN or Inf.
+inline constexpr double kMaxNormalErrorRadians = 1e-4;
+using PackedSurfel = std::array<std::uint8_t, kSurfelBytes>;
+PackedSurfel encodeSurfel(const Surfel& surfel, const Bounds& box);
+Surfel decodeSurfel(const PackedSurfel& packed, const Bounds& box);
+
+}  // namespace pbs

@@ -1,0 +1,52 @@
+// Surfels for a whole scene (paper, Sec. 2): an ordered surfel array for every node complex enough,
+// computed once per distinct subtree and shared by all its instances.
+#pragma once
+
+#include "pbs/scene/hierarchy.hpp"
+#include "pbs/scene/scene.hpp"
+#include "pbs/surfels/surfel_file.hpp"
+
+#include <cstdint>
+#include <functional>
+
+namespace pbs {
+
+// What an inner node's capture draws.
+enum class CaptureSource : std::uint32_t {
+  Triangles = 0,     // its whole subtree's triangles (exact; costs as much as the subtree)
+  ChildSurfels = 1,  // its children's surfel arrays as splats, and the triangles of children without one
+};
+
+struct SurfelizeProgress {
+  std::uint32_t arraysDone = 0;
+  std::uint32_t arraysTotal = 0;
+  std::uint64_t surfels = 0;         // in the arrays done so far
+  std::uint64_t trianglesDone = 0;   // subtree triangles of the arrays done: the work measure
+  std::uint64_t trianglesTotal = 0;  // (what captures cost, so time-left estimates follow it)
+};
+
+struct SurfelizeOptions {
+  SurfelFileOptions file;  // threshold, max surfels, resolution, directions, ordering, seed
+  CaptureSource source = CaptureSource::Triangles;
+  // Called after every finished array, one call at a time (never concurrently), from whichever
+  // thread finished it.
+  std::function<void(const SurfelizeProgress&)> onProgress{};
+};
+
+struct SurfelizeStats {
+  std::uint64_t nodesWithSurfels = 0;  // nodes above the threshold (node records in the file)
+  std::uint64_t arrays = 0;            // distinct arrays after sharing = captures made
+  std::uint64_t surfels = 0;           // summed over the distinct arrays
+  std::uint64_t candidates = 0;        // covered capture pixels, summed over the captures
+};
+
+// Every node above options.file.threshold gets an array of at most options.file.maxSurfels surfels in
+// its own frame (see analyzeSubtree). Nodes of one subtree class (subtreeClasses) share one array,
+// captured for the first of them in preorder. Arrays are independent and made in parallel, largest
+// subtree first (with CaptureSource::ChildSurfels, children before parents). Each array's ordering
+// seed mixes options.file.seed with the node's stable path, so the result is the same for any thread
+// count and any schedule. A scene with no node above the threshold gives a file with no arrays.
+SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
+                     SurfelizeStats* stats = nullptr);
+
+}  // namespace pbs

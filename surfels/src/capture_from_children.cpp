@@ -1,0 +1,90 @@
+// captureFromChildSurfels: children with arrays drawn as splats, everything else as triangles.
+#include "capture_from_children.hpp"
+
+#include "surfelize_plan.hpp"
+
+#include "pbs/raster/points.hpp"
+#include "pbs/scene/scene_draws.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <vector>
+
+namespace pbs::detail {
+namespace {
+
+// An array in the structure-of-arrays form drawPoints reads.
+struct SplatArrays {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;
+  std::vector<glm::u8vec4> colors;
+  double spacing = 0.0;  // mean distance between neighbouring surfels of the whole array, array frame
+};
+
+SplatArrays splatArrays(const SurfelArray& array) {
+  SplatArrays splats;
+  for (const Surfel& surfel : array.surfels) {
+    splats.positions.push_back(surfel.position);
+    splats.normals.push_back(surfel.normal);
+    splats.colors.push_back(surfel.color);
+  }
+  // packing = d_k² · k for the first k surfels, so N surfels are spaced about sqrt(packing / N).
+  if (!array.surfels.empty()) splats.spacing = std::sqrt(array.packing / double(array.surfels.size()));
+  return splats;
+}
+
+double largestScale(const glm::dmat4& transform) {
+  return std::max({glm::length(glm::dvec3(transform[0])), glm::length(glm::dvec3(transform[1])),
+                   glm::length(glm::dvec3(transform[2]))});
+}
+
+}  // namespace
+
+CaptureResult captureFromChildSurfels(const Scene& scene, const Hierarchy& frame, std::uint32_t node,
+                                      std::span<const SurfelArray> arrays, std::span<const std::uint32_t> arrayOfNode,
+                                      const CaptureOptions& options) {
+  // Splats a little wider than the spacing, so neighbours overlap instead of leaving pinholes.
+  constexpr double kSplatOverlap = 1.25;
+  constexpr float kMaxSplatPixels = 64.0f;
+
+  std::vector<std::uint32_t> triangleNodes;
+  if (scene.nodes[node].mesh >= 0) triangleNodes.push_back(node);
+  std::vector<std::uint32_t> splatChildren;
+  for (std::uint32_t child : scene.nodes[node].children) {
+    if (arrayOfNode[child] != kNoArray) {
+      splatChildren.push_back(child);
+    } else {
+      const std::vector<std::uint32_t> below = subtreeNodes(scene, child);
+      triangleNodes.insert(triangleNodes.end(), below.begin(), below.end());
+    }
+  }
+  std::map<std::uint32_t, SplatArrays> splats;  // one conversion per distinct array
+  for (std::uint32_t child : splatChildren) {
+    const std::uint32_t array = arrayOfNode[child];
+    if (!splats.contains(array)) splats.emplace(array, splatArrays(arrays[array]));
+  }
+
+  return captureBox(frame.worldBounds[node], options, [&](const Camera& camera, Framebuffer& gbuffer) {
+    drawNodeTriangles(scene, frame, triangleNodes, camera, gbuffer, TriangleOptions{.cullBackFaces = false});
+    const double pixel = 2.0 / (camera.projection[0][0] * camera.width);  // orthographic: world units per pixel
+    std::vector<PointSet> sets;
+    for (std::uint32_t child : splatChildren) {
+      const std::uint32_t array = arrayOfNode[child];
+      const SplatArrays& s = splats.at(array);
+      const glm::dmat4 transform = glm::translate(frame.world[child], arrays[array].box.center());
+      const double size = kSplatOverlap * s.spacing * largestScale(frame.world[child]) / pixel;
+      sets.push_back(PointSet{.positions = s.positions,
+                              .normals = s.normals,
+                              .colors = s.colors,
+                              .worldFromObject = transform,
+                              .pointSize = std::clamp(float(size), 1.0f, kMaxSplatPixels),
+                              .nodeId = child});
+    }
+    drawPoints(gbuffer, camera, sets);
+  });
+}
+
+}  // namespace pbs::detail

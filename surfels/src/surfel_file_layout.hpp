@@ -1,0 +1,188 @@
+// The byte layout of a .surfels file, shared by the writer and the reader: each record's fields are
+// listed once, in a layout function that a byte sink (writing) and a byte source (reading) both walk.
+//
+// Version 1, all integers little-endian, doubles as their IEEE-754 bits:
+//   header (104 bytes at offset 0)
+//     0  magic "PBSURFEL"          8 bytes
+//     8  version                   u32
+//    12  reserved (0)              u32
+//    16  scene fingerprint         u64
+//    24  options.threshold         u64
+//    32  options.maxSurfels        u32
+//    36  options.resolution        u32
+//    40  options.directions        u32
+//    44  options.ordering          u32
+//    48  options.seed              u64
+//    56  array count               u32
+//    60  node count                u32
+//    64  array table offset        u64
+//    72  node table offset         u64
+//    80  node table bytes          u64 (records only, without the checksum)
+//    88  file bytes                u64 (the whole file)
+//    96  header checksum           u64 (Hash64 of bytes 0…95)
+//   array table: array count × 88-byte records, then u64 checksum of the records
+//     box.min xyz f64×3, box.max xyz f64×3, coverage f64, packing f64, area f64, surfel count u32,
+//     reserved u32 (0), data offset u64
+//   node table: node count × (path length u32, path bytes, array index u32), then u64 checksum
+//   data, per array at its data offset: count × 16-byte surfels (chunks of kSurfelsPerChunk), then one
+//     u64 checksum per chunk (Hash64 of the chunk's bytes, seeded by the chunk's index)
+#pragma once
+
+#include "pbs/raster/hash64.hpp"
+#include "pbs/surfels/surfel_file.hpp"
+
+#include <array>
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace pbs::surfel_file {
+
+inline constexpr std::array<std::uint8_t, 8> kMagic = {'P', 'B', 'S', 'U', 'R', 'F', 'E', 'L'};
+inline constexpr std::uint64_t kHeaderBytes = 104;
+inline constexpr std::uint64_t kHeaderChecksumOffset = 96;
+inline constexpr std::uint64_t kArrayRecordBytes = 88;
+inline constexpr std::uint64_t kNodeRecordMinBytes = 8;  // a node with an empty path
+inline constexpr std::uint64_t kChecksumBytes = 8;
+
+// Distinct seeds, so that a table's bytes never pass for another element's.
+inline constexpr std::uint64_t kHeaderSeed = 0x50425348'45414452ull;
+inline constexpr std::uint64_t kArrayTableSeed = 0x50425341'52524159ull;
+inline constexpr std::uint64_t kNodeTableSeed = 0x5042534E'4F444553ull;
+inline constexpr std::uint64_t kChunkSeed = 0x50425344'41544100ull;
+
+struct Header {
+  std::array<std::uint8_t, 8> magic = kMagic;
+  std::uint32_t version = kSurfelFileVersion;
+  std::uint32_t reserved = 0;
+  std::uint64_t fingerprint = 0;
+  std::uint64_t threshold = 0;
+  std::uint32_t maxSurfels = 0;
+  std::uint32_t resolution = 0;
+  std::uint32_t directions = 0;
+  std::uint32_t ordering = 0;
+  std::uint64_t seed = 0;
+  std::uint32_t arrayCount = 0;
+  std::uint32_t nodeCount = 0;
+  std::uint64_t arrayTableOffset = 0;
+  std::uint64_t nodeTableOffset = 0;
+  std::uint64_t nodeTableBytes = 0;
+  std::uint64_t fileBytes = 0;
+};
+
+// The header's fields in file order, up to (not including) its checksum.
+template <class Io>
+void layoutHeader(Io& io, Header& h) {
+  io.raw(h.magic);
+  io.u32(h.version);
+  io.u32(h.reserved);
+  io.u64(h.fingerprint);
+  io.u64(h.threshold);
+  io.u32(h.maxSurfels);
+  io.u32(h.resolution);
+  io.u32(h.directions);
+  io.u32(h.ordering);
+  io.u64(h.seed);
+  io.u32(h.arrayCount);
+  io.u32(h.nodeCount);
+  io.u64(h.arrayTableOffset);
+  io.u64(h.nodeTableOffset);
+  io.u64(h.nodeTableBytes);
+  io.u64(h.fileBytes);
+}
+
+template <class Io>
+void layoutArray(Io& io, SurfelArrayInfo& a) {
+  std::uint32_t reserved = 0;
+  for (int i = 0; i < 3; ++i) io.f64(a.box.min[i]);
+  for (int i = 0; i < 3; ++i) io.f64(a.box.max[i]);
+  io.f64(a.coverage);
+  io.f64(a.packing);
+  io.f64(a.area);
+  io.u32(a.count);
+  io.u32(reserved);
+  io.u64(a.dataOffset);
+}
+
+template <class Io>
+void layoutNode(Io& io, SurfelNodeRecord& n) {
+  io.string(n.path);
+  io.u32(n.array);
+}
+
+inline std::uint64_t chunkCount(std::uint64_t surfels) { return (surfels + kSurfelsPerChunk - 1) / kSurfelsPerChunk; }
+inline std::uint64_t arrayDataBytes(std::uint64_t surfels) {
+  return surfels * kSurfelBytes + chunkCount(surfels) * kChecksumBytes;
+}
+inline std::uint64_t chunkChecksum(std::span<const std::uint8_t> chunk, std::uint64_t chunkIndex) {
+  return Hash64::of(chunk.data(), chunk.size(), kChunkSeed + chunkIndex);
+}
+
+inline std::uint64_t readU64(const std::uint8_t* p) {
+  std::uint64_t v = 0;
+  for (int i = 7; i >= 0; --i) v = (v << 8) | p[i];
+  return v;
+}
+
+// Appends fields as little-endian bytes.
+struct ByteSink {
+  std::vector<std::uint8_t> bytes;
+
+  void raw(const std::array<std::uint8_t, 8>& v) { bytes.insert(bytes.end(), v.begin(), v.end()); }
+  void u32(const std::uint32_t& v) {
+    for (int i = 0; i < 4; ++i) bytes.push_back(std::uint8_t(v >> (8 * i)));
+  }
+  void u64(const std::uint64_t& v) {
+    for (int i = 0; i < 8; ++i) bytes.push_back(std::uint8_t(v >> (8 * i)));
+  }
+  void f64(const double& v) { u64(std::bit_cast<std::uint64_t>(v)); }
+  void string(const std::string& s) {
+    u32(static_cast<std::uint32_t>(s.size()));
+    bytes.insert(bytes.end(), s.begin(), s.end());
+  }
+};
+
+// A field ran past the end of the bytes it was read from (the reader turns it into an InputError).
+struct ShortRecord : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Reads fields from a byte range, never past its end.
+struct ByteSource {
+  std::span<const std::uint8_t> bytes;
+  std::size_t at = 0;
+
+  std::size_t remaining() const { return bytes.size() - at; }
+  const std::uint8_t* take(std::size_t n) {
+    if (n > remaining()) throw ShortRecord("record runs past the end of its table");
+    const std::uint8_t* p = bytes.data() + at;
+    at += n;
+    return p;
+  }
+  void raw(std::array<std::uint8_t, 8>& v) { std::memcpy(v.data(), take(8), 8); }
+  void u32(std::uint32_t& v) {
+    const std::uint8_t* p = take(4);
+    v = 0;
+    for (int i = 3; i >= 0; --i) v = (v << 8) | p[i];
+  }
+  void u64(std::uint64_t& v) { v = readU64(take(8)); }
+  void f64(double& v) {
+    std::uint64_t bits = 0;
+    u64(bits);
+    v = std::bit_cast<double>(bits);
+  }
+  // The length is checked against the bytes left before anything is allocated.
+  void string(std::string& s) {
+    std::uint32_t size = 0;
+    u32(size);
+    const std::uint8_t* p = take(size);
+    s.assign(reinterpret_cast<const char*>(p), size);
+  }
+};
+
+
+}  // namespace pbs::surfel_file

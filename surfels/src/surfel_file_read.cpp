@@ -1,0 +1,217 @@
+// SurfelFileReader and readSurfelFile: checks header and tables at open, reads checked chunks on demand.
+#include "pbs/surfels/surfel_file.hpp"
+
+#include "pbs/scene/input_error.hpp"
+#include "surfel_file_layout.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+namespace pbs {
+namespace {
+
+using namespace surfel_file;
+
+std::string number(std::uint64_t v) { return std::to_string(v); }
+
+// The message for [offset, offset + size) not inside the file (the first offset past its end, without
+// wrapping around for a corrupt offset).
+std::string beyond(std::uint64_t offset, std::uint64_t size, std::uint64_t fileSize) {
+  const std::uint64_t end = offset > fileSize ? offset : offset + size;
+  return "truncated: offset " + number(end) + " beyond file size " + number(fileSize);
+}
+
+}  // namespace
+
+SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(path) {
+  const std::string file = path.string();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(file, "", "not a regular file (or missing)");
+  stream_.open(path, std::ios::binary);
+  if (!stream_) throw InputError(file, "", "cannot open for reading");
+  stream_.seekg(0, std::ios::end);
+  const std::streamoff end = stream_.tellg();
+  if (end < 0) throw InputError(file, "", "cannot determine the file size");
+  const auto fileSize = static_cast<std::uint64_t>(end);
+
+  // Reads [offset, offset + size) after checking it lies inside the file (so nothing is allocated for
+  // a corrupt size).
+  auto readRange = [&](const std::string& element, std::uint64_t offset, std::uint64_t size) {
+    if (offset > fileSize || size > fileSize - offset) throw InputError(file, element, beyond(offset, size, fileSize));
+    std::vector<std::uint8_t> bytes(size);
+    stream_.clear();
+    stream_.seekg(static_cast<std::streamoff>(offset));
+    stream_.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size));
+    if (!stream_) throw InputError(file, element, "read failed at offset " + number(offset));
+    return bytes;
+  };
+  // The checksum in the last 8 bytes of `bytes` against the rest.
+  auto checkTable = [&](const std::string& element, const std::vector<std::uint8_t>& bytes, std::uint64_t seed) {
+    const std::size_t body = bytes.size() - kChecksumBytes;
+    if (Hash64::of(bytes.data(), body, seed) != readU64(bytes.data() + body)) {
+      throw InputError(file, element, "checksum mismatch");
+    }
+  };
+
+  // Header: the magic first so that any other file is called what it is.
+  const std::vector<std::uint8_t> headerBytes = readRange("header", 0, std::min(fileSize, kHeaderBytes));
+  if (headerBytes.size() < kMagic.size() || !std::equal(kMagic.begin(), kMagic.end(), headerBytes.begin())) {
+    throw InputError(file, "header", "bad magic (not a .surfels file)");
+  }
+  if (fileSize < kHeaderBytes) throw InputError(file, "header", beyond(0, kHeaderBytes, fileSize));
+  Header header;
+  ByteSource headerSource{headerBytes};
+  layoutHeader(headerSource, header);
+  if (header.version != kSurfelFileVersion) {
+    throw InputError(file, "header",
+                     "unsupported version " + number(header.version) + " (this build reads version " +
+                         number(kSurfelFileVersion) + ")");
+  }
+  checkTable("header", headerBytes, kHeaderSeed);
+  if (header.ordering > static_cast<std::uint32_t>(SurfelOrdering::Random)) {
+    throw InputError(file, "header", "unknown ordering " + number(header.ordering));
+  }
+  if (header.fileBytes > fileSize) throw InputError(file, "header", beyond(header.fileBytes, 0, fileSize));
+  if (header.fileBytes < fileSize) {
+    throw InputError(file, "header",
+                     "file size " + number(fileSize) + " exceeds the " + number(header.fileBytes) + " bytes it declares");
+  }
+  fingerprint_ = header.fingerprint;
+  options_ = {header.threshold, header.maxSurfels, header.resolution, header.directions,
+              static_cast<SurfelOrdering>(header.ordering), header.seed};
+
+  // Array table: the count is bounded by the file size before the table is read.
+  if (header.arrayCount > fileSize / kArrayRecordBytes) {
+    throw InputError(file, "array table",
+                     "counts absurd: " + number(header.arrayCount) + " arrays cannot fit in " + number(fileSize) +
+                         " bytes");
+  }
+  const std::vector<std::uint8_t> arrayTable = readRange(
+      "array table", header.arrayTableOffset, header.arrayCount * kArrayRecordBytes + kChecksumBytes);
+  checkTable("array table", arrayTable, kArrayTableSeed);
+  arrays_.resize(header.arrayCount);
+  ByteSource arraySource{arrayTable};
+  for (SurfelArrayInfo& info : arrays_) layoutArray(arraySource, info);
+
+  // Node table: every record takes at least kNodeRecordMinBytes, so the count is bounded by the size.
+  if (header.nodeTableBytes > fileSize || header.nodeCount > header.nodeTableBytes / kNodeRecordMinBytes) {
+    throw InputError(file, "node table",
+                     "counts absurd: " + number(header.nodeCount) + " nodes in " + number(header.nodeTableBytes) +
+                         " bytes, file size " + number(fileSize));
+  }
+  const std::vector<std::uint8_t> nodeTable =
+      readRange("node table", header.nodeTableOffset, header.nodeTableBytes + kChecksumBytes);
+  checkTable("node table", nodeTable, kNodeTableSeed);
+  ByteSource nodeSource{std::span(nodeTable).first(header.nodeTableBytes)};
+  nodes_.resize(header.nodeCount);
+  try {
+    for (SurfelNodeRecord& node : nodes_) layoutNode(nodeSource, node);
+  } catch (const ShortRecord& e) {
+    throw InputError(file, "node table", e.what());
+  }
+  if (nodeSource.remaining() != 0) {
+    throw InputError(file, "node table", number(nodeSource.remaining()) + " bytes after the last node");
+  }
+  for (const SurfelNodeRecord& node : nodes_) {
+    if (node.array >= arrays_.size()) {
+      throw InputError(file, "node " + node.path,
+                       "uses array " + number(node.array) + " of " + number(arrays_.size()));
+    }
+  }
+
+  // Every array's data inside the file, after the tables.
+  const std::uint64_t dataStart =
+      std::max(header.arrayTableOffset + arrayTable.size(), header.nodeTableOffset + nodeTable.size());
+  for (std::uint32_t a = 0; a < arrays_.size(); ++a) {
+    const SurfelArrayInfo& info = arrays_[a];
+    const std::uint64_t bytes = arrayDataBytes(info.count);
+    auto user = std::find_if(nodes_.begin(), nodes_.end(), [a](const SurfelNodeRecord& n) { return n.array == a; });
+    const std::string element = user != nodes_.end() ? "node " + user->path : "array " + number(a);
+    if (info.dataOffset < dataStart && bytes > 0) {
+      throw InputError(file, element, "data offset " + number(info.dataOffset) + " inside the tables");
+    }
+    if (info.dataOffset > fileSize || bytes > fileSize - info.dataOffset) {
+      throw InputError(file, element, beyond(info.dataOffset, bytes, fileSize));
+    }
+  }
+}
+
+void SurfelFileReader::requireScene(std::uint64_t fingerprint) const {
+  if (fingerprint == fingerprint_) return;
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "made for another scene (fingerprint %016llx, this scene's is %016llx): run pbs surfelize again",
+                static_cast<unsigned long long>(fingerprint_), static_cast<unsigned long long>(fingerprint));
+  throw InputError(path_.string(), "header", text);
+}
+
+std::vector<Surfel> SurfelFileReader::readPrefix(std::uint32_t array, std::uint32_t count) {
+  if (array >= arrays_.size()) {
+    throw std::out_of_range("surfel file " + path_.string() + ": array " + number(array) + " of " +
+                            number(arrays_.size()));
+  }
+  const SurfelArrayInfo& info = arrays_[array];
+  const std::uint32_t wanted = std::min(count, info.count);
+  if (wanted == 0) return {};
+
+  auto element = [&] {
+    for (const SurfelNodeRecord& node : nodes_) {
+      if (node.array == array) return "node " + node.path;
+    }
+    return "array " + number(array);
+  };
+  auto read = [&](std::uint64_t offset, std::vector<std::uint8_t>& bytes) {
+    stream_.clear();
+    stream_.seekg(static_cast<std::streamoff>(offset));
+    stream_.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    if (!stream_) throw InputError(path_.string(), element(), "read failed at offset " + number(offset));
+    dataBytesRead_ += bytes.size();
+  };
+
+  // Whole chunks, since a checksum covers a whole chunk; the last chunk of an array may be short.
+  const std::uint64_t chunks = chunkCount(wanted);
+  const std::uint64_t surfelsRead = std::min<std::uint64_t>(chunks * kSurfelsPerChunk, info.count);
+  std::vector<std::uint8_t> data(surfelsRead * kSurfelBytes);
+  std::vector<std::uint8_t> checksums(chunks * kChecksumBytes);
+  read(info.dataOffset, data);
+  read(info.dataOffset + std::uint64_t(info.count) * kSurfelBytes, checksums);
+
+  for (std::uint64_t c = 0; c < chunks; ++c) {
+    const std::uint64_t first = c * kSurfelsPerChunk * kSurfelBytes;
+    const std::uint64_t size = std::min<std::uint64_t>(kSurfelsPerChunk * kSurfelBytes, data.size() - first);
+    if (chunkChecksum(std::span(data).subspan(first, size), c) != readU64(checksums.data() + c * kChecksumBytes)) {
+      throw InputError(path_.string(), element(),
+                       "checksum mismatch in surfel chunk " + number(c) + " (array " + number(array) + ")");
+    }
+  }
+
+  std::vector<Surfel> surfels(wanted);
+  PackedSurfel packed;
+  for (std::uint32_t i = 0; i < wanted; ++i) {
+    std::copy_n(data.begin() + std::ptrdiff_t(i) * std::ptrdiff_t(kSurfelBytes), kSurfelBytes, packed.begin());
+    surfels[i] = decodeSurfel(packed, info.box);
+  }
+  return surfels;
+}
+
+SurfelFile readSurfelFile(const std::filesystem::path& path) {
+  SurfelFileReader reader(path);
+  SurfelFile file;
+  file.sceneFingerprint = reader.sceneFingerprint();
+  file.options = reader.options();
+  file.nodes.assign(reader.nodes().begin(), reader.nodes().end());
+  const auto infos = reader.arrays();
+  file.arrays.resize(infos.size());
+  for (std::uint32_t a = 0; a < infos.size(); ++a) {
+    SurfelArray& array = file.arrays[a];
+    array.box = infos[a].box;
+    array.coverage = infos[a].coverage;
+    array.packing = infos[a].packing;
+    array.area = infos[a].area;
+    array.surfels = reader.readPrefix(a, infos[a].count);
+  }
+  return file;
+}
+
+}  // namespace pbs

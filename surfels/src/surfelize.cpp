@@ -1,0 +1,146 @@
+// surfelize: one capture and ordering per distinct subtree, in parallel, largest first.
+#include "pbs/surfels/surfelize.hpp"
+
+#include "capture_from_children.hpp"
+#include "surfelize_plan.hpp"
+
+#include "pbs/raster/hash64.hpp"
+#include "pbs/scene/scene_fingerprint.hpp"
+#include "pbs/scene/surface_area.hpp"
+#include "pbs/surfels/blue_noise_metrics.hpp"
+#include "pbs/surfels/capture.hpp"
+#include "pbs/surfels/ordering.hpp"
+#include "pbs/surfels/surfel_nodes.hpp"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <mutex>
+#include <numeric>
+
+namespace pbs {
+namespace {
+
+// The packing value the renderer sizes prefixes with: d_k² · k for the mean nearest-neighbour distance
+// d_k of the first k = min(1000, N) surfels. Spacing shrinks as 1/sqrt(count) on a surface, so
+// packing / r² is the count whose spacing is r, for any r.
+double packingValue(const std::vector<Surfel>& surfels) {
+  constexpr std::size_t kPackingSample = 1000;
+  const std::size_t k = std::min(kPackingSample, surfels.size());
+  if (k < 2) return 0.0;
+  std::vector<glm::vec3> positions(k);
+  std::vector<std::uint32_t> order(k);
+  for (std::size_t i = 0; i < k; ++i) positions[i] = surfels[i].position;
+  std::iota(order.begin(), order.end(), 0u);
+  const double spacing = meanNearestNeighbourDistance(positions, order, k);
+  return spacing * spacing * double(k);
+}
+
+struct MadeArray {
+  SurfelArray array;
+  std::uint64_t candidates = 0;
+};
+
+MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& path, const SurfelizeOptions& options,
+                    const detail::SurfelPlan& plan, std::span<const SurfelArray> arrays) {
+  const Hierarchy frame = analyzeSubtree(scene, node);
+  const CaptureOptions capture{.resolution = options.file.resolution, .directions = options.file.directions};
+  const bool fromChildren =
+      options.source == CaptureSource::ChildSurfels &&
+      std::any_of(scene.nodes[node].children.begin(), scene.nodes[node].children.end(),
+                  [&](std::uint32_t child) { return plan.arrayOfNode[child] != detail::kNoArray; });
+  const CaptureResult captured =
+      fromChildren ? detail::captureFromChildSurfels(scene, frame, node, arrays, plan.arrayOfNode, capture)
+                   : captureNode(scene, frame, node, capture);
+
+  std::vector<glm::vec3> positions(captured.surfels.size());
+  for (std::size_t i = 0; i < positions.size(); ++i) positions[i] = captured.surfels[i].position;
+  Hash64 seed(options.file.seed);
+  seed.string(path);
+  const std::vector<std::uint32_t> order =
+      orderPoints(options.file.ordering, positions, options.file.maxSurfels, seed.digest());
+
+  MadeArray made;
+  made.candidates = captured.surfels.size();
+  SurfelArray& array = made.array;
+  array.box = frame.worldBounds[node];
+  array.coverage = captured.coverage;
+  array.area = subtreeSurfaceArea(scene, frame, node);
+  array.surfels.reserve(order.size());
+  for (std::uint32_t i : order) array.surfels.push_back(captured.surfels[i]);
+  array.packing = packingValue(array.surfels);
+  return made;
+}
+
+// Groups of arrays that can be made at the same time: all of them at once, or with ChildSurfels one
+// height at a time (children are lower than their parents). Each group lists the largest subtree first,
+// so the longest captures start early and the small ones fill the gaps at the end.
+std::vector<std::vector<std::uint32_t>> scheduleArrays(const Hierarchy& hierarchy, const detail::SurfelPlan& plan,
+                                                       CaptureSource source) {
+  const std::size_t arrays = plan.representative.size();
+  std::vector<std::vector<std::uint32_t>> groups;
+  for (std::uint32_t a = 0; a < arrays; ++a) {
+    const std::size_t group = source == CaptureSource::ChildSurfels ? plan.height[a] : 0;
+    if (groups.size() <= group) groups.resize(group + 1);
+    groups[group].push_back(a);
+  }
+  for (auto& group : groups)
+    std::stable_sort(group.begin(), group.end(), [&](std::uint32_t x, std::uint32_t y) {
+      return hierarchy.subtreeTriangles[plan.representative[x]] > hierarchy.subtreeTriangles[plan.representative[y]];
+    });
+  return groups;
+}
+
+}  // namespace
+
+SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
+                     SurfelizeStats* stats) {
+  const detail::SurfelPlan plan = detail::planSurfelArrays(scene, hierarchy, options.file.threshold);
+  SurfelFile file;
+  file.sceneFingerprint = sceneFingerprint(scene);
+  file.options = options.file;
+  file.arrays.resize(plan.representative.size());
+  for (std::uint32_t node : plan.nodes) file.nodes.push_back({nodePath(scene, hierarchy, node), plan.arrayOfNode[node]});
+  std::vector<std::string> representativePath(plan.representative.size());
+  for (std::size_t a = 0; a < plan.representative.size(); ++a)
+    representativePath[a] = nodePath(scene, hierarchy, plan.representative[a]);
+
+  SurfelizeProgress progress;
+  progress.arraysTotal = std::uint32_t(plan.representative.size());
+  for (std::uint32_t node : plan.representative) progress.trianglesTotal += hierarchy.subtreeTriangles[node];
+  std::uint64_t candidates = 0;
+  std::mutex progressMutex;
+
+  for (const std::vector<std::uint32_t>& group : scheduleArrays(hierarchy, plan, options.source)) {
+    // Workers take the next array in the group's order; each array is computed by one worker (its
+    // capture runs in parallel inside), and its result goes to its own slot, so the schedule cannot
+    // change the file.
+    std::atomic<std::size_t> next{0};
+    const int workers = std::max(1, std::min(tbb::this_task_arena::max_concurrency(), int(group.size())));
+    tbb::parallel_for(0, workers, [&](int) {
+      for (std::size_t i = next++; i < group.size(); i = next++) {
+        const std::uint32_t a = group[i];
+        MadeArray made = makeArray(scene, plan.representative[a], representativePath[a], options, plan, file.arrays);
+        const std::lock_guard lock(progressMutex);
+        file.arrays[a] = std::move(made.array);
+        candidates += made.candidates;
+        ++progress.arraysDone;
+        progress.surfels += file.arrays[a].surfels.size();
+        progress.trianglesDone += hierarchy.subtreeTriangles[plan.representative[a]];
+        if (options.onProgress) options.onProgress(progress);
+      }
+    });
+  }
+
+  if (stats) {
+    stats->nodesWithSurfels = plan.nodes.size();
+    stats->arrays = file.arrays.size();
+    stats->surfels = progress.surfels;
+    stats->candidates = candidates;
+  }
+  return file;
+}
+
+}  // namespace pbs

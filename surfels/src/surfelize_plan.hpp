@@ -1,0 +1,24 @@
+// Which arrays a scene needs and which node each is captured for: the bookkeeping half of surfelize.
+#pragma once
+
+#include "pbs/scene/hierarchy.hpp"
+#include "pbs/scene/scene.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace pbs::detail {
+
+inline constexpr std::uint32_t kNoArray = 0xffffffffu;
+
+struct SurfelPlan {
+  std::vector<std::uint32_t> nodes;           // nodes above the threshold, in preorder
+  std::vector<std::uint32_t> arrayOfNode;     // per scene node: its array, or kNoArray
+  std::vector<std::uint32_t> representative;  // per array: the node it is captured for (first in preorder)
+  std::vector<std::uint32_t> height;          // per array: longest path down to a leaf (children are lower)
+};
+
+// Nodes above `threshold` subtree triangles; nodes of one subtree class share an array.
+SurfelPlan planSurfelArrays(const Scene& scene, const Hierarchy& hierarchy, std::uint64_t threshold);
+
+}  // namespace pbs::detail

@@ -1,0 +1,399 @@
+// Whole-scene surfels: which nodes get arrays, sharing between instances, the frame arrays live in,
+// determinism across thread counts, capturing from children's surfels, and `pbs surfelize`.
+#include "test_support.hpp"
+
+#include <pbs/raster/box_view.hpp>
+#include <pbs/raster/points.hpp>
+#include <pbs/raster/thread_arena.hpp>
+#include <pbs/scene/generate.hpp>
+#include <pbs/scene/gltf_export.hpp>
+#include <pbs/scene/gltf_import.hpp>
+#include <pbs/scene/scene_draws.hpp>
+#include <pbs/scene/scene_fingerprint.hpp>
+#include <pbs/scene/subtree_classes.hpp>
+#include <pbs/surfels/surfelize.hpp>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+
+namespace pbs {
+namespace {
+
+using test::ScratchDir;
+
+// A closed, finely tessellated box of 12 · n² triangles with one plain material.
+Mesh tessellatedBox(std::uint32_t n) {
+  Mesh mesh;
+  mesh.name = "box";
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = -1; side <= 1; side += 2) {
+      const std::uint32_t base = std::uint32_t(mesh.positions.size());
+      for (std::uint32_t j = 0; j <= n; ++j)
+        for (std::uint32_t i = 0; i <= n; ++i) {
+          glm::vec3 p;
+          p[axis] = float(side);
+          p[(axis + 1) % 3] = -1.0f + 2.0f * float(i) / float(n);
+          p[(axis + 2) % 3] = -1.0f + 2.0f * float(j) / float(n);
+          mesh.positions.push_back(p);
+        }
+      for (std::uint32_t j = 0; j < n; ++j)
+        for (std::uint32_t i = 0; i < n; ++i) {
+          const std::uint32_t a = base + j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+          mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
+        }
+    }
+  mesh.normals = computeVertexNormals(mesh.positions, mesh.indices);
+  mesh.parts.push_back(MeshPart{0, std::uint32_t(mesh.indices.size()), 0});
+  updateMeshBounds(mesh);
+  return mesh;
+}
+
+glm::dmat4 placed(glm::dvec3 at, double angle, glm::dvec3 scale) {
+  return glm::scale(glm::rotate(glm::translate(glm::dmat4(1.0), at), angle, glm::dvec3(0.3, 1.0, 0.2)), scale);
+}
+
+// root → {group A, group B}; each group holds two instances of the box mesh (1,200 triangles each),
+// the groups' children placed identically, so A and B are the same subtree placed differently.
+Scene twoIdenticalGroups() {
+  Scene scene;
+  scene.materials.push_back(Material{"plain", glm::vec4(0.8f, 0.5f, 0.2f, 1.0f), -1});
+  scene.meshes.push_back(tessellatedBox(10));
+  scene.nodes.push_back(Node{"root", glm::dmat4(1.0), {1, 2}, -1});
+  scene.nodes.push_back(Node{"A", placed({-5, 0, 0}, 0.3, glm::dvec3(1.0)), {3, 4}, -1});
+  scene.nodes.push_back(Node{"B", placed({6, 1, 2}, 1.1, glm::dvec3(2.0)), {5, 6}, -1});
+  for (int group = 0; group < 2; ++group) {
+    scene.nodes.push_back(Node{"left", placed({-1.5, 0, 0}, 0.5, {1, 1, 1}), {}, 0});
+    scene.nodes.push_back(Node{"right", placed({1.5, 0.5, 0}, -0.7, {1, 2, 0.5}), {}, 0});
+  }
+  scene.roots = {0};
+  validateScene(scene, "two groups");
+  return scene;
+}
+
+SurfelizeOptions smallOptions(std::uint64_t threshold) {
+  SurfelizeOptions options;
+  options.file.threshold = threshold;
+  options.file.maxSurfels = 2000;
+  options.file.resolution = 128;
+  return options;
+}
+
+TEST(SubtreeClasses, IdenticalSubtreesShareAClassWhateverTheirPlacement) {
+  const Scene scene = twoIdenticalGroups();
+  const std::vector<std::uint32_t> classes = subtreeClasses(scene, analyzeHierarchy(scene));
+  EXPECT_EQ(classes[1], classes[2]) << "groups A and B differ only in their own placement";
+  EXPECT_EQ(classes[3], classes[4]) << "instances of one mesh with no children";
+  EXPECT_EQ(classes[3], classes[6]);
+  EXPECT_NE(classes[0], classes[1]);
+  EXPECT_NE(classes[1], classes[3]);
+  EXPECT_EQ(classes[0], 0u) << "numbered in preorder of first appearance";
+
+  Scene changed = scene;
+  changed.nodes[6].local[3][0] += 1e-12;  // one child of B moves a little
+  const std::vector<std::uint32_t> after = subtreeClasses(changed, analyzeHierarchy(changed));
+  EXPECT_NE(after[1], after[2]);
+  EXPECT_EQ(after[5], after[6]) << "a node's own placement is not part of its class";
+}
+
+TEST(AnalyzeSubtree, SeesTheSubtreeFromTheNodesOwnFrame) {
+  const Scene scene = twoIdenticalGroups();
+  const Hierarchy world = analyzeHierarchy(scene);
+  const Hierarchy own = analyzeSubtree(scene, 2);
+  EXPECT_EQ(own.world[2], glm::dmat4(1.0));
+  EXPECT_EQ(own.parent[2], -1);
+  EXPECT_EQ(own.preorder, (std::vector<std::uint32_t>{2, 5, 6}));
+  EXPECT_EQ(own.subtreeTriangles[2], world.subtreeTriangles[2]);
+  // A leaf's box in its own frame is its mesh's box.
+  const Hierarchy leaf = analyzeSubtree(scene, 5);
+  EXPECT_EQ(leaf.worldBounds[5].min, glm::dvec3(scene.meshes[0].bounds.min));
+  EXPECT_EQ(leaf.worldBounds[5].max, glm::dvec3(scene.meshes[0].bounds.max));
+  // Groups A and B see identical subtrees from their own frames.
+  const Hierarchy a = analyzeSubtree(scene, 1);
+  EXPECT_EQ(a.worldBounds[1].min, own.worldBounds[2].min);
+  EXPECT_EQ(a.worldBounds[1].max, own.worldBounds[2].max);
+}
+
+TEST(Surfelize, InstancesShareArraysAndNodesGetStablePaths) {
+  const Scene scene = twoIdenticalGroups();
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  SurfelizeStats stats;
+  const SurfelFile file = surfelize(scene, hierarchy, smallOptions(1000), &stats);
+  // Every node holds ≥ 1,200 triangles; three classes: root, the groups, the box instances.
+  EXPECT_EQ(stats.nodesWithSurfels, 7u);
+  EXPECT_EQ(stats.arrays, 3u);
+  ASSERT_EQ(file.arrays.size(), 3u);
+  ASSERT_EQ(file.nodes.size(), 7u);
+  const std::vector<std::string> paths = {"/0", "/0/0", "/0/0/0", "/0/0/1", "/0/1", "/0/1/0", "/0/1/1"};
+  const std::vector<std::uint32_t> arrays = {0, 1, 2, 2, 1, 2, 2};
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    EXPECT_EQ(file.nodes[i].path, paths[i]);
+    EXPECT_EQ(file.nodes[i].array, arrays[i]) << paths[i];
+  }
+  EXPECT_EQ(file.sceneFingerprint, sceneFingerprint(scene));
+  std::uint64_t surfels = 0;
+  for (const SurfelArray& array : file.arrays) {
+    EXPECT_EQ(array.surfels.size(), 2000u);
+    EXPECT_GT(array.coverage, 0.0);
+    EXPECT_LE(array.coverage, 1.0);
+    EXPECT_GT(array.packing, 0.0);
+    surfels += array.surfels.size();
+  }
+  EXPECT_EQ(stats.surfels, surfels);
+  // The shared box array lies in the mesh's own frame: on the surface of the box [-1, 1]³ (positions
+  // are relative to the box centre, 0 here), whichever instance it was captured for.
+  for (const Surfel& s : file.arrays[2].surfels) {
+    const glm::vec3 a = glm::abs(s.position);
+    EXPECT_NEAR(std::max({a.x, a.y, a.z}), 1.0f, 1e-4f);
+  }
+  // A box of area 6 · 2² = 24 in its own frame; group A holds two boxes, one scaled by (1, 2, 0.5).
+  EXPECT_NEAR(file.arrays[2].area, 24.0, 1e-9);
+  EXPECT_NEAR(file.arrays[1].area, 24.0 + 2 * (2 * 1 + 1 * 0.5 + 2 * 0.5) * 4, 1e-6);
+}
+
+TEST(Surfelize, ASceneWithNothingComplexNeedsNoArrays) {
+  const Scene scene = twoIdenticalGroups();
+  SurfelizeStats stats;
+  int progressCalls = 0;
+  SurfelizeOptions options = smallOptions(1'000'000);
+  options.onProgress = [&](const SurfelizeProgress&) { ++progressCalls; };
+  const SurfelFile file = surfelize(scene, analyzeHierarchy(scene), options, &stats);
+  EXPECT_TRUE(file.arrays.empty());
+  EXPECT_TRUE(file.nodes.empty());
+  EXPECT_EQ(stats.arrays, 0u);
+  EXPECT_EQ(progressCalls, 0);
+}
+
+TEST(Surfelize, ProgressCountsEveryArrayOnce) {
+  const Scene scene = twoIdenticalGroups();
+  SurfelizeOptions options = smallOptions(1000);
+  std::vector<SurfelizeProgress> seen;
+  options.onProgress = [&](const SurfelizeProgress& p) { seen.push_back(p); };
+  surfelize(scene, analyzeHierarchy(scene), options);
+  ASSERT_EQ(seen.size(), 3u);
+  for (std::size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i].arraysDone, i + 1);
+  EXPECT_EQ(seen.back().trianglesDone, seen.back().trianglesTotal);
+  EXPECT_EQ(seen.back().surfels, 6000u);
+}
+
+// The bytes of the .surfels file surfelize gives for `scene` with `threads` threads.
+std::string surfelFileBytes(const Scene& scene, const SurfelizeOptions& options, int threads) {
+  ScratchDir scratch;
+  runWithThreads(threads, [&] { writeSurfelFile(scratch / "out.surfels", surfelize(scene, analyzeHierarchy(scene), options)); });
+  return test::readFile(scratch / "out.surfels");
+}
+
+TEST(Surfelize, BitIdenticalFileForOneTwoAndFourThreads) {
+  const Scene scene = twoIdenticalGroups();
+  for (CaptureSource source : {CaptureSource::Triangles, CaptureSource::ChildSurfels}) {
+    for (SurfelOrdering ordering : {SurfelOrdering::Farthest, SurfelOrdering::Dart}) {
+      SurfelizeOptions options = smallOptions(1000);
+      options.source = source;
+      options.file.ordering = ordering;
+      const std::string one = surfelFileBytes(scene, options, 1);
+      ASSERT_GT(one.size(), 3 * 2000 * kSurfelBytes);
+      EXPECT_EQ(one, surfelFileBytes(scene, options, 2));
+      EXPECT_EQ(one, surfelFileBytes(scene, options, 4));
+    }
+  }
+}
+
+TEST(Surfelize, SeedChangesTheOrderNotTheSurface) {
+  const Scene scene = twoIdenticalGroups();
+  SurfelizeOptions a = smallOptions(1000), b = smallOptions(1000);
+  b.file.seed = 2;
+  const SurfelFile fa = surfelize(scene, analyzeHierarchy(scene), a);
+  const SurfelFile fb = surfelize(scene, analyzeHierarchy(scene), b);
+  EXPECT_NE(fa.arrays[2].surfels.front().position, fb.arrays[2].surfels.front().position);
+  EXPECT_EQ(fa.arrays[2].coverage, fb.arrays[2].coverage);
+}
+
+// What drawing an array's surfels (splats as wide as their spacing) misses or adds against the exact
+// triangles, over four views of the array's node: the fraction of pixels covered by exactly one of
+// the two, and the RMSE of the base colour over the pixels either covers (0…255 per channel).
+struct SplatError {
+  double mismatch = 0.0;
+  double colorRmse = 0.0;
+};
+
+SplatError splatError(const Scene& scene, std::uint32_t node, const SurfelArray& array) {
+  const Hierarchy frame = analyzeSubtree(scene, node);
+  const std::vector<std::uint32_t> nodes = subtreeNodes(scene, node);
+  std::vector<glm::vec3> positions, normals;
+  std::vector<glm::u8vec4> colors;
+  for (const Surfel& s : array.surfels) {
+    positions.push_back(s.position);
+    normals.push_back(s.normal);
+    colors.push_back(s.color);
+  }
+  const double spacing = std::sqrt(array.packing / double(array.surfels.size()));
+  std::uint64_t mismatched = 0, either = 0;
+  double squared = 0.0;
+  const std::vector<glm::dvec3> views = {{1, 0.3, 0.2}, {-0.4, 1, 0.5}, {0.2, -0.5, -1}, {-1, -1, 1}};
+  for (const glm::dvec3& direction : views) {
+    const Camera camera = boxViewCamera(array.box, glm::normalize(direction), 256);
+    const double pixel = 2.0 / (camera.projection[0][0] * camera.width);
+    Framebuffer exact = makeFramebuffer(camera.width, camera.height, kChannelColor);
+    drawNodeTriangles(scene, frame, nodes, camera, exact);
+    Framebuffer splats = makeFramebuffer(camera.width, camera.height, kChannelColor);
+    const PointSet set{.positions = positions,
+                       .normals = normals,
+                       .colors = colors,
+                       .worldFromObject = glm::translate(glm::dmat4(1.0), array.box.center()),
+                       .pointSize = float(std::max(1.0, 1.25 * spacing / pixel))};
+    drawPoints(splats, camera, std::span(&set, 1));
+    for (std::size_t i = 0; i < exact.pixelCount(); ++i) {
+      if (!exact.covered(i) && !splats.covered(i)) continue;
+      ++either;
+      if (exact.covered(i) != splats.covered(i)) ++mismatched;
+      const glm::dvec4 d = glm::dvec4(exact.color[i]) - glm::dvec4(splats.color[i]);
+      squared += glm::dot(glm::dvec3(d), glm::dvec3(d)) / 3.0;
+    }
+  }
+  return {double(mismatched) / double(either), std::sqrt(squared / double(either))};
+}
+
+// The capture of inner nodes from their children's surfels instead of their triangles: how much image
+// error it adds, on a city of two shared meshes (root and blocks are inner nodes, the instances leaves).
+TEST(Surfelize, ChildSurfelCaptureErrorOnSharedScene) {
+  PBS_SHARED_SCENE(spot, "spot.glb");
+  PBS_SHARED_SCENE(teapot, "teapot.glb");
+  const Scene city = generateCity({importGltf(spot).scene, importGltf(teapot).scene}, CityOptions{.levels = 2, .fanout = 4});
+  validateScene(city, "city");
+  const Hierarchy hierarchy = analyzeHierarchy(city);
+  SurfelizeOptions options;
+  options.file.threshold = 5000;
+  options.file.maxSurfels = 10000;
+  options.file.resolution = 256;
+  const SurfelFile exact = surfelize(city, hierarchy, options);
+  options.source = CaptureSource::ChildSurfels;
+  const SurfelFile fromChildren = surfelize(city, hierarchy, options);
+  ASSERT_EQ(exact.nodes.size(), fromChildren.nodes.size());
+  ASSERT_EQ(exact.nodes.front().path, "/0");
+
+  const std::uint32_t root = city.roots.front();
+  const SplatError e = splatError(city, root, exact.arrays[exact.nodes.front().array]);
+  const SplatError c = splatError(city, root, fromChildren.arrays[fromChildren.nodes.front().array]);
+  std::printf("root drawn from its surfels vs its triangles (4 views, 256 px):\n"
+              "  captured from triangles:       coverage mismatch %.4f, colour RMSE %.2f\n"
+              "  captured from child surfels:   coverage mismatch %.4f, colour RMSE %.2f\n",
+              e.mismatch, e.colorRmse, c.mismatch, c.colorRmse);
+  RecordProperty("triangles_mismatch", std::to_string(e.mismatch));
+  RecordProperty("children_mismatch", std::to_string(c.mismatch));
+  // Both represent the root: splats overhang silhouettes by up to half a splat, and 10,000 surfels
+  // for sixteen models make wide splats at 256 px (measured: about 0.17 of the pixels either covers
+  // disagree, both ways), and the child-surfel capture costs at most a little more.
+  EXPECT_LT(e.mismatch, 0.25);
+  EXPECT_LT(c.mismatch, 0.25);
+  EXPECT_LT(c.mismatch, e.mismatch * 1.5 + 0.01);
+  EXPECT_LT(c.colorRmse, e.colorRmse * 1.5 + 5.0);
+  // Leaves have no children with arrays: both ways capture them from triangles, identically.
+  const std::uint32_t leafArray = exact.nodes.back().array;
+  EXPECT_EQ(exact.arrays[leafArray].surfels.size(), fromChildren.arrays[leafArray].surfels.size());
+  EXPECT_EQ(exact.arrays[leafArray].surfels.front().position, fromChildren.arrays[leafArray].surfels.front().position);
+}
+
+// twoIdenticalGroups() as a .glb in `scratch`, quoted for the command line.
+std::string groupsFile(const ScratchDir& scratch) {
+  writeGlb(twoIdenticalGroups(), scratch / "groups.glb");
+  return "'" + (scratch / "groups.glb").string() + "'";
+}
+
+TEST(SurfelizeCli, WritesTheFileAndReportsJson) {
+  ScratchDir scratch;
+  groupsFile(scratch);
+  const auto out = scratch / "groups.surfels";
+  const test::CommandResult run = test::runPbs("surfelize '" + (scratch / "groups.glb").string() + "' -o '" +
+                                               out.string() + "' --threshold 1000 --max-surfels 500 --resolution 96 --json");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json report = nlohmann::json::parse(run.out);
+  for (const char* key : {"nodes_with_surfels", "arrays", "surfels", "captures", "seconds", "bytes"})
+    EXPECT_TRUE(report.contains(key)) << key;
+  EXPECT_EQ(report["nodes_with_surfels"], 7);
+  EXPECT_EQ(report["arrays"], 3);
+  EXPECT_EQ(report["captures"], 3);
+  EXPECT_EQ(report["surfels"], 1500);
+  EXPECT_EQ(report["bytes"], std::filesystem::file_size(out));
+  EXPECT_EQ(run.err, "") << "--json implies no progress output";
+
+  SurfelFileReader reader(out);
+  EXPECT_EQ(reader.nodes().size(), 7u);
+  EXPECT_EQ(reader.arrays().size(), 3u);
+  EXPECT_EQ(reader.options().maxSurfels, 500u);
+  EXPECT_EQ(reader.options().resolution, 96u);
+  EXPECT_EQ(reader.readPrefix(2, 100).size(), 100u);
+}
+
+TEST(SurfelizeCli, ProgressLinesWhenStderrIsNotATerminal) {
+  ScratchDir scratch;
+  const std::string scene = groupsFile(scratch);
+  const test::CommandResult run = test::runPbs("surfelize " + scene + " -o '" + (scratch / "d.surfels").string() +
+                                               "' --threshold 1000 --max-surfels 100 --resolution 64");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.err.find("surfelize: 100%"), std::string::npos) << run.err;
+  EXPECT_EQ(run.err.find('\r'), std::string::npos) << "no bar redraws in a log";
+  EXPECT_NE(run.out.find("arrays"), std::string::npos);
+  const test::CommandResult quiet = test::runPbs("surfelize " + scene + " -o '" + (scratch / "q.surfels").string() +
+                                                 "' --threshold 1000 --max-surfels 100 --resolution 64 --quiet");
+  ASSERT_EQ(quiet.status, 0) << quiet.err;
+  EXPECT_EQ(quiet.err, "");
+  EXPECT_EQ(test::readFile(scratch / "d.surfels"), test::readFile(scratch / "q.surfels"));
+}
+
+TEST(SurfelizeCli, SaysSoWhenNoNodeNeedsSurfels) {
+  ScratchDir scratch;
+  const auto out = scratch / "none.surfels";
+  const test::CommandResult run = test::runPbs("surfelize " + groupsFile(scratch) + " -o '" + out.string() +
+                                               "' --threshold 1000000000");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("no surfels needed"), std::string::npos) << run.out;
+  SurfelFileReader reader(out);
+  EXPECT_TRUE(reader.arrays().empty());
+}
+
+TEST(SurfelizeCli, AnalyzeReadsTheFileAndChecksItsScene) {
+  ScratchDir scratch;
+  const std::string scene = groupsFile(scratch);
+  const auto out = scratch / "groups.surfels";
+  ASSERT_EQ(test::runPbs("surfelize " + scene + " -o '" + out.string() + "' --threshold 1000 --max-surfels 800 "
+                         "--resolution 96 --quiet").status, 0);
+  const test::CommandResult analyzed =
+      test::runPbs("analyze '" + out.string() + "' --scene " + scene + " --no-spectrum --json");
+  ASSERT_EQ(analyzed.status, 0) << analyzed.err;
+  const nlohmann::json report = nlohmann::json::parse(analyzed.out);
+  ASSERT_EQ(report["nodes"].size(), 7u);
+  for (const nlohmann::json& node : report["nodes"]) {
+    EXPECT_EQ(node["count"], 800);
+    EXPECT_GT(node["rho_min"].get<double>(), 0.0);
+    EXPECT_GT(node["area"].get<double>(), 0.0);
+  }
+  EXPECT_EQ(report["nodes"][2]["rho_min"], report["nodes"][3]["rho_min"]) << "shared array, same values";
+
+  // The same file against another scene: one error line naming the file and its header.
+  Scene other = twoIdenticalGroups();
+  other.nodes[1].local[3][1] += 1.0;
+  writeGlb(other, scratch / "other.glb");
+  const test::CommandResult mismatch =
+      test::runPbs("analyze '" + out.string() + "' --scene '" + (scratch / "other.glb").string() + "' --no-spectrum");
+  EXPECT_EQ(mismatch.status, 1);
+  EXPECT_EQ(mismatch.err.rfind("error: " + out.string() + ": header: made for another scene", 0), 0u) << mismatch.err;
+}
+
+TEST(SurfelizeCli, BadInputGivesOneErrorLine) {
+  ScratchDir scratch;
+  const test::CommandResult missing = test::runPbs("surfelize '" + (scratch / "nope.glb").string() + "' -o '" +
+                                                   (scratch / "x.surfels").string() + "'");
+  EXPECT_EQ(missing.status, 1);
+  EXPECT_EQ(missing.err.rfind("error: ", 0), 0u) << missing.err;
+  EXPECT_FALSE(std::filesystem::exists(scratch / "x.surfels"));
+  const test::CommandResult badOrdering = test::runPbs("surfelize default -o x.surfels --ordering best");
+  EXPECT_EQ(badOrdering.status, 2);
+  const test::CommandResult noDir = test::runPbs("surfelize " + groupsFile(scratch) + " -o '" +
+                                                 (scratch / "missing" / "x.surfels").string() + "'");
+  EXPECT_EQ(noDir.status, 1);
+  EXPECT_NE(noDir.err.find("missing"), std::string::npos) << noDir.err;
+}
+
+}  // namespace
+}  // namespace pbs
