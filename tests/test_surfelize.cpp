@@ -1,5 +1,6 @@
 // Whole-scene surfels: which nodes get arrays, sharing between instances, the frame arrays live in,
 // determinism across thread counts, capturing from children's surfels, and `pbs surfelize`.
+#include "test_fixtures.hpp"
 #include "test_support.hpp"
 
 #include <pbs/raster/box_view.hpp>
@@ -22,55 +23,7 @@ namespace pbs {
 namespace {
 
 using test::ScratchDir;
-
-// A closed, finely tessellated box of 12 · n² triangles with one plain material.
-Mesh tessellatedBox(std::uint32_t n) {
-  Mesh mesh;
-  mesh.name = "box";
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side = -1; side <= 1; side += 2) {
-      const std::uint32_t base = std::uint32_t(mesh.positions.size());
-      for (std::uint32_t j = 0; j <= n; ++j)
-        for (std::uint32_t i = 0; i <= n; ++i) {
-          glm::vec3 p;
-          p[axis] = float(side);
-          p[(axis + 1) % 3] = -1.0f + 2.0f * float(i) / float(n);
-          p[(axis + 2) % 3] = -1.0f + 2.0f * float(j) / float(n);
-          mesh.positions.push_back(p);
-        }
-      for (std::uint32_t j = 0; j < n; ++j)
-        for (std::uint32_t i = 0; i < n; ++i) {
-          const std::uint32_t a = base + j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
-          mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
-        }
-    }
-  mesh.normals = computeVertexNormals(mesh.positions, mesh.indices);
-  mesh.parts.push_back(MeshPart{0, std::uint32_t(mesh.indices.size()), 0});
-  updateMeshBounds(mesh);
-  return mesh;
-}
-
-glm::dmat4 placed(glm::dvec3 at, double angle, glm::dvec3 scale) {
-  return glm::scale(glm::rotate(glm::translate(glm::dmat4(1.0), at), angle, glm::dvec3(0.3, 1.0, 0.2)), scale);
-}
-
-// root → {group A, group B}; each group holds two instances of the box mesh (1,200 triangles each),
-// the groups' children placed identically, so A and B are the same subtree placed differently.
-Scene twoIdenticalGroups() {
-  Scene scene;
-  scene.materials.push_back(Material{"plain", glm::vec4(0.8f, 0.5f, 0.2f, 1.0f), -1});
-  scene.meshes.push_back(tessellatedBox(10));
-  scene.nodes.push_back(Node{"root", glm::dmat4(1.0), {1, 2}, -1});
-  scene.nodes.push_back(Node{"A", placed({-5, 0, 0}, 0.3, glm::dvec3(1.0)), {3, 4}, -1});
-  scene.nodes.push_back(Node{"B", placed({6, 1, 2}, 1.1, glm::dvec3(2.0)), {5, 6}, -1});
-  for (int group = 0; group < 2; ++group) {
-    scene.nodes.push_back(Node{"left", placed({-1.5, 0, 0}, 0.5, {1, 1, 1}), {}, 0});
-    scene.nodes.push_back(Node{"right", placed({1.5, 0.5, 0}, -0.7, {1, 2, 0.5}), {}, 0});
-  }
-  scene.roots = {0};
-  validateScene(scene, "two groups");
-  return scene;
-}
+using test::twoIdenticalGroups;
 
 SurfelizeOptions smallOptions(std::uint64_t threshold) {
   SurfelizeOptions options;

@@ -4,6 +4,7 @@
 #include "image_files.hpp"
 #include "scene_report.hpp"
 
+#include <pbs/raster/projected_box.hpp>
 #include <pbs/raster/camera.hpp>
 #include <pbs/raster/framebuffer.hpp>
 #include <pbs/raster/points.hpp>
@@ -44,40 +45,6 @@ Camera panelCamera(const Bounds& box, std::uint32_t size) {
   }
   half = 1.04 * (half > 0.0 ? half : radius);
   return orthographicCamera(view, -half, half, -half, half, 0.5 * radius, 3.5 * radius, size, size);
-}
-
-// Area in pixels of the convex hull of the box's 8 projected corners (its silhouette in the panel).
-double projectedBoxArea(const Camera& camera, const Bounds& box) {
-  if (box.empty()) return 0.0;
-  std::array<glm::dvec2, 8> corners;
-  for (int c = 0; c < 8; ++c) {
-    const glm::dvec3 p{(c & 1) ? box.max.x : box.min.x, (c & 2) ? box.max.y : box.min.y,
-                       (c & 4) ? box.max.z : box.min.z};
-    corners[std::size_t(c)] = glm::dvec2(windowFromClip(camera, camera.clipFromWorld() * glm::dvec4(p, 1.0)));
-  }
-  std::sort(corners.begin(), corners.end(),
-            [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
-  const auto cross = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
-    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
-  };
-  // Andrew's monotone chain: lower hull, then upper hull.
-  std::vector<glm::dvec2> hull;
-  for (int pass = 0; pass < 2; ++pass) {
-    const std::size_t start = hull.size();
-    for (int i = 0; i < 8; ++i) {
-      const glm::dvec2& p = corners[std::size_t(pass == 0 ? i : 7 - i)];
-      while (hull.size() >= start + 2 && cross(hull[hull.size() - 2], hull.back(), p) <= 0.0) hull.pop_back();
-      hull.push_back(p);
-    }
-    hull.pop_back();  // the last point of each chain starts the other
-  }
-  double twiceArea = 0.0;
-  for (std::size_t i = 0; i < hull.size(); ++i) {
-    const glm::dvec2& a = hull[i];
-    const glm::dvec2& b = hull[(i + 1) % hull.size()];
-    twiceArea += a.x * b.y - a.y * b.x;
-  }
-  return 0.5 * std::abs(twiceArea);
 }
 
 // Point size for k splats covering `surfacePixels` (the surface's silhouette) about once: a closed
@@ -152,7 +119,7 @@ void addPrefixesCommand(CLI::App& app) {
       const std::uint32_t size = options->panelSize;
       const Camera camera = panelCamera(box, size);
       // The surface's share of the box silhouette, as the capture measured it over its views.
-      const double surfacePixels = projectedBoxArea(camera, box) * capture.coverage;
+      const double surfacePixels = projectedBoxPixels(camera, box) * capture.coverage;
       const std::uint32_t width = size * options->panels;
       std::vector<std::uint8_t> image(std::size_t(width) * size * 4, 0);  // transparent background
       std::printf("node %u (%s): %s surfels captured, coverage %.3f, %s ordering\n", node,

@@ -17,6 +17,8 @@ void addCaptureCommand(CLI::App& app);
 void addAnalyzeCommand(CLI::App& app);
 void addPrefixesCommand(CLI::App& app);
 void addSurfelizeCommand(CLI::App& app);
+void addRenderCommand(CLI::App& app);
+void addCompareCommand(CLI::App& app);
 
 // The `--threads` option every command has (0: all hardware threads).
 void addThreadsOption(CLI::App& command, int& threads);

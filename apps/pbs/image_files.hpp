@@ -1,5 +1,8 @@
-// Writing images (PNG, EXR, … by extension, through OpenImageIO), whole or not at all.
+// Writing and reading images (PNG, EXR, … by extension, through the OpenImageIO plug-in), whole or not
+// at all.
 #pragma once
+
+#include <pbs/raster/image_metrics.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -11,5 +14,16 @@ namespace pbs::cli {
 // beside `file` and renames it into place. Throws std::runtime_error naming the file on failure.
 void writeImage8(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height, int channels,
                  std::span<const std::uint8_t> pixels);
+
+// The same with float values (linear): 32-bit float in EXR (and other float formats), converted to
+// the format's own type elsewhere (PNG: 8 bits, clamped to 0..1).
+void writeImageFloat(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height, int channels,
+                     std::span<const float> pixels);
+
+// Reads any image OpenImageIO reads as float RGBA: integer formats scaled to 0..1, float formats as
+// stored, grey copied to R, G and B, alpha 1 where the file has none, colour never multiplied by
+// alpha (pbs writes straight colour too). Throws pbs::InputError
+// ("FILE: cannot read image: WHY") on failure.
+RgbaImage readImage(const std::filesystem::path& file);
 
 }  // namespace pbs::cli

@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
   pbs::cli::addAnalyzeCommand(app);
   pbs::cli::addPrefixesCommand(app);
   pbs::cli::addSurfelizeCommand(app);
+  pbs::cli::addRenderCommand(app);
+  pbs::cli::addCompareCommand(app);
   pbs::cli::addBenchCommand(app);
   try {
     app.parse(argc, argv);

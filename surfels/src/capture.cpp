@@ -1,9 +1,9 @@
 // captureNode: renders a node's subtree from each capture direction and turns covered pixels into surfels.
 #include "pbs/surfels/capture.hpp"
 
-#include "capture_coverage.hpp"
 #include "pbs/raster/box_view.hpp"
 #include "pbs/raster/framebuffer.hpp"
+#include "pbs/raster/projected_box.hpp"
 #include "pbs/scene/embree_caster.hpp"
 #include "pbs/scene/scene_draws.hpp"
 

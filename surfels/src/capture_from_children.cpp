@@ -5,6 +5,7 @@
 
 #include "pbs/raster/points.hpp"
 #include "pbs/scene/scene_draws.hpp"
+#include "pbs/surfels/scene_surfels.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -15,26 +16,6 @@
 
 namespace pbs::detail {
 namespace {
-
-// An array in the structure-of-arrays form drawPoints reads.
-struct SplatArrays {
-  std::vector<glm::vec3> positions;
-  std::vector<glm::vec3> normals;
-  std::vector<glm::u8vec4> colors;
-  double spacing = 0.0;  // mean distance between neighbouring surfels of the whole array, array frame
-};
-
-SplatArrays splatArrays(const SurfelArray& array) {
-  SplatArrays splats;
-  for (const Surfel& surfel : array.surfels) {
-    splats.positions.push_back(surfel.position);
-    splats.normals.push_back(surfel.normal);
-    splats.colors.push_back(surfel.color);
-  }
-  // packing = d_k² · k for the first k surfels, so N surfels are spaced about sqrt(packing / N).
-  if (!array.surfels.empty()) splats.spacing = std::sqrt(array.packing / double(array.surfels.size()));
-  return splats;
-}
 
 double largestScale(const glm::dmat4& transform) {
   return std::max({glm::length(glm::dvec3(transform[0])), glm::length(glm::dvec3(transform[1])),
@@ -54,17 +35,17 @@ CaptureResult captureFromChildSurfels(const Scene& scene, const Hierarchy& frame
   if (scene.nodes[node].mesh >= 0) triangleNodes.push_back(node);
   std::vector<std::uint32_t> splatChildren;
   for (std::uint32_t child : scene.nodes[node].children) {
-    if (arrayOfNode[child] != kNoArray) {
+    if (arrayOfNode[child] != kNoSurfels) {
       splatChildren.push_back(child);
     } else {
       const std::vector<std::uint32_t> below = subtreeNodes(scene, child);
       triangleNodes.insert(triangleNodes.end(), below.begin(), below.end());
     }
   }
-  std::map<std::uint32_t, SplatArrays> splats;  // one conversion per distinct array
+  std::map<std::uint32_t, SplatArray> splats;  // one conversion per distinct array
   for (std::uint32_t child : splatChildren) {
     const std::uint32_t array = arrayOfNode[child];
-    if (!splats.contains(array)) splats.emplace(array, splatArrays(arrays[array]));
+    if (!splats.contains(array)) splats.emplace(array, splatArrayOf(arrays[array]));
   }
 
   return captureBox(frame.worldBounds[node], options, [&](const Camera& camera, Framebuffer& gbuffer) {
@@ -73,9 +54,9 @@ CaptureResult captureFromChildSurfels(const Scene& scene, const Hierarchy& frame
     std::vector<PointSet> sets;
     for (std::uint32_t child : splatChildren) {
       const std::uint32_t array = arrayOfNode[child];
-      const SplatArrays& s = splats.at(array);
+      const SplatArray& s = splats.at(array);
       const glm::dmat4 transform = glm::translate(frame.world[child], arrays[array].box.center());
-      const double size = kSplatOverlap * s.spacing * largestScale(frame.world[child]) / pixel;
+      const double size = kSplatOverlap * s.spacing(s.size()) * largestScale(frame.world[child]) / pixel;
       sets.push_back(PointSet{.positions = s.positions,
                               .normals = s.normals,
                               .colors = s.colors,

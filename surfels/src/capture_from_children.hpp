@@ -12,7 +12,7 @@
 namespace pbs::detail {
 
 // The capture of `node` (in the frame of `frame`, from analyzeSubtree) in which every child with an
-// array (arrayOfNode[child] != kNoArray, arrays already made) is drawn as that array's surfels, square
+// array (arrayOfNode[child] != kNoSurfels, arrays already made) is drawn as that array's surfels, square
 // splats as wide as the array's mean spacing (from its packing value) in capture pixels, and the rest
 // (the node's own mesh, children below the threshold) as triangles. It costs the children's surfel
 // counts instead of the subtree's triangles; what it loses against the exact capture is measured by

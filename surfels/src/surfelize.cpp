@@ -50,7 +50,7 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& p
   const bool fromChildren =
       options.source == CaptureSource::ChildSurfels &&
       std::any_of(scene.nodes[node].children.begin(), scene.nodes[node].children.end(),
-                  [&](std::uint32_t child) { return plan.arrayOfNode[child] != detail::kNoArray; });
+                  [&](std::uint32_t child) { return plan.arrayOfNode[child] != kNoSurfels; });
   const CaptureResult captured =
       fromChildren ? detail::captureFromChildSurfels(scene, frame, node, arrays, plan.arrayOfNode, capture)
                    : captureNode(scene, frame, node, capture);

@@ -11,7 +11,7 @@ namespace pbs::detail {
 SurfelPlan planSurfelArrays(const Scene& scene, const Hierarchy& hierarchy, std::uint64_t threshold) {
   SurfelPlan plan;
   plan.nodes = nodesNeedingSurfels(hierarchy, threshold);
-  plan.arrayOfNode.assign(scene.nodes.size(), kNoArray);
+  plan.arrayOfNode.assign(scene.nodes.size(), kNoSurfels);
   if (plan.nodes.empty()) return plan;  // nothing to share, nothing to classify
 
   std::vector<std::uint32_t> nodeHeight(scene.nodes.size(), 0);
@@ -21,10 +21,10 @@ SurfelPlan planSurfelArrays(const Scene& scene, const Hierarchy& hierarchy, std:
 
   const std::vector<std::uint32_t> classes = subtreeClasses(scene, hierarchy);
   std::vector<std::uint32_t> arrayOfClass(classes.empty() ? 0 : *std::max_element(classes.begin(), classes.end()) + 1,
-                                          kNoArray);
+                                          kNoSurfels);
   for (std::uint32_t node : plan.nodes) {
     std::uint32_t& array = arrayOfClass[classes[node]];
-    if (array == kNoArray) {
+    if (array == kNoSurfels) {
       array = std::uint32_t(plan.representative.size());
       plan.representative.push_back(node);
       plan.height.push_back(nodeHeight[node]);

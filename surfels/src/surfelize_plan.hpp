@@ -3,17 +3,16 @@
 
 #include "pbs/scene/hierarchy.hpp"
 #include "pbs/scene/scene.hpp"
+#include "pbs/surfels/scene_surfels.hpp"
 
 #include <cstdint>
 #include <vector>
 
 namespace pbs::detail {
 
-inline constexpr std::uint32_t kNoArray = 0xffffffffu;
-
 struct SurfelPlan {
   std::vector<std::uint32_t> nodes;           // nodes above the threshold, in preorder
-  std::vector<std::uint32_t> arrayOfNode;     // per scene node: its array, or kNoArray
+  std::vector<std::uint32_t> arrayOfNode;     // per scene node: its array, or kNoSurfels
   std::vector<std::uint32_t> representative;  // per array: the node it is captured for (first in preorder)
   std::vector<std::uint32_t> height;          // per array: longest path down to a leaf (children are lower)
 };

@@ -34,7 +34,9 @@ class Hash64 {
       buffered_ = 0;
     }
     for (; size >= 8; size -= 8, p += 8) word(load64(p));
-    for (; size > 0; --size) buffer_[buffered_++] = *p++;
+    // Here the buffer is empty and fewer than 8 bytes remain (a copy GCC can see is in bounds).
+    std::memcpy(buffer_, p, size);
+    buffered_ = size;
   }
   void bytes(std::span<const std::uint8_t> data) { bytes(data.data(), data.size()); }
 

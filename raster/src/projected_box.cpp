@@ -1,9 +1,10 @@
 // Projected box silhouettes: corners to window space, convex hull (monotone chain), shoelace area.
-#include "capture_coverage.hpp"
+#include "pbs/raster/projected_box.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace pbs {
 namespace {
@@ -14,17 +15,25 @@ double cross(const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
 
 }  // namespace
 
-double projectedBoxPixels(const Camera& orthographic, const Bounds& box) {
+double projectedBoxPixels(const Camera& camera, const Bounds& box) {
   if (box.empty()) return 0.0;
-  const glm::dmat4 clipFromWorld = orthographic.clipFromWorld();
+  const glm::dmat4 clipFromWorld = camera.clipFromWorld();
   const glm::dvec3 half = box.size() * 0.5;
+  const glm::dvec3 center = box.center();
   std::array<glm::dvec2, 8> points;
   for (int corner = 0; corner < 8; ++corner) {
     const glm::dvec3 offset{(corner & 1) ? half.x : -half.x, (corner & 2) ? half.y : -half.y,
                             (corner & 4) ? half.z : -half.z};
-    // w = 1 for an orthographic camera, so window offsets are clip offsets scaled by half the viewport.
-    const glm::dvec4 clip = clipFromWorld * glm::dvec4(offset, 0.0);
-    points[std::size_t(corner)] = {clip.x * orthographic.width * 0.5, -clip.y * orthographic.height * 0.5};
+    glm::dvec2& p = points[std::size_t(corner)];
+    if (camera.isOrthographic()) {
+      // w = 1, so window offsets are clip offsets scaled by half the viewport.
+      const glm::dvec4 clip = clipFromWorld * glm::dvec4(offset, 0.0);
+      p = {clip.x * camera.width * 0.5, -clip.y * camera.height * 0.5};
+    } else {
+      const glm::dvec4 clip = clipFromWorld * glm::dvec4(center + offset, 1.0);
+      if (!(clip.w > 0.0)) return std::numeric_limits<double>::infinity();
+      p = glm::dvec2(windowFromClip(camera, clip));
+    }
   }
   std::sort(points.begin(), points.end(),
             [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });

@@ -1,0 +1,180 @@
+// `pbs render SCENE [--surfels F] [--mode surfels|exact|embree]`: one view (or an orbit of frames) of a
+// scene with surfels for small nodes, or exactly with the rasterizer or the ray caster (paper, Sec. 3).
+#include "commands.hpp"
+#include "frame_renderer.hpp"
+#include "image_files.hpp"
+#include "scene_report.hpp"
+
+#include <pbs/raster/headlight_shading.hpp>
+#include <pbs/raster/orbit_camera.hpp>
+#include <pbs/raster/thread_arena.hpp>
+#include <pbs/scene/input_error.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+namespace pbs::cli {
+namespace {
+
+struct RenderOptions {
+  std::string scene;
+  std::string surfels;
+  std::string mode;  // empty: surfels when a file is given, else exact
+  std::string orbit = "30,20,2.5";
+  std::string size = "1920x1080";
+  LodOptions lod;
+  std::string prefixRule = "coverage";
+  std::string output;
+  std::uint32_t frames = 0;
+  bool json = false;
+  int threads = 0;
+};
+
+Orbit parseOrbit(const std::string& text) {
+  Orbit orbit;
+  char comma1 = 0, comma2 = 0;
+  std::istringstream in(text);
+  in >> orbit.azimuthDegrees >> comma1 >> orbit.elevationDegrees >> comma2 >> orbit.distance;
+  if (!in || comma1 != ',' || comma2 != ',' || !(in >> std::ws).eof() || !(orbit.distance > 0.0))
+    throw CLI::ValidationError("--orbit", "expected AZ,EL,DIST in degrees, degrees, bounding radii > 0, got " + text);
+  return orbit;
+}
+
+std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text) {
+  unsigned width = 0, height = 0;
+  char x = 0;
+  std::istringstream in(text);
+  in >> width >> x >> height;
+  if (!in || (x != 'x' && x != 'X') || !(in >> std::ws).eof() || width < 1 || height < 1 || width > 16384 ||
+      height > 16384)
+    throw CLI::ValidationError("--size", "expected WxH with 1 ≤ W, H ≤ 16384, got " + text);
+  return {width, height};
+}
+
+void writeFrame(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height,
+                const std::vector<glm::vec4>& image) {
+  if (file.extension() == ".exr")
+    writeImageFloat(file, width, height, 4, std::span(&image.front().x, image.size() * 4));
+  else
+    writeImage8(file, width, height, 4, toRgba8(image));
+}
+
+nlohmann::json frameJson(const FrameResult& frame) {
+  return {{"seconds", frame.seconds},
+          {"traverse_seconds", frame.stats.traverseSeconds},
+          {"raster_seconds", frame.stats.rasterSeconds},
+          {"triangles", frame.stats.triangles},
+          {"surfels", frame.stats.surfels},
+          {"nodes_geometry", frame.stats.nodesGeometry},
+          {"nodes_surfels", frame.stats.nodesSurfels}};
+}
+
+void run(const RenderOptions& options) {
+  const Orbit orbit = parseOrbit(options.orbit);
+  const auto [width, height] = parseSize(options.size);
+  const std::string modeName = !options.mode.empty() ? options.mode : options.surfels.empty() ? "exact" : "surfels";
+  const RenderMode mode = modeName == "surfels" ? RenderMode::Surfels
+                          : modeName == "embree" ? RenderMode::Embree
+                                                 : RenderMode::Exact;
+  if (mode == RenderMode::Surfels && options.surfels.empty())
+    throw CLI::ValidationError("--mode surfels", "needs --surfels FILE (make one with pbs surfelize)");
+
+  const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
+  std::optional<SceneSurfels> surfels;
+  if (mode == RenderMode::Surfels) surfels = loadSceneSurfels(options.surfels, loaded.scene, loaded.hierarchy);
+  LodOptions lod = options.lod;
+  lod.prefixRule = options.prefixRule == "packing" ? PrefixRule::Packing : PrefixRule::Coverage;
+  FrameRenderer renderer(loaded.scene, loaded.hierarchy, mode, surfels ? &*surfels : nullptr, lod, width, height);
+
+  const Bounds& bounds = loaded.summary.bounds;
+  const double radius = 0.5 * glm::length(bounds.size());
+  const std::uint32_t frames = std::max(1u, options.frames);
+  const std::filesystem::path output(options.output);
+  if (options.frames > 0 && !output.empty()) std::filesystem::create_directories(output);
+
+  nlohmann::json report = {{"scene", loaded.name}, {"mode", modeName}, {"width", width}, {"height", height}};
+  if (mode == RenderMode::Embree) report["build_seconds"] = renderer.buildSeconds();
+  std::vector<double> seconds;
+  for (std::uint32_t f = 0; f < frames; ++f) {
+    Orbit view = orbit;
+    view.azimuthDegrees += 360.0 * f / frames;
+    const FrameResult frame = renderer.render(orbitCamera(bounds.center(), radius, view, width, height));
+    seconds.push_back(frame.seconds);
+    nlohmann::json entry = frameJson(frame);
+    if (!output.empty()) {
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%04u.png", f);
+      const std::filesystem::path file = options.frames > 0 ? output / name : output;
+      writeFrame(file, width, height, frame.image);
+      entry["file"] = file.string();
+    }
+    if (options.frames > 0) {
+      report["frames"].push_back(entry);
+      if (!options.json)
+        std::printf("frame %u: %.1f ms (traverse %.1f, raster %.1f), %s triangles, %s surfels\n", f,
+                    frame.seconds * 1e3, frame.stats.traverseSeconds * 1e3, frame.stats.rasterSeconds * 1e3,
+                    withThousands(frame.stats.triangles).c_str(), withThousands(frame.stats.surfels).c_str());
+    } else {
+      report.update(entry);
+      if (!options.json)
+        std::printf("%s, %s: %ux%u in %.1f ms (traverse %.1f, raster %.1f): %s triangles of %s nodes, %s surfels of "
+                    "%s nodes%s%s\n",
+                    loaded.name.c_str(), modeName.c_str(), width, height, frame.seconds * 1e3,
+                    frame.stats.traverseSeconds * 1e3, frame.stats.rasterSeconds * 1e3,
+                    withThousands(frame.stats.triangles).c_str(), withThousands(frame.stats.nodesGeometry).c_str(),
+                    withThousands(frame.stats.surfels).c_str(), withThousands(frame.stats.nodesSurfels).c_str(),
+                    output.empty() ? "" : "; wrote ", output.string().c_str());
+    }
+  }
+  if (options.frames > 0) {
+    std::vector<double> sorted = seconds;
+    std::sort(sorted.begin(), sorted.end());
+    const double median = sorted.size() % 2 ? sorted[sorted.size() / 2]
+                                             : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
+    report["median_seconds"] = median;
+    if (!options.json) std::printf("%u frames: median %.1f ms\n", frames, median * 1e3);
+  }
+  if (options.json) std::cout << report.dump(2) << "\n";
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app) {
+  auto options = std::make_shared<RenderOptions>();
+  CLI::App* command =
+      app.add_subcommand("render", "Render a view (or an orbit) with surfels for small nodes, or exactly");
+  command->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->required();
+  command->add_option("--surfels", options->surfels, "the scene's .surfels file (from pbs surfelize)");
+  command->add_option("--mode", options->mode, "surfels (default with --surfels), exact (rasterizer) or embree (rays)")
+      ->check(CLI::IsMember({"surfels", "exact", "embree"}));
+  command->add_option("--orbit", options->orbit, "AZ,EL,DIST: degrees, degrees, distance in bounding radii")
+      ->capture_default_str();
+  command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
+  command->add_option("--threshold", options->lod.threshold, "projected size (pixels) above which nodes are descended")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command->add_option("--band", options->lod.band, "transition band above the threshold, as a fraction of it")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  command->add_option("--overdraw", options->lod.overdraw, "surfels per covered pixel (paper: 4)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command->add_option("--point-size", options->lod.pointSize, "point size in pixels")
+      ->check(CLI::Range(1.0f, 64.0f))
+      ->capture_default_str();
+  command->add_option("--prefix-rule", options->prefixRule, "coverage (paper) or packing (authors' later rule)")
+      ->check(CLI::IsMember({"coverage", "packing"}))
+      ->capture_default_str();
+  command->add_option("-o,--output", options->output, "image (.png or .exr); with --frames a folder of PNGs");
+  command->add_option("--frames", options->frames, "render an orbit of N frames around the azimuth")
+      ->check(CLI::Range(1u, 100000u));
+  command->add_flag("--json", options->json, "print JSON (per-frame figures with --frames)");
+  addThreadsOption(*command, options->threads);
+  command->callback([options] { runWithThreads(options->threads, [&] { run(*options); }); });
+}
+
+}  // namespace pbs::cli

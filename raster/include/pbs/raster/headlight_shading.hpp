@@ -1,0 +1,25 @@
+// The one shading of every render mode (exact, embree, surfels), so their images compare pixel for
+// pixel: base colour × (ambient + (1 − ambient) · |n · v|) with v the camera's viewing direction.
+#pragma once
+
+#include "pbs/raster/camera.hpp"
+#include "pbs/raster/framebuffer.hpp"
+
+#include <glm/glm.hpp>
+
+#include <vector>
+
+namespace pbs {
+
+inline constexpr float kHeadlightAmbient = 0.3f;
+
+// One linear RGBA value in [0, 1] per pixel, rows top first: the shaded colour with alpha 1 where the
+// G-buffer is covered, (0, 0, 0, 0) elsewhere. |n · v| makes surfaces two-sided (capture and the ray
+// caster do not cull back faces either). Needs the colour and normal channels; throws
+// std::invalid_argument otherwise. A zero normal (a degenerate surface) shades as facing the camera.
+std::vector<glm::vec4> shadeHeadlight(const Framebuffer& gbuffer, const Camera& camera);
+
+// The same as RGBA8 (rounded to nearest), for PNG output.
+std::vector<std::uint8_t> toRgba8(const std::vector<glm::vec4>& image);
+
+}  // namespace pbs

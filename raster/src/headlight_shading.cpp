@@ -1,0 +1,39 @@
+// shadeHeadlight: one pass over the G-buffer, in parallel over rows (each pixel independent).
+#include "pbs/raster/headlight_shading.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace pbs {
+
+std::vector<glm::vec4> shadeHeadlight(const Framebuffer& gbuffer, const Camera& camera) {
+  if (!gbuffer.has(kChannelColor) || !gbuffer.has(kChannelNormal))
+    throw std::invalid_argument("shadeHeadlight: the G-buffer needs the colour and normal channels");
+  // The viewing direction in world space: eye −Z through the inverse view.
+  const glm::vec3 view = glm::normalize(glm::vec3(glm::inverse(camera.view) * glm::dvec4(0.0, 0.0, -1.0, 0.0)));
+  std::vector<glm::vec4> image(gbuffer.pixelCount(), glm::vec4(0.0f));
+  tbb::parallel_for(std::uint32_t(0), gbuffer.height, [&](std::uint32_t y) {
+    for (std::size_t i = std::size_t(y) * gbuffer.width, end = i + gbuffer.width; i < end; ++i) {
+      if (!gbuffer.covered(i)) continue;
+      const glm::vec3& n = gbuffer.normal[i];
+      const float length = glm::length(n);
+      const float facing = length > 0.0f ? std::abs(glm::dot(n, view)) / length : 1.0f;
+      const glm::vec3 base = glm::vec3(gbuffer.color[i]) / 255.0f;
+      image[i] = glm::vec4(base * (kHeadlightAmbient + (1.0f - kHeadlightAmbient) * facing), 1.0f);
+    }
+  });
+  return image;
+}
+
+std::vector<std::uint8_t> toRgba8(const std::vector<glm::vec4>& image) {
+  std::vector<std::uint8_t> bytes(image.size() * 4);
+  for (std::size_t i = 0; i < image.size(); ++i)
+    for (int c = 0; c < 4; ++c)
+      bytes[i * 4 + std::size_t(c)] = std::uint8_t(std::lround(std::clamp(image[i][c], 0.0f, 1.0f) * 255.0f));
+  return bytes;
+}
+
+}  // namespace pbs

@@ -1,0 +1,26 @@
+// orbitCamera: spherical coordinates to a look-at view and a perspective projection.
+#include "pbs/raster/orbit_camera.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pbs {
+
+Camera orbitCamera(const glm::dvec3& center, double radius, const Orbit& orbit, std::uint32_t width,
+                   std::uint32_t height) {
+  if (!(radius > 0.0)) radius = 1.0;
+  const double azimuth = glm::radians(orbit.azimuthDegrees);
+  const double elevation = glm::radians(std::clamp(orbit.elevationDegrees, -89.9, 89.9));  // look-at needs up ≠ view
+  const glm::dvec3 direction{std::cos(elevation) * std::cos(azimuth), std::sin(elevation),
+                             std::cos(elevation) * std::sin(azimuth)};
+  const double distance = std::max(orbit.distance, 1e-6) * radius;
+  const glm::dvec3 eye = center + direction * distance;
+  const glm::dmat4 view = glm::lookAt(eye, center, glm::dvec3(0.0, 1.0, 0.0));
+  const double near = std::max(distance - radius, radius * 1e-4);
+  const double far = distance + radius;
+  return perspectiveCamera(view, glm::radians(kOrbitFovYDegrees), near, far, width, height);
+}
+
+}  // namespace pbs

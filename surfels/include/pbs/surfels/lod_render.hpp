@@ -1,0 +1,82 @@
+// Rendering with surfels (paper, Sec. 3): walk the scene graph from the roots; a node small on screen
+// that has surfels draws a prefix of them, anything else is descended into and its meshes drawn as
+// triangles. In a band around the threshold both are drawn, one growing while the other shrinks, so
+// nothing pops.
+#pragma once
+
+#include "pbs/raster/camera.hpp"
+#include "pbs/raster/framebuffer.hpp"
+#include "pbs/scene/hierarchy.hpp"
+#include "pbs/scene/scene.hpp"
+#include "pbs/surfels/scene_surfels.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace pbs {
+
+enum class PrefixRule : std::uint32_t {
+  // The paper's: projected size² × coverage × overdraw, for points of kReferencePointSize pixels (the
+  // authors' default); a point of p pixels covers (p / kReferencePointSize)² as much, so the count is
+  // divided by that: larger points, fewer surfels.
+  Coverage = 0,
+  // The authors' later one: packing / r² with r = point size × (world size of a pixel at the node) / 2,
+  // so neighbouring points overlap by half their size.
+  Packing = 1,
+};
+
+inline constexpr float kReferencePointSize = 2.0f;
+
+struct LodOptions {
+  // Projected size (square root of the box's projected area, pixels) above which a node is descended.
+  double threshold = 128.0;
+  // Transition band: between threshold and threshold × (1 + band) a node draws its surfels and its
+  // children at once. 0 switches abruptly (popping, for comparison).
+  double band = 0.5;
+  double overdraw = 4.0;
+  float pointSize = 2.0f;  // pixels
+  PrefixRule prefixRule = PrefixRule::Coverage;
+  // A surfel seen at angle θ between its normal and the view direction is drawn max(|cos θ|, this)
+  // times the point size, so silhouettes stay sharp (paper, Sec. 3). 1 disables the shrinking.
+  float minSizeFactor = 0.25f;
+};
+
+// What one traversal decided: geometry to draw and surfel prefixes to draw.
+struct LodDraws {
+  struct Surfels {
+    std::uint32_t node = 0;
+    std::uint32_t array = 0;
+    std::uint32_t count = 0;  // prefix length, ≤ the array's size
+  };
+  std::vector<std::uint32_t> geometryNodes;  // nodes whose own mesh is drawn as triangles, in traversal order
+  std::vector<Surfels> surfels;              // in traversal order
+  std::uint64_t triangles = 0;
+  std::uint64_t surfelCount = 0;
+};
+
+// The traversal alone: frustum culling of node boxes, the threshold and band decisions, prefix sizes.
+// `surfels` may have no arrays (then everything visible is geometry). Deterministic.
+LodDraws traverseLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
+                     const LodOptions& options);
+
+// The prefix length for a node of projected size `projectedSize` (pixels) whose array is `array`, seen
+// at `worldPixel` (world size of one pixel at the node) with node-to-world scale `scale`; clamped to the
+// array and rounded to nearest.
+std::uint32_t prefixLength(const SplatArray& array, double projectedSize, double worldPixel, double scale,
+                           const LodOptions& options);
+
+struct LodStats {
+  double traverseSeconds = 0.0;  // traversal, prefix sizes and per-surfel size factors
+  double rasterSeconds = 0.0;    // triangles and points
+  std::uint64_t triangles = 0;
+  std::uint64_t surfels = 0;
+  std::uint64_t nodesGeometry = 0;
+  std::uint64_t nodesSurfels = 0;
+};
+
+// Traverses and draws into `framebuffer` (its channels decide what is written; it is not cleared).
+// The image does not depend on the thread count.
+LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
+                   Framebuffer& framebuffer, const LodOptions& options);
+
+}  // namespace pbs

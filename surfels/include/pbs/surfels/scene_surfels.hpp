@@ -1,0 +1,50 @@
+// A .surfels file matched to its scene: decoded arrays ready to draw, and which node uses which.
+#pragma once
+
+#include "pbs/raster/bounds.hpp"
+#include "pbs/scene/hierarchy.hpp"
+#include "pbs/scene/scene.hpp"
+#include "pbs/surfels/surfel_file.hpp"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+namespace pbs {
+
+// One array in the structure-of-arrays form drawPoints reads.
+struct SplatArray {
+  Bounds box;  // node-frame box; positions are relative to its centre
+  double coverage = 0.0;
+  double packing = 0.0;
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;
+  std::vector<glm::u8vec4> colors;
+
+  std::size_t size() const { return positions.size(); }
+  // Mean spacing of the first `count` surfels, from the packing value (packing = d_k² · k): the
+  // distance between neighbours that a prefix of that length leaves, in the node frame.
+  double spacing(std::size_t count) const;
+};
+
+SplatArray splatArrayOf(const SurfelArray& array);
+
+inline constexpr std::uint32_t kNoSurfels = 0xffffffffu;
+
+struct SceneSurfels {
+  std::vector<SplatArray> arrays;
+  std::vector<std::uint32_t> arrayOfNode;  // per scene node: index into arrays, or kNoSurfels
+};
+
+// Matches the file's node records to the scene's nodes by their stable paths (nodePath). Throws
+// InputError naming `source` and the node when a path does not exist in the scene.
+SceneSurfels sceneSurfelsOf(const SurfelFile& file, const Scene& scene, const Hierarchy& hierarchy,
+                            const std::string& source);
+
+// Reads the whole file (every checksum checked), requires it to belong to `scene` (its fingerprint),
+// and matches it as above. Errors are InputErrors naming the file.
+SceneSurfels loadSceneSurfels(const std::filesystem::path& file, const Scene& scene, const Hierarchy& hierarchy);
+
+}  // namespace pbs

@@ -1,0 +1,107 @@
+// traverseLod: the runtime decisions of the paper's Sec. 3, one node at a time from the roots.
+#include "pbs/surfels/lod_render.hpp"
+
+#include "pbs/raster/projected_box.hpp"
+#include "pbs/scene/scene_draws.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pbs {
+namespace {
+
+// World size of one pixel at `point`: constant for orthographic cameras, growing with the eye-space
+// depth for perspective ones (row 1 of the projection scales eye y to clip y).
+double worldPixelAt(const Camera& camera, const glm::dvec3& point) {
+  const double perUnitDepth = 2.0 / (camera.projection[1][1] * camera.height);
+  if (camera.isOrthographic()) return perUnitDepth;
+  const double depth = -(camera.view * glm::dvec4(point, 1.0)).z;
+  return perUnitDepth * std::max(depth, 0.0);
+}
+
+// The node frame's scale as the cube root of the volume change (mirroring ignored).
+double frameScale(const glm::dmat4& world) { return std::cbrt(std::abs(glm::determinant(glm::dmat3(world)))); }
+
+class Traversal {
+ public:
+  Traversal(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
+            const LodOptions& options)
+      : scene_(scene), hierarchy_(hierarchy), surfels_(surfels), camera_(camera), options_(options) {}
+
+  // `growth` in [0, 1] scales the surfel prefixes of this subtree: below 1 while an ancestor's
+  // transition hands over to its descendants.
+  void visit(std::uint32_t node, double growth) {
+    const Bounds& box = hierarchy_.worldBounds[node];
+    if (box.empty() || outsideClipVolume(camera_, box)) return;
+    const std::uint32_t array = node < surfels_.arrayOfNode.size() ? surfels_.arrayOfNode[node] : kNoSurfels;
+    const double size = std::sqrt(projectedBoxPixels(camera_, box));
+    const double upper = options_.threshold * (1.0 + options_.band);
+    if (array != kNoSurfels && size < upper) {
+      // Inside the band the node's prefix first stays whole while the children grow in, then shrinks
+      // away ("the prefix of one level decreases after the maximal prefix of the next is rendered").
+      const double t = options_.band > 0.0 ? std::clamp((size - options_.threshold) / (upper - options_.threshold), 0.0, 1.0)
+                                           : (size <= options_.threshold ? 0.0 : 1.0);
+      drawSurfels(node, array, size, growth * std::min(1.0, 2.0 * (1.0 - t)));
+      if (t <= 0.0) return;
+      descend(node, growth * std::min(1.0, 2.0 * t));
+      return;
+    }
+    descend(node, growth);
+  }
+
+  LodDraws draws;
+
+ private:
+  void descend(std::uint32_t node, double growth) {
+    const std::int32_t mesh = scene_.nodes[node].mesh;
+    if (mesh >= 0) {
+      draws.geometryNodes.push_back(node);
+      draws.triangles += scene_.meshes[std::size_t(mesh)].triangleCount();
+    }
+    for (std::uint32_t child : scene_.nodes[node].children) visit(child, growth);
+  }
+
+  void drawSurfels(std::uint32_t node, std::uint32_t array, double size, double factor) {
+    const SplatArray& splats = surfels_.arrays[array];
+    const glm::dmat4& world = hierarchy_.world[node];
+    const glm::dvec3 center(world * glm::dvec4(splats.box.center(), 1.0));
+    const std::uint32_t full = prefixLength(splats, size, worldPixelAt(camera_, center), frameScale(world), options_);
+    const auto count = std::uint32_t(std::lround(double(full) * factor));
+    if (count == 0) return;
+    draws.surfels.push_back({node, array, count});
+    draws.surfelCount += count;
+  }
+
+  const Scene& scene_;
+  const Hierarchy& hierarchy_;
+  const SceneSurfels& surfels_;
+  const Camera& camera_;
+  const LodOptions& options_;
+};
+
+}  // namespace
+
+std::uint32_t prefixLength(const SplatArray& array, double projectedSize, double worldPixel, double scale,
+                           const LodOptions& options) {
+  double count = 0.0;
+  const double pointSize = std::max(1.0, double(options.pointSize));
+  if (options.prefixRule == PrefixRule::Coverage) {
+    const double relativeSize = pointSize / kReferencePointSize;
+    count = projectedSize * projectedSize * array.coverage * options.overdraw / (relativeSize * relativeSize);
+  } else {
+    // The point radius in the node's own frame, where the packing value was measured.
+    const double radius = pointSize * worldPixel / 2.0 / scale;
+    count = radius > 0.0 ? array.packing / (radius * radius) : double(array.size());
+  }
+  if (!(count > 0.0)) return 0;
+  return std::uint32_t(std::min(std::round(count), double(array.size())));
+}
+
+LodDraws traverseLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
+                     const LodOptions& options) {
+  Traversal traversal(scene, hierarchy, surfels, camera, options);
+  for (std::uint32_t root : scene.roots) traversal.visit(root, 1.0);
+  return std::move(traversal.draws);
+}
+
+}  // namespace pbs

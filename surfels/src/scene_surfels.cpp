@@ -1,0 +1,56 @@
+// Decoding a .surfels file into drawable arrays and matching its node paths to a scene.
+#include "pbs/surfels/scene_surfels.hpp"
+
+#include "pbs/scene/input_error.hpp"
+#include "pbs/scene/scene_fingerprint.hpp"
+#include "pbs/surfels/surfel_nodes.hpp"
+
+#include <cmath>
+#include <unordered_map>
+
+namespace pbs {
+
+double SplatArray::spacing(std::size_t count) const {
+  return count > 0 ? std::sqrt(packing / double(count)) : 0.0;
+}
+
+SplatArray splatArrayOf(const SurfelArray& array) {
+  SplatArray splats;
+  splats.box = array.box;
+  splats.coverage = array.coverage;
+  splats.packing = array.packing;
+  splats.positions.reserve(array.surfels.size());
+  splats.normals.reserve(array.surfels.size());
+  splats.colors.reserve(array.surfels.size());
+  for (const Surfel& surfel : array.surfels) {
+    splats.positions.push_back(surfel.position);
+    splats.normals.push_back(surfel.normal);
+    splats.colors.push_back(surfel.color);
+  }
+  return splats;
+}
+
+SceneSurfels sceneSurfelsOf(const SurfelFile& file, const Scene& scene, const Hierarchy& hierarchy,
+                            const std::string& source) {
+  SceneSurfels result;
+  result.arrays.reserve(file.arrays.size());
+  for (const SurfelArray& array : file.arrays) result.arrays.push_back(splatArrayOf(array));
+  result.arrayOfNode.assign(scene.nodes.size(), kNoSurfels);
+  if (file.nodes.empty()) return result;
+  std::unordered_map<std::string, std::uint32_t> nodeOfPath;
+  nodeOfPath.reserve(hierarchy.preorder.size());
+  for (std::uint32_t n : hierarchy.preorder) nodeOfPath.emplace(nodePath(scene, hierarchy, n), n);
+  for (const SurfelNodeRecord& record : file.nodes) {
+    const auto found = nodeOfPath.find(record.path);
+    if (found == nodeOfPath.end()) throw InputError(source, "node " + record.path, "no such node in the scene");
+    result.arrayOfNode[found->second] = record.array;
+  }
+  return result;
+}
+
+SceneSurfels loadSceneSurfels(const std::filesystem::path& file, const Scene& scene, const Hierarchy& hierarchy) {
+  SurfelFileReader(file).requireScene(sceneFingerprint(scene));
+  return sceneSurfelsOf(readSurfelFile(file), scene, hierarchy, file.string());
+}
+
+}  // namespace pbs

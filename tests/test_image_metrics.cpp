@@ -1,0 +1,335 @@
+// Image-difference metrics (RMSE, PSNR, luminance SSIM, holes) and `pbs compare` over PNG and EXR files.
+#include "test_support.hpp"
+
+#include <pbs/raster/image_metrics.hpp>
+#include <pbs/raster/thread_arena.hpp>
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace pbs::test {
+namespace {
+
+// A smooth colour pattern with a little seeded noise, every pixel surface: texture for SSIM to see.
+RgbaImage patternImage(std::uint32_t width, std::uint32_t height, std::uint32_t seed = 7) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<float> noise(-0.05f, 0.05f);
+  RgbaImage image{width, height, std::vector<glm::vec4>(std::size_t(width) * height)};
+  for (std::uint32_t y = 0; y < height; ++y)
+    for (std::uint32_t x = 0; x < width; ++x) {
+      const float u = float(x) / float(width), v = float(y) / float(height);
+      const float r = 0.45f + 0.2f * std::sin(6.0f * u + 2.0f * v) + noise(random);
+      const float g = 0.45f + 0.2f * std::cos(9.0f * v - 3.0f * u) + noise(random);
+      const float b = 0.45f + 0.2f * std::sin(4.0f * (u + v)) + noise(random);
+      image.pixels[std::size_t(y) * width + x] = glm::vec4(r, g, b, 1.0f);
+    }
+  return image;
+}
+
+RgbaImage boxBlur3(const RgbaImage& image) {
+  RgbaImage out = image;
+  const int w = int(image.width), h = int(image.height);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      glm::vec4 sum(0.0f);
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int sx = std::clamp(x + dx, 0, w - 1), sy = std::clamp(y + dy, 0, h - 1);
+          sum += image.pixels[std::size_t(sy) * w + sx];
+        }
+      out.pixels[std::size_t(y) * w + x] = sum / 9.0f;
+    }
+  return out;
+}
+
+// SSIM straight from the definition: a full 2D Gaussian window at every valid position.
+double referenceSsim(const RgbaImage& a, const RgbaImage& b) {
+  const auto lum = [](const glm::vec4& p) { return 0.2126 * p.r + 0.7152 * p.g + 0.0722 * p.b; };
+  const int w = int(a.width), h = int(a.height);
+  const int kx = std::min(11, w), ky = std::min(11, h);
+  std::vector<double> weights(std::size_t(kx) * ky);
+  double total = 0.0;
+  for (int j = 0; j < ky; ++j)
+    for (int i = 0; i < kx; ++i) {
+      const double dx = i - 0.5 * (kx - 1), dy = j - 0.5 * (ky - 1);
+      total += weights[std::size_t(j) * kx + i] = std::exp(-(dx * dx + dy * dy) / (2.0 * 1.5 * 1.5));
+    }
+  double sum = 0.0;
+  for (int top = 0; top + ky <= h; ++top)
+    for (int left = 0; left + kx <= w; ++left) {
+      double ma = 0, mb = 0, aa = 0, bb = 0, ab = 0;
+      for (int j = 0; j < ky; ++j)
+        for (int i = 0; i < kx; ++i) {
+          const double wt = weights[std::size_t(j) * kx + i] / total;
+          const std::size_t p = std::size_t(top + j) * w + std::size_t(left + i);
+          const double va = lum(a.pixels[p]), vb = lum(b.pixels[p]);
+          ma += wt * va, mb += wt * vb, aa += wt * va * va, bb += wt * vb * vb, ab += wt * va * vb;
+        }
+      const double c1 = 1e-4, c2 = 9e-4;
+      sum += (2 * ma * mb + c1) * (2 * (ab - ma * mb) + c2) /
+             ((ma * ma + mb * mb + c1) * ((aa - ma * ma) + (bb - mb * mb) + c2));
+    }
+  return sum / double((w - kx + 1) * (h - ky + 1));
+}
+
+TEST(ImageMetrics, IdenticalImagesDifferByNothing) {
+  const RgbaImage a = patternImage(64, 48);
+  const ImageDifference d = compareImages(a, a);
+  EXPECT_EQ(d.rmse, 0.0);
+  EXPECT_TRUE(std::isinf(d.psnr) && d.psnr > 0);
+  EXPECT_DOUBLE_EQ(d.ssim, 1.0);
+  EXPECT_EQ(d.holeFraction, 0.0);
+  EXPECT_EQ(d.pixels, 64u * 48u);
+  EXPECT_EQ(d.surfaceA, d.pixels);
+  EXPECT_EQ(d.surfaceB, d.pixels);
+  EXPECT_EQ(d.holes, 0u);
+}
+
+TEST(ImageMetrics, ConstantOffsetGivesItsRmseAndPsnr) {
+  const RgbaImage a = patternImage(40, 30);
+  for (float offset : {0.001f, 0.01f, 0.1f}) {
+    RgbaImage b = a;
+    for (glm::vec4& p : b.pixels) p += glm::vec4(offset, offset, offset, 0.0f);
+    const ImageDifference d = compareImages(a, b);
+    EXPECT_NEAR(d.rmse, offset, 1e-6) << offset;
+    EXPECT_NEAR(d.psnr, -20.0 * std::log10(double(offset)), 1e-3) << offset;
+    EXPECT_LT(d.ssim, 1.0);
+    EXPECT_GT(d.ssim, 0.9);  // the structure is all there; only the mean moved
+    EXPECT_EQ(d.holeFraction, 0.0);
+  }
+}
+
+TEST(ImageMetrics, NegativeImageHasLowSsim) {
+  const RgbaImage a = patternImage(64, 64);
+  RgbaImage b = a;
+  for (glm::vec4& p : b.pixels) p = glm::vec4(1.0f - p.r, 1.0f - p.g, 1.0f - p.b, p.a);
+  EXPECT_LT(compareImages(a, b).ssim, 0.2);
+}
+
+TEST(ImageMetrics, MildBlurKeepsMostOfTheStructure) {
+  const RgbaImage a = patternImage(96, 80);
+  const double ssim = compareImages(a, boxBlur3(a)).ssim;
+  EXPECT_GT(ssim, 0.5);
+  EXPECT_LT(ssim, 1.0);
+}
+
+TEST(ImageMetrics, SsimMatchesTheDefinition) {
+  const RgbaImage a = patternImage(37, 23, 1);
+  const RgbaImage b = boxBlur3(patternImage(37, 23, 2));
+  EXPECT_NEAR(luminanceSsim(a, b), referenceSsim(a, b), 1e-12);
+  // Sides shorter than the 11-pixel window use their whole length.
+  const RgbaImage c = patternImage(6, 4, 3), e = patternImage(6, 4, 4);
+  EXPECT_NEAR(luminanceSsim(c, e), referenceSsim(c, e), 1e-12);
+  EXPECT_DOUBLE_EQ(luminanceSsim(c, c), 1.0);
+  const RgbaImage one = patternImage(1, 1);
+  EXPECT_DOUBLE_EQ(luminanceSsim(one, one), 1.0);
+}
+
+TEST(ImageMetrics, HoleFractionCountsBackgroundOfAOverSurfaceOfB) {
+  // 4×4: B has surface in the left half (8 pixels); A misses two of them and adds one on the right.
+  const std::uint32_t w = 4, h = 4;
+  RgbaImage a{w, h, std::vector<glm::vec4>(16, glm::vec4(0.0f))};
+  RgbaImage b = a;
+  for (std::uint32_t y = 0; y < h; ++y)
+    for (std::uint32_t x = 0; x < 2; ++x) {
+      b.pixels[y * w + x] = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+      a.pixels[y * w + x] = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+    }
+  a.pixels[0 * w + 0] = glm::vec4(0.0f, 0.0f, 0.0f, 0.0f);  // hole
+  a.pixels[3 * w + 1] = glm::vec4(0.0f, 0.0f, 0.0f, 0.4f);  // alpha below 0.5: hole
+  a.pixels[1 * w + 3] = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);  // surface where B has none: no hole
+  a.pixels[2 * w + 3] = glm::vec4(0.0f, 0.0f, 0.0f, 0.5f);  // alpha 0.5 is surface
+  const ImageDifference d = compareImages(a, b);
+  EXPECT_EQ(d.surfaceB, 8u);
+  EXPECT_EQ(d.surfaceA, 8u);
+  EXPECT_EQ(d.holes, 2u);
+  EXPECT_DOUBLE_EQ(d.holeFraction, 0.25);
+  // Background colour counts as stored: three pixels differ by 0.5 in R, G and B.
+  EXPECT_NEAR(d.rmse, std::sqrt(3 * 3 * 0.25 / (3.0 * 16)), 1e-12);
+
+  const RgbaImage empty{w, h, std::vector<glm::vec4>(16, glm::vec4(0.0f))};
+  const ImageDifference none = compareImages(a, empty);
+  EXPECT_EQ(none.surfaceB, 0u);
+  EXPECT_EQ(none.holeFraction, 0.0);
+}
+
+TEST(ImageMetrics, SizeMismatchThrows) {
+  EXPECT_THROW(compareImages(patternImage(8, 8), patternImage(8, 9)), std::invalid_argument);
+  EXPECT_THROW(compareImages(patternImage(8, 8), patternImage(9, 8)), std::invalid_argument);
+  RgbaImage broken = patternImage(8, 8);
+  broken.pixels.pop_back();
+  EXPECT_THROW(compareImages(broken, broken), std::invalid_argument);
+}
+
+TEST(ImageMetrics, SameNumbersForAnyThreadCount) {
+  const RgbaImage a = patternImage(301, 157, 5);
+  const RgbaImage b = boxBlur3(patternImage(301, 157, 6));
+  ImageDifference one, many, some;
+  runWithThreads(1, [&] { one = compareImages(a, b); });
+  runWithThreads(0, [&] { many = compareImages(a, b); });
+  runWithThreads(3, [&] { some = compareImages(a, b); });
+  for (const ImageDifference* d : {&many, &some}) {
+    EXPECT_EQ(d->rmse, one.rmse);
+    EXPECT_EQ(d->psnr, one.psnr);
+    EXPECT_EQ(d->ssim, one.ssim);
+    EXPECT_EQ(d->holes, one.holes);
+  }
+}
+
+// --- `pbs compare` over files written here with OpenImageIO ---
+
+void writeFile8(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height, int channels,
+                const std::vector<std::uint8_t>& values) {
+  auto out = OIIO::ImageOutput::create(file.string());
+  ASSERT_TRUE(out);
+  OIIO::ImageSpec spec(int(width), int(height), channels, OIIO::TypeDesc::UINT8);
+  spec.attribute("oiio:UnassociatedAlpha", 1);  // store the colour as given, as pbs does
+  ASSERT_TRUE(out->open(file.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, values.data()) && out->close());
+}
+
+// Quantises to 8 bits, writes the PNG, and returns the image as the reader should see it.
+RgbaImage writePng(const std::filesystem::path& file, const RgbaImage& image) {
+  std::vector<std::uint8_t> values;
+  RgbaImage seen = image;
+  for (glm::vec4& p : seen.pixels)
+    for (int c = 0; c < 4; ++c) {
+      const auto v = std::uint8_t(std::lround(std::clamp(p[c], 0.0f, 1.0f) * 255.0f));
+      values.push_back(v);
+      p[c] = float(v) / 255.0f;
+    }
+  writeFile8(file, image.width, image.height, 4, values);
+  return seen;
+}
+
+void writeExr(const std::filesystem::path& file, const RgbaImage& image) {
+  auto out = OIIO::ImageOutput::create(file.string());
+  ASSERT_TRUE(out);
+  const OIIO::ImageSpec spec(int(image.width), int(image.height), 4, OIIO::TypeDesc::FLOAT);
+  ASSERT_TRUE(out->open(file.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) &&
+              out->close());
+}
+
+nlohmann::json compareJson(const std::filesystem::path& a, const std::filesystem::path& b) {
+  const CommandResult r = runPbs("compare '" + a.string() + "' '" + b.string() + "' --json");
+  EXPECT_EQ(r.status, 0) << r.err;
+  return nlohmann::json::parse(r.out);
+}
+
+// Surface everywhere but a disc in the middle, which is background (black, alpha 0).
+RgbaImage withHole(RgbaImage image, float radius) {
+  for (std::uint32_t y = 0; y < image.height; ++y)
+    for (std::uint32_t x = 0; x < image.width; ++x) {
+      const float dx = float(x) - 0.5f * float(image.width), dy = float(y) - 0.5f * float(image.height);
+      if (dx * dx + dy * dy < radius * radius) image.pixels[std::size_t(y) * image.width + x] = glm::vec4(0.0f);
+    }
+  return image;
+}
+
+void expectJsonMatches(const nlohmann::json& j, const ImageDifference& d, const RgbaImage& a, double tolerance) {
+  EXPECT_NEAR(j.at("rmse").get<double>(), d.rmse, tolerance);
+  EXPECT_NEAR(j.at("psnr").get<double>(), d.psnr, tolerance * 1e4);
+  EXPECT_NEAR(j.at("ssim").get<double>(), d.ssim, tolerance);
+  EXPECT_NEAR(j.at("hole_fraction").get<double>(), d.holeFraction, 1e-15);
+  EXPECT_EQ(j.at("width").get<std::uint32_t>(), a.width);
+  EXPECT_EQ(j.at("height").get<std::uint32_t>(), a.height);
+  EXPECT_EQ(j.at("pixels_surface_a").get<std::uint64_t>(), d.surfaceA);
+  EXPECT_EQ(j.at("pixels_surface_b").get<std::uint64_t>(), d.surfaceB);
+}
+
+TEST(CompareCommand, PngNumbersMatchTheLibrary) {
+  ScratchDir dir;
+  RgbaImage pattern = withHole(patternImage(48, 36, 1), 6.0f);
+  pattern.pixels[3] = glm::vec4(0.8f, 0.6f, 0.4f, 0.0f);  // colour behind alpha 0 counts as stored
+  pattern.pixels[4] = glm::vec4(0.8f, 0.6f, 0.4f, 0.6f);  // straight colour, not premultiplied
+  const RgbaImage a = writePng(dir / "a.png", pattern);
+  const RgbaImage b = writePng(dir / "b.png", boxBlur3(patternImage(48, 36, 1)));
+  const ImageDifference d = compareImages(a, b);
+  ASSERT_GT(d.holes, 0u);
+  expectJsonMatches(compareJson(dir / "a.png", dir / "b.png"), d, a, 1e-6);
+
+  const CommandResult text = runPbs("compare '" + (dir / "a.png").string() + "' '" + (dir / "b.png").string() + "'");
+  EXPECT_EQ(text.status, 0) << text.err;
+  EXPECT_EQ(std::count(text.out.begin(), text.out.end(), '\n'), 1) << text.out;
+  EXPECT_EQ(text.out.rfind("rmse ", 0), 0u) << text.out;
+  for (const char* part : {"  psnr ", " dB  ssim ", "  holes ", "(A: 48x36, ", "; B: 48x36, "})
+    EXPECT_NE(text.out.find(part), std::string::npos) << part << " in " << text.out;
+}
+
+TEST(CompareCommand, IdenticalFilesGiveNullPsnr) {
+  ScratchDir dir;
+  writePng(dir / "a.png", patternImage(20, 20));
+  const nlohmann::json j = compareJson(dir / "a.png", dir / "a.png");
+  EXPECT_EQ(j.at("rmse").get<double>(), 0.0);
+  EXPECT_TRUE(j.at("psnr").is_null());
+  EXPECT_DOUBLE_EQ(j.at("ssim").get<double>(), 1.0);
+  EXPECT_EQ(j.at("hole_fraction").get<double>(), 0.0);
+  const CommandResult text = runPbs("compare '" + (dir / "a.png").string() + "' '" + (dir / "a.png").string() + "'");
+  EXPECT_NE(text.out.find("psnr inf dB"), std::string::npos) << text.out;
+}
+
+TEST(CompareCommand, ExrFloatsArriveUnchanged) {
+  ScratchDir dir;
+  RgbaImage a = withHole(patternImage(33, 21, 8), 4.0f);
+  a.pixels[5] = glm::vec4(3.75f, -0.125f, 1e-7f, 1.0f);  // HDR, negative and tiny values survive
+  const RgbaImage b = boxBlur3(patternImage(33, 21, 9));
+  writeExr(dir / "a.exr", a);
+  writeExr(dir / "b.exr", b);
+  expectJsonMatches(compareJson(dir / "a.exr", dir / "b.exr"), compareImages(a, b), a, 1e-12);
+}
+
+TEST(CompareCommand, GreyAndAlphaFreeFilesAreSurfaceColour) {
+  ScratchDir dir;
+  // The same grey written as one channel, as RGB and as opaque RGBA: no difference at all.
+  const std::uint32_t w = 16, h = 12;
+  std::vector<std::uint8_t> grey, rgb, rgba;
+  for (std::uint32_t i = 0; i < w * h; ++i) {
+    const auto v = std::uint8_t((i * 37) % 256);
+    grey.push_back(v);
+    rgb.insert(rgb.end(), {v, v, v});
+    rgba.insert(rgba.end(), {v, v, v, 255});
+  }
+  writeFile8(dir / "grey.png", w, h, 1, grey);
+  writeFile8(dir / "rgb.png", w, h, 3, rgb);
+  writeFile8(dir / "rgba.png", w, h, 4, rgba);
+  for (const char* other : {"rgb.png", "rgba.png"}) {
+    const nlohmann::json j = compareJson(dir / "grey.png", dir / other);
+    EXPECT_EQ(j.at("rmse").get<double>(), 0.0) << other;
+    EXPECT_EQ(j.at("pixels_surface_a").get<std::uint64_t>(), w * h) << other;
+    EXPECT_EQ(j.at("pixels_surface_b").get<std::uint64_t>(), w * h) << other;
+  }
+}
+
+TEST(CompareCommand, BadInputsGiveOneErrorLine) {
+  ScratchDir dir;
+  writePng(dir / "a.png", patternImage(20, 20));
+  writePng(dir / "b.png", patternImage(20, 21));
+  writeFile(dir / "text.png", "not an image\n");
+  const auto expectError = [](const CommandResult& r, const std::string& start) {
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(r.err.rfind("error: " + start, 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  };
+  const std::string a = (dir / "a.png").string(), b = (dir / "b.png").string();
+  expectError(runPbs("compare '" + a + "' '" + b + "'"), "A and B differ in size (" + a + ": 20x20, " + b + ": 20x21)");
+  const std::string missing = (dir / "missing.png").string();
+  expectError(runPbs("compare '" + missing + "' '" + a + "' --json"), missing + ": cannot read image: no such file");
+  const std::string text = (dir / "text.png").string();
+  expectError(runPbs("compare '" + a + "' '" + text + "'"), text + ": cannot read image: ");
+  const std::string folder = dir.path().string();
+  expectError(runPbs("compare '" + a + "' '" + folder + "'"), folder + ": cannot read image: not a file");
+}
+
+}  // namespace
+}  // namespace pbs::test
