@@ -139,7 +139,7 @@ std::string surfelFileBytes(const Scene& scene, const SurfelizeOptions& options,
 
 TEST(Surfelize, BitIdenticalFileForOneTwoAndFourThreads) {
   const Scene scene = twoIdenticalGroups();
-  for (CaptureSource source : {CaptureSource::Triangles, CaptureSource::ChildSurfels}) {
+  for (CaptureSource source : {CaptureSource::Triangles, CaptureSource::ChildSurfels, CaptureSource::Auto}) {
     for (SurfelOrdering ordering : {SurfelOrdering::Farthest, SurfelOrdering::Dart}) {
       SurfelizeOptions options = smallOptions(1000);
       options.source = source;
@@ -219,6 +219,7 @@ TEST(Surfelize, ChildSurfelCaptureErrorOnSharedScene) {
   options.file.threshold = 5000;
   options.file.maxSurfels = 10000;
   options.file.resolution = 256;
+  options.source = CaptureSource::Triangles;
   const SurfelFile exact = surfelize(city, hierarchy, options);
   options.source = CaptureSource::ChildSurfels;
   const SurfelFile fromChildren = surfelize(city, hierarchy, options);

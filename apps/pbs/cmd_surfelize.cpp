@@ -29,7 +29,7 @@ void addSurfelizeCommand(CLI::App& app) {
     std::string scene;
     std::string output;
     SurfelizeOptions surfelize;
-    std::string source = "triangles";
+    std::string source = "auto";
     bool json = false;
     bool quiet = false;
     int threads = 0;
@@ -47,9 +47,9 @@ void addSurfelizeCommand(CLI::App& app) {
   addCaptureOptions(*command, file.resolution, file.directions);
   addOrderingOption(*command, file.ordering);
   command->add_option("--capture-from", options->source,
-                      "what an inner node's capture draws: its subtree's triangles (exact) or its children's surfels "
-                      "(fast)")
-      ->check(CLI::IsMember({"triangles", "children"}))
+                      "what an inner node's capture draws: its subtree's triangles (exact), its children's surfels "
+                      "(fast), or children's surfels where the triangles are over twice as many (auto)")
+      ->check(CLI::IsMember({"auto", "triangles", "children"}))
       ->capture_default_str();
   command->add_option("--seed", file.seed, "seed of the orderings")->capture_default_str();
   command->add_flag("--json", options->json, "print JSON instead of text");
@@ -60,7 +60,9 @@ void addSurfelizeCommand(CLI::App& app) {
       const auto start = std::chrono::steady_clock::now();
       const LoadedScene loaded = loadAndAnalyze(options->scene, LoadOptions{});
       SurfelizeOptions settings = options->surfelize;
-      settings.source = options->source == "children" ? CaptureSource::ChildSurfels : CaptureSource::Triangles;
+      settings.source = options->source == "children"    ? CaptureSource::ChildSurfels
+                        : options->source == "triangles" ? CaptureSource::Triangles
+                                                         : CaptureSource::Auto;
       ProgressMeter meter("surfelize", ProgressMeter::styleFor(options->quiet || options->json));
       settings.onProgress = [&](const SurfelizeProgress& p) {
         // Triangle captures cost about their subtree's triangles; child-surfel captures about the same each.

@@ -1,17 +1,14 @@
 // Block-wise projection of points to square and disc splats (see points_splat.hpp).
 #include "points_splat.hpp"
+#include "simd_clones.hpp"
 
 namespace pbs::points {
 
 namespace {
 
-// The block loops are also compiled for AVX2 and picked at load time: the portable x86-64 build has only SSE2,
-// for which GCC does not vectorise the double ↔ int conversions. Without FMA both versions round identically.
-#if defined(__x86_64__) && defined(__GNUC__)
-#define PBS_BLOCK_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define PBS_BLOCK_CLONES
-#endif
+// The block loops are also compiled for AVX2 (simd_clones.hpp): the portable x86-64 build has only SSE2, for
+// which GCC does not vectorise the double ↔ int conversions.
+#define PBS_BLOCK_CLONES PBS_AVX2_CLONES
 
 // ceil and floor of a double well inside the int range, written so the block loops vectorise (baseline
 // x86-64 has no rounding instruction and a libm call per point would dominate).
@@ -36,9 +33,13 @@ struct Window {
   alignas(64) float depth[kBlockPoints];
 };
 
-PBS_BLOCK_CLONES
-void windowBlock(const glm::dmat4& windowFromObject, const glm::vec3* __restrict positions,
-                 const float* __restrict sizes, std::size_t n, int width, int height, Window& __restrict window) {
+// Where the matrix's w row is (0, 0, 0, 1) (orthographic), w is exactly 1 for a finite position and NaN
+// otherwise, and 1/w is w itself, bit for bit (1/1 = 1; a division by a NaN returns that NaN): kAffine skips
+// the division, the slowest step of the loop.
+template <bool kAffine>
+PBS_CLONE_INLINE void windowBlockWith(const glm::dmat4& windowFromObject, const glm::vec3* __restrict positions,
+                                      const float* __restrict sizes, std::size_t n, int width, int height,
+                                      Window& __restrict window) {
   const glm::dmat4 m = windowFromObject;
   const double low = -kReach, xHigh = width + kReach, yHigh = height + kReach;
   for (std::size_t i = 0; i < n; ++i) {
@@ -47,7 +48,7 @@ void windowBlock(const glm::dmat4& windowFromObject, const glm::vec3* __restrict
     const double y = m[0][1] * px + m[1][1] * py + m[2][1] * pz + m[3][1];
     const double z = m[0][2] * px + m[1][2] * py + m[2][2] * pz + m[3][2];
     const double w = m[0][3] * px + m[1][3] * py + m[2][3] * pz + m[3][3];
-    const double inverse = 1.0 / w;
+    const double inverse = kAffine ? w : 1.0 / w;
     const double wx = x * inverse, wy = y * inverse, depth = z * inverse;
     // Comparisons that fail for NaN, so NaN and infinite positions are dropped too.
     const bool keep = (w > 0.0) & (depth >= 0.0) & (depth <= 1.0) & (sizes[i] > 0.0f);
@@ -58,6 +59,28 @@ void windowBlock(const glm::dmat4& windowFromObject, const glm::vec3* __restrict
     window.half[i] = static_cast<double>(sizes[i]) * 0.5;
     window.depth[i] = static_cast<float>(depth);
   }
+}
+
+PBS_BLOCK_CLONES
+void windowBlockAffine(const glm::dmat4& windowFromObject, const glm::vec3* __restrict positions,
+                       const float* __restrict sizes, std::size_t n, int width, int height, Window& __restrict window) {
+  windowBlockWith<true>(windowFromObject, positions, sizes, n, width, height, window);
+}
+
+PBS_BLOCK_CLONES
+void windowBlockProjective(const glm::dmat4& windowFromObject, const glm::vec3* __restrict positions,
+                           const float* __restrict sizes, std::size_t n, int width, int height,
+                           Window& __restrict window) {
+  windowBlockWith<false>(windowFromObject, positions, sizes, n, width, height, window);
+}
+
+void windowBlock(const glm::dmat4& windowFromObject, const glm::vec3* positions, const float* sizes, std::size_t n,
+                 int width, int height, Window& window) {
+  const glm::dmat4& m = windowFromObject;
+  if (m[0][3] == 0.0 && m[1][3] == 0.0 && m[2][3] == 0.0 && m[3][3] == 1.0)
+    windowBlockAffine(windowFromObject, positions, sizes, n, width, height, window);
+  else
+    windowBlockProjective(windowFromObject, positions, sizes, n, width, height, window);
 }
 
 // Pixel rectangles [x0, x1) × [y0, y1) of one block, clipped to the viewport; empty for a dropped point.

@@ -8,7 +8,7 @@ namespace pbs::triangles {
 // Calls visit(bin) for every bin of the triangle: its tiles in row order, or the large-triangle
 // bin (the one past the last tile) when it spans more than kMaxBinnedTiles tiles.
 template <class Visit>
-void forEachBin(const TriangleBatch& batch, const RasterTriangle& t, Visit visit) {
+[[gnu::always_inline]] inline void forEachBin(const TriangleBatch& batch, const RasterTriangle& t, Visit visit) {
   const int x0 = t.minX / kTileSize, x1 = t.maxX / kTileSize;
   const int y0 = t.minY / kTileSize, y1 = t.maxY / kTileSize;
   if ((x1 - x0 + 1) * (y1 - y0 + 1) > kMaxBinnedTiles) {

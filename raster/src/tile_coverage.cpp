@@ -1,11 +1,17 @@
 // Coverage and depth of one triangle within one tile: exact integer edge functions evaluated on
 // 8×8 blocks anchored at the triangle's box (trivial accept and reject per block), with a
-// 4-lane kernel in GCC vector extensions that compiles to branch-free SSE.
+// 4-lane kernel in GCC vector extensions that compiles to branch-free SSE (and AVX2 in the clone
+// picked at load time, simd_clones.hpp).
+#include "simd_clones.hpp"
 #include "tile_buffer.hpp"
 
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 namespace pbs::triangles {
 namespace {
@@ -33,12 +39,22 @@ using IdLanes = Lanes<std::uint32_t>;
 static_assert(kLanes == 4 && kGroups * kLanes == kBlockSize);
 constexpr MaskLanes kLaneIndex[kGroups] = {{0, 1, 2, 3}, {4, 5, 6, 7}};
 
+// z < 0 ? 0 : (z > 1 ? 1 : z), NaN kept, as two instructions: minps(a, b) is a < b ? a : b and
+// maxps(a, b) is a > b ? a : b, exactly, for every input including NaN and −0.
+PBS_CLONE_INLINE FloatLanes clampDepth(const FloatLanes& z) {
+#if defined(__SSE__)
+  return _mm_max_ps(FloatLanes{}, _mm_min_ps(FloatLanes{} + 1.0f, z));
+#else
+  return z < 0.0f ? FloatLanes{} : (z > 1.0f ? FloatLanes{} + 1.0f : z);
+#endif
+}
+
 // One group of a block row: lanes set in `lanes` whose biased edge values are all ≥ 0 (unless
 // the block is known inside) and whose depth is less than the stored one take the triangle's
 // depth and id.
 template <class Edge, bool kTestEdges>
-void rasterizeLanes(float* depth, std::uint32_t* ids, const Lanes<Edge> (&edge)[3], const MaskLanes& lanes,
-                    const FloatLanes& z, std::uint32_t id) {
+PBS_CLONE_INLINE void rasterizeLanes(float* depth, std::uint32_t* ids, const Lanes<Edge> (&edge)[3],
+                                     const MaskLanes& lanes, const FloatLanes& z, std::uint32_t id) {
   MaskLanes pass = lanes;
   if constexpr (kTestEdges) pass &= __builtin_convertvector((edge[0] | edge[1] | edge[2]) >= 0, MaskLanes);
   FloatLanes storedDepth;
@@ -55,8 +71,9 @@ void rasterizeLanes(float* depth, std::uint32_t* ids, const Lanes<Edge> (&edge)[
 // Rows y … y + rows − 1 of a block whose lane 0 lies at column bx: `edge` holds the lanes' edge
 // values on row y, `lanes` which lanes are pixels of the triangle's box.
 template <class Edge, bool kTestEdges, int kGroupCount>
-void rasterizeBlockRows(TileBuffer& tile, const RasterTriangle& t, Lanes<Edge> (&edge)[kGroups][3],
-                        const Edge (&stepY)[3], const MaskLanes (&lanes)[kGroups], int bx, int y, int rows) {
+PBS_CLONE_INLINE void rasterizeBlockRows(TileBuffer& tile, const RasterTriangle& t, Lanes<Edge> (&edge)[kGroups][3],
+                                         const Edge (&stepY)[3], const MaskLanes (&lanes)[kGroups], int bx, int y,
+                                         int rows) {
   FloatLanes zColumn[kGroupCount];  // the zx·dx term of the depth (z0 + zy·dy) + zx·dx, per lane
   for (int g = 0; g < kGroupCount; ++g)
     zColumn[g] = t.zx * __builtin_convertvector(kLaneIndex[g] + (bx - t.minX), FloatLanes);
@@ -65,7 +82,7 @@ void rasterizeBlockRows(TileBuffer& tile, const RasterTriangle& t, Lanes<Edge> (
     const float zRow = t.z0 + t.zy * float(y - t.minY);
     for (int g = 0; g < kGroupCount; ++g) {
       const FloatLanes z = zColumn[g] + zRow;
-      const FloatLanes clamped = z < 0.0f ? FloatLanes{} : (z > 1.0f ? FloatLanes{} + 1.0f : z);
+      const FloatLanes clamped = clampDepth(z);
       rasterizeLanes<Edge, kTestEdges>(tile.depth + offset + g * kLanes, tile.ids + offset + g * kLanes, edge[g],
                                        lanes[g], clamped, t.id);
       for (int k = 0; k < 3; ++k) edge[g][k] += stepY[k];
@@ -78,7 +95,7 @@ void rasterizeBlockRows(TileBuffer& tile, const RasterTriangle& t, Lanes<Edge> (
 // successive triangles then meet the earlier ones exactly or not at all, never partly, which
 // would defeat store-to-load forwarding.
 template <class Edge>
-void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, int x0, int y0, int x1, int y1) {
+PBS_CLONE_INLINE void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, int x0, int y0, int x1, int y1) {
   // Edge k runs from vertex k to k + 1; with the positive area set up, the inside is where its
   // function is positive. Samples exactly on it belong to the triangle for top-left edges only,
   // so the others get a bias of −1 and every test becomes "≥ 0".
@@ -138,6 +155,7 @@ void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, int x0, int y0, in
 
 }  // namespace
 
+PBS_AVX2_CLONES
 void rasterizeInTile(TileBuffer& tile, const RasterTriangle& t) {
   const int x0 = std::max<int>(t.minX, tile.x0), x1 = std::min<int>(t.maxX, tile.x0 + tile.width - 1);
   const int y0 = std::max<int>(t.minY, tile.y0), y1 = std::min<int>(t.maxY, tile.y0 + tile.height - 1);

@@ -1,5 +1,6 @@
 // Resolving a tile: for each pixel a triangle of this batch won, its attributes are interpolated
 // once (perspective-correct) into the channels the framebuffer has; nothing else is computed.
+#include "simd_clones.hpp"
 #include "tile_buffer.hpp"
 
 #include <cmath>
@@ -9,7 +10,7 @@ namespace {
 
 // The interpolated vertex normal, or where it has no direction (opposed or missing vertex
 // normals) the face normal; interpolated n/w has the direction of n (w > 0), so no division.
-glm::vec3 unitNormal(const float* normalPart, float dx, float dy) {
+PBS_CLONE_INLINE glm::vec3 unitNormal(const float* normalPart, float dx, float dy) {
   const glm::vec3 n = evaluatePlane<3>(normalPart, dx, dy);
   const float length2 = glm::dot(n, n);
   if (length2 > 1e-24f && length2 < 1e30f) return n * (1.0f / std::sqrt(length2));
@@ -38,10 +39,20 @@ void prefetchRow(const Framebuffer& framebuffer, int x0, int y, int width) {
 
 }  // namespace
 
+// The channels' arrays and the layout are held in locals: through the batch, every store to a
+// channel could alias them, and each pixel would load them afresh.
+PBS_AVX2_CLONES
 void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
   Framebuffer& framebuffer = batch.framebuffer;
-  const ShadingLayout& layout = batch.layout;
-  const bool color = framebuffer.has(kChannelColor), ids = framebuffer.has(kChannelIds);
+  const ShadingLayout layout = batch.layout;
+  constexpr std::uint32_t kAbsent = ShadingLayout::kAbsent;
+  glm::vec3* const positions = layout.position != kAbsent ? framebuffer.position.data() : nullptr;
+  glm::vec3* const normals = layout.normal != kAbsent ? framebuffer.normal.data() : nullptr;
+  glm::u8vec4* const colors = framebuffer.has(kChannelColor) ? framebuffer.color.data() : nullptr;
+  PixelIds* const ids = framebuffer.has(kChannelIds) ? framebuffer.ids.data() : nullptr;
+  const TriangleChunk* const chunks = batch.chunks.data();
+  const TriangleSpan* const spans = batch.spans.data();
+  const std::size_t width = framebuffer.width;
   for (int row = 0; row < tile.height; ++row) {
     const int y = tile.y0 + row;
     if (row + 1 < tile.height) prefetchRow(framebuffer, tile.x0, y + 1, tile.width);
@@ -49,28 +60,26 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
       const std::uint32_t id = tile.ids[row * kTileStride + column];
       if (id == kNoTriangle) continue;
       const int x = tile.x0 + column;
-      const std::size_t pixel = std::size_t(y) * framebuffer.width + std::size_t(x);
-      const float* record = batch.chunks[idChunk(id)].record(idLocal(id), layout);
+      const std::size_t pixel = std::size_t(y) * width + std::size_t(x);
+      const float* record = chunks[idChunk(id)].shading.data() + std::size_t(idLocal(id)) * layout.stride;
       const ShadingHeader header = loadHeader(record);
-      const TriangleSpan& span = batch.spans[header.span];
+      const TriangleSpan& span = spans[header.span];
       const float dx = float(x - header.minX), dy = float(y - header.minY);
       // w at the pixel, for the attributes interpolated over w; exactly 1 for affine spans.
-      const float w = span.affine || layout.inverseW == ShadingLayout::kAbsent
+      const float w = span.affine || layout.inverseW == kAbsent
                           ? 1.0f
                           : 1.0f / evaluatePlane<1>(record + layout.inverseW, dx, dy).x;
-      if (layout.position != ShadingLayout::kAbsent)
-        framebuffer.position[pixel] = evaluatePlane<3>(record + layout.position, dx, dy) * w;
-      if (layout.normal != ShadingLayout::kAbsent)
-        framebuffer.normal[pixel] = unitNormal(record + layout.normal, dx, dy);
-      if (color) {
+      if (positions) positions[pixel] = evaluatePlane<3>(record + layout.position, dx, dy) * w;
+      if (normals) normals[pixel] = unitNormal(record + layout.normal, dx, dy);
+      if (colors) {
         if (span.texture) {
           const glm::vec2 uv = evaluatePlane<2>(record + layout.uv, dx, dy) * w;
-          framebuffer.color[pixel] = toUnorm8(span.baseColor * sampleTexture(*span.texture, uv));
+          colors[pixel] = toUnorm8(span.baseColor * sampleTexture(*span.texture, uv));
         } else {
-          framebuffer.color[pixel] = header.flatColor;
+          colors[pixel] = header.flatColor;
         }
       }
-      if (ids) framebuffer.ids[pixel] = {span.draw->nodeId, span.draw->instanceId, header.primitive};
+      if (ids) ids[pixel] = {span.draw->nodeId, span.draw->instanceId, header.primitive};
     }
   }
 }

@@ -45,6 +45,10 @@ struct TriangleSpan {
   std::uint32_t firstVertex = 0;
   std::uint32_t vertexCount = 0;
   std::size_t cacheOffset = 0;
+  // The cached vertices hold window positions only; setup completes the vertices of the triangles
+  // that cover a pixel centre (completeVertex). Chosen by projectVertices for spans of many
+  // vertices on few pixels, such as distant instances.
+  bool deferAttributes = false;
 };
 
 // A vertex projected once per batch: snapped when it needs no clipping, plus the attributes the
@@ -90,6 +94,8 @@ struct TriangleBatch {
 // The stages, in order; each runs in parallel on the current TBB arena.
 void projectVertices(TriangleBatch& batch);
 ProjectedVertex projectVertex(const TriangleBatch& batch, const TriangleSpan& span, std::uint32_t index);
+// Adds the attributes to a vertex of a span that defers them: what projectVertex adds to the window position.
+void completeVertex(const TriangleBatch& batch, const TriangleSpan& span, std::uint32_t index, ProjectedVertex& vertex);
 void setupTriangles(TriangleBatch& batch);
 void binTriangles(TriangleBatch& batch);
 void rasterizeTiles(const TriangleBatch& batch);

@@ -100,7 +100,7 @@ glm::vec<N, float> evaluatePlane(const float* plane, float dx, float dy) {
   return v;
 }
 template <int N>
-void storePlane(float* p, const AttributePlane<glm::vec<N, float>>& plane) {
+[[gnu::always_inline]] inline void storePlane(float* p, const AttributePlane<glm::vec<N, float>>& plane) {
   storeVector(p, plane.c);
   storeVector(p + N, plane.x);
   storeVector(p + 2 * N, plane.y);

@@ -2,6 +2,7 @@
 // the depth plane and the attribute planes of its shading record, and the bin counts.
 // Parallel over chunks of source triangles; each chunk's output keeps submission order.
 #include "homogeneous_clip.hpp"
+#include "simd_clones.hpp"
 #include "tile_bins.hpp"
 #include "triangle_batch.hpp"
 #include "window_snap.hpp"
@@ -31,7 +32,7 @@ struct Barycentrics {
   double c[2], x[2], y[2];
 };
 
-AttributePlane<double> deltaPlane(const Barycentrics& l, double a0, double a1, double a2) {
+PBS_CLONE_INLINE AttributePlane<double> deltaPlane(const Barycentrics& l, double a0, double a1, double a2) {
   const double d1 = a1 - a0, d2 = a2 - a0;
   return {a0 + l.c[0] * d1 + l.c[1] * d2, l.x[0] * d1 + l.x[1] * d2, l.y[0] * d1 + l.y[1] * d2};
 }
@@ -39,8 +40,8 @@ AttributePlane<double> deltaPlane(const Barycentrics& l, double a0, double a1, d
 // Attributes travel in float: relative to positionOrigin and to vertex 0, a float plane keeps
 // far more digits than the float channel it fills.
 template <int N>
-void storeAttribute(float* out, const AttributePlane<glm::vec2>& l, const glm::vec<N, float>& a0,
-                    const glm::vec<N, float>& a1, const glm::vec<N, float>& a2) {
+PBS_CLONE_INLINE void storeAttribute(float* out, const AttributePlane<glm::vec2>& l, const glm::vec<N, float>& a0,
+                                     const glm::vec<N, float>& a1, const glm::vec<N, float>& a2) {
   const glm::vec<N, float> d1 = a1 - a0, d2 = a2 - a0;
   storePlane<N>(out, {a0 + d1 * l.c.x + d2 * l.c.y, d1 * l.x.x + d2 * l.x.y, d1 * l.y.x + d2 * l.y.y});
 }
@@ -54,8 +55,22 @@ class ChunkWriter {
         chunkIndex_(chunkIndex),
         binCounts_(batch.tileCounts.data() + chunkIndex * binCount(batch)) {}
 
-  void emit(const SourceTriangle& source, const ProjectedVertex* v0, const ProjectedVertex* v1,
-            const ProjectedVertex* v2) {
+  // Inlined into setupChunk, so that it is compiled for each of its clones.
+  [[gnu::always_inline]] PixelBox trianglePixelBox(const ProjectedVertex& v0, const ProjectedVertex& v1,
+                                                   const ProjectedVertex& v2) const {
+    const auto [minX, maxX] = std::minmax({v0.x, v1.x, v2.x});
+    const auto [minY, maxY] = std::minmax({v0.y, v1.y, v2.y});
+    return pixelBox(batch_.framebuffer, minX, minY, maxX, maxY);
+  }
+
+  [[gnu::always_inline]] void emit(const SourceTriangle& source, const ProjectedVertex* v0, const ProjectedVertex* v1,
+                                   const ProjectedVertex* v2) {
+    // Tested first: in a scene of distant instances most triangles cover no pixel centre, and
+    // leave here cheaply.
+    const PixelBox box = trianglePixelBox(*v0, *v1, *v2);
+    if (box.empty()) return;
+    const std::int32_t px0 = box.x0, py0 = box.y0, px1 = box.x1, py1 = box.y1;
+
     std::int64_t area2 = (std::int64_t(v1->x) - v0->x) * (std::int64_t(v2->y) - v0->y) -
                          (std::int64_t(v1->y) - v0->y) * (std::int64_t(v2->x) - v0->x);
     if (area2 == 0) return;
@@ -68,18 +83,9 @@ class ChunkWriter {
       area2 = -area2;
     }
 
-    // Pixels whose centres 256·p + 128 lie within the snapped box.
-    const auto [minX, maxX] = std::minmax({v0->x, v1->x, v2->x});
-    const auto [minY, maxY] = std::minmax({v0->y, v1->y, v2->y});
-    const std::int64_t half = kSubpixelScale / 2;
-    const std::int64_t px0 = std::max<std::int64_t>(0, (minX - half + kSubpixelScale - 1) >> kSubpixelBits);
-    const std::int64_t px1 = std::min<std::int64_t>(batch_.framebuffer.width - 1, (maxX - half) >> kSubpixelBits);
-    const std::int64_t py0 = std::max<std::int64_t>(0, (minY - half + kSubpixelScale - 1) >> kSubpixelBits);
-    const std::int64_t py1 = std::min<std::int64_t>(batch_.framebuffer.height - 1, (maxY - half) >> kSubpixelBits);
-    if (px0 > px1 || py0 > py1) return;
-
     // λ of vertex 1 is the edge function of edge 2 → 0 over twice the area, λ of vertex 2 that of
     // edge 0 → 1 (exact in int64 up to the division), as planes from the box's first pixel centre.
+    const std::int64_t half = kSubpixelScale / 2;
     const std::int64_t ox = px0 * kSubpixelScale + half, oy = py0 * kSubpixelScale + half;
     const double inverseArea = 1.0 / double(area2);
     Barycentrics l;
@@ -103,9 +109,9 @@ class ChunkWriter {
   }
 
  private:
-  void appendRecord(const SourceTriangle& source, const TriangleSpan& span, const Barycentrics& l,
-                    const ProjectedVertex* v0, const ProjectedVertex* v1, const ProjectedVertex* v2, std::uint16_t px0,
-                    std::uint16_t py0) {
+  [[gnu::always_inline]] void appendRecord(const SourceTriangle& source, const TriangleSpan& span,
+                                           const Barycentrics& l, const ProjectedVertex* v0, const ProjectedVertex* v1,
+                                           const ProjectedVertex* v2, std::uint16_t px0, std::uint16_t py0) {
     float record[kMaxRecordFloats];
     storeHeader(record, ShadingHeader{source.span, source.primitive, px0, py0, span.flatColor});
     // 1/w and a/w are affine in the window, so dividing one by the other is perspective-correct.
@@ -178,6 +184,71 @@ void emitClipped(const TriangleBatch& batch, ChunkWriter& writer, const SourceTr
   for (int i = 1; i + 1 < count; ++i) writer.emit(source, &clipped[0], &clipped[i], &clipped[i + 1]);
 }
 
+// Triangles first … end − 1 of a span whose vertices the batch has cached: the common case, kept
+// lean. The cached range spans every index of the span within the vertex array, so one unsigned
+// comparison per index both finds its vertex and skips indices past the array.
+PBS_CLONE_INLINE void setupCached(const TriangleBatch& batch, ChunkWriter& writer, std::uint32_t spanIndex,
+                                  std::uint32_t first, std::uint32_t end) {
+  const TriangleSpan& span = batch.spans[spanIndex];
+  const std::uint32_t* indices = span.draw->indices.data() + span.firstIndex;
+  const ProjectedVertex* cache = batch.vertices.data() + span.cacheOffset;
+  // Cached vertices are read in index order, not memory order: fetch a few triangles ahead.
+  constexpr std::uint32_t kAhead = 8;
+  for (std::uint32_t local = first; local < end; ++local) {
+    const std::uint32_t* triangle = indices + std::size_t(local) * 3;
+    if (local + kAhead < span.count)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t ahead = triangle[kAhead * 3 + k] - span.firstVertex;
+        if (ahead < span.vertexCount) __builtin_prefetch(cache + ahead);
+      }
+    const std::uint32_t c0 = triangle[0] - span.firstVertex, c1 = triangle[1] - span.firstVertex,
+                        c2 = triangle[2] - span.firstVertex;
+    if (c0 >= span.vertexCount || c1 >= span.vertexCount || c2 >= span.vertexCount) continue;
+    const ProjectedVertex *v0 = cache + c0, *v1 = cache + c1, *v2 = cache + c2;
+    ProjectedVertex complete[3];
+    if (span.deferAttributes) {
+      // Only triangles that may cover a pixel centre get their vertices' attributes.
+      if (v0->inside && v1->inside && v2->inside && writer.trianglePixelBox(*v0, *v1, *v2).empty()) continue;
+      complete[0] = *v0, complete[1] = *v1, complete[2] = *v2;
+      for (int k = 0; k < 3; ++k) completeVertex(batch, span, triangle[k], complete[k]);
+      v0 = &complete[0], v1 = &complete[1], v2 = &complete[2];
+    }
+    // Built in each branch, so that the common early exit of emit need not build it at all.
+    const auto source = [&] {
+      return SourceTriangle{
+          spanIndex, span.firstPrimitive + local, {triangle[0], triangle[1], triangle[2]}, {v0, v1, v2}};
+    };
+    if (v0->inside && v1->inside && v2->inside)
+      writer.emit(source(), v0, v1, v2);
+    else
+      emitClipped(batch, writer, source());
+  }
+}
+
+// The same for a span whose index range was too wide to cache: vertices projected per triangle.
+void setupUncached(const TriangleBatch& batch, ChunkWriter& writer, std::uint32_t spanIndex, std::uint32_t first,
+                   std::uint32_t end) {
+  const TriangleSpan& span = batch.spans[spanIndex];
+  const TriangleDraw& draw = *span.draw;
+  ProjectedVertex projected[3];
+  for (std::uint32_t local = first; local < end; ++local) {
+    const std::uint32_t* triangle = draw.indices.data() + span.firstIndex + std::size_t(local) * 3;
+    if (triangle[0] >= draw.positions.size() || triangle[1] >= draw.positions.size() ||
+        triangle[2] >= draw.positions.size())
+      continue;
+    for (int k = 0; k < 3; ++k) projected[k] = projectVertex(batch, span, triangle[k]);
+    const SourceTriangle source{spanIndex,
+                                span.firstPrimitive + local,
+                                {triangle[0], triangle[1], triangle[2]},
+                                {&projected[0], &projected[1], &projected[2]}};
+    if (projected[0].inside && projected[1].inside && projected[2].inside)
+      writer.emit(source, &projected[0], &projected[1], &projected[2]);
+    else
+      emitClipped(batch, writer, source);
+  }
+}
+
+PBS_AVX2_CLONES
 void setupChunk(TriangleBatch& batch, std::uint32_t chunkIndex) {
   TriangleChunk& chunk = batch.chunks[chunkIndex];
   chunk.raster.clear();
@@ -193,42 +264,16 @@ void setupChunk(TriangleBatch& batch, std::uint32_t chunkIndex) {
                                           [](std::uint32_t position, const TriangleSpan& span) {
                                             return position < span.batchStart;
                                           });
-  std::uint32_t spanIndex = std::uint32_t(spanAfter - batch.spans.begin()) - 1;
-  ProjectedVertex projected[3];
-  for (std::uint32_t position = begin; position < end; ++position) {
-    while (position >= batch.spans[spanIndex].batchStart + batch.spans[spanIndex].count) ++spanIndex;
-    const TriangleSpan& span = batch.spans[spanIndex];
-    const TriangleDraw& draw = *span.draw;
-    const std::uint32_t local = position - span.batchStart;
-    const std::size_t first = span.firstIndex + std::size_t(local) * 3;
-    const std::uint32_t* indices = draw.indices.data() + first;
-    // Cached vertices are read in index order, not memory order: fetch a few triangles ahead.
-    constexpr std::size_t kAhead = 8 * 3;
-    if (span.vertexCount > 0 && local + kAhead / 3 < span.count)
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t ahead = indices[kAhead + k] - span.firstVertex;
-        if (ahead < span.vertexCount) __builtin_prefetch(&batch.vertices[span.cacheOffset + ahead]);
-      }
-
-    SourceTriangle source{spanIndex, span.firstPrimitive + local, {indices[0], indices[1], indices[2]}, {}};
-    bool valid = true;
-    for (int k = 0; k < 3 && valid; ++k) {
-      const std::uint32_t index = indices[k];
-      valid = index < draw.positions.size();
-      if (!valid) break;
-      if (span.vertexCount > 0) {
-        source.vertex[k] = &batch.vertices[span.cacheOffset + (index - span.firstVertex)];
-      } else {
-        projected[k] = projectVertex(batch, span, index);
-        source.vertex[k] = &projected[k];
-      }
-    }
-    if (!valid) continue;
-    const ProjectedVertex* const* v = source.vertex;
-    if (v[0]->inside && v[1]->inside && v[2]->inside)
-      writer.emit(source, v[0], v[1], v[2]);
+  // Spans are consecutive in the batch: walk those the chunk overlaps, each in one loop.
+  for (std::uint32_t s = std::uint32_t(spanAfter - batch.spans.begin()) - 1, position = begin; position < end; ++s) {
+    const TriangleSpan& span = batch.spans[s];
+    const std::uint32_t first = position - span.batchStart;
+    const std::uint32_t last = std::min(span.count, end - span.batchStart);
+    if (span.vertexCount > 0)
+      setupCached(batch, writer, s, first, last);
     else
-      emitClipped(batch, writer, source);
+      setupUncached(batch, writer, s, first, last);
+    position = span.batchStart + last;
   }
 }
 

@@ -1,5 +1,8 @@
 // Projecting each vertex once per batch: clip position, snapped window position and the world
 // attributes the channels need, cached per span so triangles sharing a vertex share the work.
+// Spans of many vertices on few pixels (distant instances) leave the attributes to the few
+// triangles that cover a pixel centre (TriangleSpan::deferAttributes).
+#include "simd_clones.hpp"
 #include "triangle_batch.hpp"
 #include "window_snap.hpp"
 
@@ -7,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 
 namespace pbs::triangles {
@@ -23,26 +27,33 @@ bool isInside(const TriangleBatch& batch, const glm::dvec4& c) {
          std::abs(c.y) <= batch.guardY * c.w;
 }
 
-// The index range a span references (indices past the vertex array are skipped later).
+// The index range a span references (indices past the vertex array are skipped later). Selects
+// rather than a skip, so that the loop vectorises.
+PBS_AVX2_CLONES
 void chooseCacheRange(const TriangleSpan& span, std::size_t vertexLimit, std::uint32_t& first,
                       std::uint32_t& count) {
   const auto indices = span.draw->indices.subspan(span.firstIndex, std::size_t(span.count) * 3);
+  const bool anyIndex = vertexLimit > 0xffffffffu;
+  const std::uint32_t limit = std::uint32_t(std::min<std::size_t>(vertexLimit, 0xffffffffu));
   std::uint32_t lo = 0xffffffffu, hi = 0;
   for (const std::uint32_t index : indices) {
-    if (index >= vertexLimit) continue;
-    lo = std::min(lo, index);
-    hi = std::max(hi, index);
+    const bool valid = anyIndex || index < limit;
+    lo = std::min(lo, valid ? index : 0xffffffffu);
+    hi = std::max(hi, valid ? index : 0u);
   }
   const bool useful = lo <= hi && std::size_t(hi - lo) < kCachedVerticesPerTriangle * span.count + kCachedVerticesSlack;
   first = useful ? lo : 0;
   count = useful ? hi - lo + 1 : 0;
 }
 
-}  // namespace
+// A span whose vertices fall on fewer pixel centres than this fraction of its vertex count defers
+// its vertex attributes: most of its triangles cover no pixel centre, so the attributes are
+// computed per surviving triangle (three vertices each) rather than for every vertex.
+constexpr std::uint64_t kDeferVerticesPerPixel = 8;
 
-ProjectedVertex projectVertex(const TriangleBatch& batch, const TriangleSpan& span, std::uint32_t index) {
-  const TriangleDraw& draw = *span.draw;
-  const Framebuffer& framebuffer = batch.framebuffer;
+// The window position part of a projected vertex; the attributes are left zero.
+PBS_CLONE_INLINE ProjectedVertex projectPosition(const TriangleBatch& batch, const TriangleSpan& span,
+                                                 std::uint32_t index) {
   ProjectedVertex vertex{};
   const glm::dvec4 clip = clipPosition(span, index);
   vertex.inside = isInside(batch, clip);
@@ -53,6 +64,14 @@ ProjectedVertex projectVertex(const TriangleBatch& batch, const TriangleSpan& sp
     vertex.depth = window.depth;
     vertex.invW = window.invW;
   }
+  return vertex;
+}
+
+// The world attributes the channels need.
+PBS_CLONE_INLINE void addAttributes(const TriangleBatch& batch, const TriangleSpan& span, std::uint32_t index,
+                                    ProjectedVertex& vertex) {
+  const TriangleDraw& draw = *span.draw;
+  const Framebuffer& framebuffer = batch.framebuffer;
   if (framebuffer.has(kChannelPosition) || framebuffer.has(kChannelNormal)) {
     const glm::dvec3 world(span.worldFromObject * glm::dvec4(glm::dvec3(draw.positions[index]), 1.0));
     vertex.world = glm::vec3(world - framebuffer.positionOrigin);
@@ -64,9 +83,82 @@ ProjectedVertex projectVertex(const TriangleBatch& batch, const TriangleSpan& sp
     if (length > 0.0 && std::isfinite(length)) vertex.normal = glm::vec3(normal * (1.0 / length));
   }
   if (span.texture && index < draw.uvs.size()) vertex.uv = draw.uvs[index];
+}
+
+// Calls body(span, first, end) for runs of cached vertices covering those of every span, in one
+// flat parallel loop: a scene of many small instances has many short spans, too short for a task
+// each.
+template <class Body>
+void forEachCachedRun(TriangleBatch& batch, Body body) {
+  const std::vector<TriangleSpan>& spans = batch.spans;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batch.vertices.size(), 1024),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      // The last span starting at or before r.begin() holds it (empty spans share the
+                      // start of the next one, and come before it).
+                      const auto after = std::upper_bound(spans.begin(), spans.end(), r.begin(),
+                                                          [](std::size_t i, const TriangleSpan& span) {
+                                                            return i < span.cacheOffset;
+                                                          });
+                      for (std::size_t s = std::size_t(after - spans.begin()) - 1, i = r.begin(); i < r.end(); ++s) {
+                        const TriangleSpan& span = spans[s];
+                        const std::size_t end = std::min<std::size_t>(r.end(), span.cacheOffset + span.vertexCount);
+                        if (i >= end) continue;
+                        body(span, std::uint32_t(i - span.cacheOffset), std::uint32_t(end - span.cacheOffset));
+                        i = end;
+                      }
+                    });
+}
+
+PBS_AVX2_CLONES
+void projectPositions(TriangleBatch& batch, const TriangleSpan& span, std::uint32_t first, std::uint32_t end) {
+  for (std::uint32_t v = first; v < end; ++v)
+    batch.vertices[span.cacheOffset + v] = projectPosition(batch, span, span.firstVertex + v);
+}
+
+PBS_AVX2_CLONES
+void addRunAttributes(TriangleBatch& batch, const TriangleSpan& span, std::uint32_t first, std::uint32_t end) {
+  for (std::uint32_t v = first; v < end; ++v)
+    addAttributes(batch, span, span.firstVertex + v, batch.vertices[span.cacheOffset + v]);
+}
+
+// Whether the span's cached vertices, all inside, fall on few pixel centres: their box within the
+// viewport, counted as emit counts a triangle's.
+bool shouldDefer(const TriangleBatch& batch, const TriangleSpan& span) {
+  if (span.vertexCount == 0) return false;
+  const ProjectedVertex* vertices = batch.vertices.data() + span.cacheOffset;
+  std::int32_t minX = INT32_MAX, minY = INT32_MAX, maxX = INT32_MIN, maxY = INT32_MIN;
+  bool inside = true;
+  for (std::uint32_t v = 0; v < span.vertexCount; ++v) {
+    inside &= vertices[v].inside;
+    minX = std::min(minX, vertices[v].x);
+    maxX = std::max(maxX, vertices[v].x);
+    minY = std::min(minY, vertices[v].y);
+    maxY = std::max(maxY, vertices[v].y);
+  }
+  if (!inside) return false;
+  const PixelBox box = pixelBox(batch.framebuffer, minX, minY, maxX, maxY);
+  if (box.empty()) return true;
+  const std::uint64_t pixels = std::uint64_t(box.x1 - box.x0 + 1) * std::uint64_t(box.y1 - box.y0 + 1);
+  return pixels * kDeferVerticesPerPixel < span.vertexCount;
+}
+
+}  // namespace
+
+PBS_AVX2_CLONES
+ProjectedVertex projectVertex(const TriangleBatch& batch, const TriangleSpan& span, std::uint32_t index) {
+  ProjectedVertex vertex = projectPosition(batch, span, index);
+  addAttributes(batch, span, index, vertex);
   return vertex;
 }
 
+PBS_AVX2_CLONES
+void completeVertex(const TriangleBatch& batch, const TriangleSpan& span, std::uint32_t index,
+                    ProjectedVertex& vertex) {
+  addAttributes(batch, span, index, vertex);
+}
+
+// Positions first; then each span decides whether its attributes wait for the triangles that need
+// them (shouldDefer); then the attributes of the others.
 void projectVertices(TriangleBatch& batch) {
   std::vector<TriangleSpan>& spans = batch.spans;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, spans.size()), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -79,15 +171,14 @@ void projectVertices(TriangleBatch& batch) {
     total += span.vertexCount;
   }
   batch.vertices.resize(total);
+  forEachCachedRun(batch, [&](const TriangleSpan& span, std::uint32_t first, std::uint32_t end) {
+    projectPositions(batch, span, first, end);
+  });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, spans.size()), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t s = r.begin(); s < r.end(); ++s) {
-      const TriangleSpan& span = spans[s];
-      tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, span.vertexCount, 4096),
-                        [&](const tbb::blocked_range<std::uint32_t>& vr) {
-                          for (std::uint32_t v = vr.begin(); v < vr.end(); ++v)
-                            batch.vertices[span.cacheOffset + v] = projectVertex(batch, span, span.firstVertex + v);
-                        });
-    }
+    for (std::size_t s = r.begin(); s < r.end(); ++s) spans[s].deferAttributes = shouldDefer(batch, spans[s]);
+  });
+  forEachCachedRun(batch, [&](const TriangleSpan& span, std::uint32_t first, std::uint32_t end) {
+    if (!span.deferAttributes) addRunAttributes(batch, span, first, end);
   });
 }
 

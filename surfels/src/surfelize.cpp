@@ -38,6 +38,22 @@ double packingValue(const std::vector<Surfel>& surfels) {
   return spacing * spacing * double(k);
 }
 
+// Whether `node`'s capture draws its children's surfels (see CaptureSource).
+bool captureFromChildren(const Scene& scene, const Hierarchy& frame, std::uint32_t node, CaptureSource source,
+                         const detail::SurfelPlan& plan, std::span<const SurfelArray> arrays) {
+  if (source == CaptureSource::Triangles) return false;
+  std::uint64_t childDrawing = 0;  // splats and triangles the children's drawing would hold
+  bool anyArray = false;
+  for (std::uint32_t child : scene.nodes[node].children) {
+    const std::uint32_t array = plan.arrayOfNode[child];
+    anyArray |= array != kNoSurfels;
+    childDrawing += array != kNoSurfels ? arrays[array].surfels.size() : frame.subtreeTriangles[child];
+  }
+  if (!anyArray) return false;
+  return source == CaptureSource::ChildSurfels ||
+         double(frame.subtreeTriangles[node]) > kAutoChildSurfelRatio * double(childDrawing);
+}
+
 struct MadeArray {
   SurfelArray array;
   std::uint64_t candidates = 0;
@@ -47,10 +63,7 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& p
                     const detail::SurfelPlan& plan, std::span<const SurfelArray> arrays) {
   const Hierarchy frame = analyzeSubtree(scene, node);
   const CaptureOptions capture{.resolution = options.file.resolution, .directions = options.file.directions};
-  const bool fromChildren =
-      options.source == CaptureSource::ChildSurfels &&
-      std::any_of(scene.nodes[node].children.begin(), scene.nodes[node].children.end(),
-                  [&](std::uint32_t child) { return plan.arrayOfNode[child] != kNoSurfels; });
+  const bool fromChildren = captureFromChildren(scene, frame, node, options.source, plan, arrays);
   const CaptureResult captured =
       fromChildren ? detail::captureFromChildSurfels(scene, frame, node, arrays, plan.arrayOfNode, capture)
                    : captureNode(scene, frame, node, capture);
@@ -74,15 +87,15 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& p
   return made;
 }
 
-// Groups of arrays that can be made at the same time: all of them at once, or with ChildSurfels one
-// height at a time (children are lower than their parents). Each group lists the largest subtree first,
+// Groups of arrays that can be made at the same time: all of them at once, or when children's surfels
+// may be drawn one height at a time (children are lower than their parents). Each group lists the largest subtree first,
 // so the longest captures start early and the small ones fill the gaps at the end.
 std::vector<std::vector<std::uint32_t>> scheduleArrays(const Hierarchy& hierarchy, const detail::SurfelPlan& plan,
                                                        CaptureSource source) {
   const std::size_t arrays = plan.representative.size();
   std::vector<std::vector<std::uint32_t>> groups;
   for (std::uint32_t a = 0; a < arrays; ++a) {
-    const std::size_t group = source == CaptureSource::ChildSurfels ? plan.height[a] : 0;
+    const std::size_t group = source != CaptureSource::Triangles ? plan.height[a] : 0;
     if (groups.size() <= group) groups.resize(group + 1);
     groups[group].push_back(a);
   }

@@ -15,7 +15,12 @@ namespace pbs {
 enum class CaptureSource : std::uint32_t {
   Triangles = 0,     // its whole subtree's triangles (exact; costs as much as the subtree)
   ChildSurfels = 1,  // its children's surfel arrays as splats, and the triangles of children without one
+  // ChildSurfels where that is much cheaper than the triangles (the subtree holds more than
+  // kAutoChildSurfelRatio times as many triangles as the children's drawing would hold splats and
+  // triangles), Triangles elsewhere: exact where exactness is cheap, fast where it is not.
+  Auto = 2,
 };
+inline constexpr double kAutoChildSurfelRatio = 2.0;
 
 struct SurfelizeProgress {
   std::uint32_t arraysDone = 0;
@@ -27,7 +32,7 @@ struct SurfelizeProgress {
 
 struct SurfelizeOptions {
   SurfelFileOptions file;  // threshold, max surfels, resolution, directions, ordering, seed
-  CaptureSource source = CaptureSource::Triangles;
+  CaptureSource source = CaptureSource::Auto;
   // Called after every finished array, one call at a time (never concurrently), from whichever
   // thread finished it.
   std::function<void(const SurfelizeProgress&)> onProgress{};
@@ -43,7 +48,7 @@ struct SurfelizeStats {
 // Every node above options.file.threshold gets an array of at most options.file.maxSurfels surfels in
 // its own frame (see analyzeSubtree). Nodes of one subtree class (subtreeClasses) share one array,
 // captured for the first of them in preorder. Arrays are independent and made in parallel, largest
-// subtree first (with CaptureSource::ChildSurfels, children before parents). Each array's ordering
+// subtree first (when children's surfels may be drawn, children before parents). Each array's ordering
 // seed mixes options.file.seed with the node's stable path, so the result is the same for any thread
 // count and any schedule. A scene with no node above the threshold gives a file with no arrays.
 SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
