@@ -83,17 +83,23 @@ TEST(Cli, InfoJsonOnASharedScene) {
 }
 
 TEST(Cli, DemoRunsOnTheEmbeddedDefault) {
-  const CommandResult result = runPbs("demo --json --threads 2");
+  ScratchDir scratch;
+  const CommandResult result =
+      runPbs("demo --json --threads 2 --resolution 96 --width 480 --height 270 -o '" + scratch.path().string() + "'");
   ASSERT_EQ(result.status, 0) << result.err;
   const auto json = nlohmann::json::parse(result.out);
   EXPECT_GE(json["triangles"].get<std::uint64_t>(), 10'000'000u);
   EXPECT_LE(json["triangles"].get<std::uint64_t>(), 50'000'000u);
   EXPECT_GE(json["max_depth"].get<int>(), 5);
   EXPECT_GT(json["surfel_nodes"].get<int>(), 0);
-  EXPECT_GT(json["captured_surfels"].get<std::uint64_t>(), 100'000u);
-  EXPECT_GT(json["coverage"].get<double>(), 0.0);
-  EXPECT_LE(json["coverage"].get<double>(), 1.0);
-  EXPECT_EQ(json["ordered_surfels"], 10000);
+  EXPECT_GT(json["arrays"].get<int>(), 0);
+  EXPECT_LT(json["arrays"].get<int>(), json["surfel_nodes"].get<int>()) << "instances share arrays";
+  const auto& frame = json["frame"];
+  EXPECT_GT(frame["surfels_drawn"].get<std::uint64_t>(), 0u);
+  EXPECT_LT(frame["triangles_drawn"].get<std::uint64_t>(), frame["exact_triangles"].get<std::uint64_t>());
+  EXPECT_GT(frame["ssim"].get<double>(), 0.8) << "the surfel image resembles the exact one";
+  for (const char* name : {"default.surfels", "surfels.png", "exact.png"})
+    EXPECT_TRUE(std::filesystem::exists(scratch / name)) << name;
 }
 
 TEST(Cli, OctreeOptionGivesAFlatMeshAHierarchy) {
