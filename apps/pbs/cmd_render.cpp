@@ -3,10 +3,10 @@
 #include "commands.hpp"
 #include "frame_renderer.hpp"
 #include "image_files.hpp"
+#include "orbit_views.hpp"
 #include "scene_report.hpp"
 
 #include <pbs/raster/headlight_shading.hpp>
-#include <pbs/raster/orbit_camera.hpp>
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/scene/input_error.hpp>
 
@@ -15,7 +15,6 @@
 #include <iostream>
 #include <map>
 #include <memory>
-#include <sstream>
 
 namespace pbs::cli {
 namespace {
@@ -33,27 +32,6 @@ struct RenderOptions {
   bool json = false;
   int threads = 0;
 };
-
-Orbit parseOrbit(const std::string& text) {
-  Orbit orbit;
-  char comma1 = 0, comma2 = 0;
-  std::istringstream in(text);
-  in >> orbit.azimuthDegrees >> comma1 >> orbit.elevationDegrees >> comma2 >> orbit.distance;
-  if (!in || comma1 != ',' || comma2 != ',' || !(in >> std::ws).eof() || !(orbit.distance > 0.0))
-    throw CLI::ValidationError("--orbit", "expected AZ,EL,DIST in degrees, degrees, bounding radii > 0, got " + text);
-  return orbit;
-}
-
-std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text) {
-  unsigned width = 0, height = 0;
-  char x = 0;
-  std::istringstream in(text);
-  in >> width >> x >> height;
-  if (!in || (x != 'x' && x != 'X') || !(in >> std::ws).eof() || width < 1 || height < 1 || width > 16384 ||
-      height > 16384)
-    throw CLI::ValidationError("--size", "expected WxH with 1 ≤ W, H ≤ 16384, got " + text);
-  return {width, height};
-}
 
 void writeFrame(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height,
                 const std::vector<glm::vec4>& image) {
@@ -90,9 +68,8 @@ void run(const RenderOptions& options) {
   lod.prefixRule = options.prefixRule == "packing" ? PrefixRule::Packing : PrefixRule::Coverage;
   FrameRenderer renderer(loaded.scene, loaded.hierarchy, mode, surfels ? &*surfels : nullptr, lod, width, height);
 
-  const Bounds& bounds = loaded.summary.bounds;
-  const double radius = 0.5 * glm::length(bounds.size());
-  const std::uint32_t frames = std::max(1u, options.frames);
+  const std::vector<OrbitView> views = orbitViews(loaded.summary.bounds, orbit, options.frames, width, height);
+  const std::uint32_t frames = std::uint32_t(views.size());
   const std::filesystem::path output(options.output);
   if (options.frames > 0 && !output.empty()) std::filesystem::create_directories(output);
 
@@ -100,9 +77,7 @@ void run(const RenderOptions& options) {
   if (mode == RenderMode::Embree) report["build_seconds"] = renderer.buildSeconds();
   std::vector<double> seconds;
   for (std::uint32_t f = 0; f < frames; ++f) {
-    Orbit view = orbit;
-    view.azimuthDegrees += 360.0 * f / frames;
-    const FrameResult frame = renderer.render(orbitCamera(bounds.center(), radius, view, width, height));
+    const FrameResult frame = renderer.render(views[f].camera);
     seconds.push_back(frame.seconds);
     nlohmann::json entry = frameJson(frame);
     if (!output.empty()) {

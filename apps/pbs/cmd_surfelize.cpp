@@ -29,7 +29,6 @@ void addSurfelizeCommand(CLI::App& app) {
     std::string scene;
     std::string output;
     SurfelizeOptions surfelize;
-    std::string source = "auto";
     bool json = false;
     bool quiet = false;
     int threads = 0;
@@ -46,11 +45,9 @@ void addSurfelizeCommand(CLI::App& app) {
       ->capture_default_str();
   addCaptureOptions(*command, file.resolution, file.directions);
   addOrderingOption(*command, file.ordering);
-  command->add_option("--capture-from", options->source,
-                      "what an inner node's capture draws: its subtree's triangles (exact), its children's surfels "
-                      "(fast), or children's surfels where the triangles are over twice as many (auto)")
-      ->check(CLI::IsMember({"auto", "triangles", "children"}))
-      ->capture_default_str();
+  addCaptureSourceOption(*command, options->surfelize.source,
+                         "what an inner node's capture draws: its subtree's triangles (exact) or its children's "
+                         "surfels (fast)");
   command->add_option("--seed", file.seed, "seed of the orderings")->capture_default_str();
   command->add_flag("--json", options->json, "print JSON instead of text");
   command->add_flag("-q,--quiet", options->quiet, "no progress on stderr");
@@ -60,9 +57,6 @@ void addSurfelizeCommand(CLI::App& app) {
       const auto start = std::chrono::steady_clock::now();
       const LoadedScene loaded = loadAndAnalyze(options->scene, LoadOptions{});
       SurfelizeOptions settings = options->surfelize;
-      settings.source = options->source == "children"    ? CaptureSource::ChildSurfels
-                        : options->source == "triangles" ? CaptureSource::Triangles
-                                                         : CaptureSource::Auto;
       ProgressMeter meter("surfelize", ProgressMeter::styleFor(options->quiet || options->json));
       settings.onProgress = [&](const SurfelizeProgress& p) {
         // Triangle captures cost about their subtree's triangles; child-surfel captures about the same each.
@@ -95,7 +89,7 @@ void addSurfelizeCommand(CLI::App& app) {
             {"max_surfels", settings.file.maxSurfels},
             {"resolution", settings.file.resolution},
             {"ordering", orderingName(settings.file.ordering)},
-            {"capture_from", options->source},
+            {"capture_from", captureSourceName(settings.source)},
             {"seed", settings.file.seed},
         };
         std::cout << report.dump(2) << "\n";

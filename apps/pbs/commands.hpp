@@ -2,6 +2,7 @@
 #pragma once
 
 #include <pbs/surfels/ordering.hpp>
+#include <pbs/surfels/surfelize.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -19,6 +20,7 @@ void addPrefixesCommand(CLI::App& app);
 void addSurfelizeCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
+void addEvalCommand(CLI::App& app);
 
 // The `--threads` option every command has (0: all hardware threads).
 void addThreadsOption(CLI::App& command, int& threads);
@@ -28,5 +30,8 @@ void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32
 
 // `--ordering farthest|dart|random`.
 void addOrderingOption(CLI::App& command, SurfelOrdering& ordering);
+
+// `--capture-from auto|triangles|children`: what inner nodes' captures draw (see CaptureSource).
+void addCaptureSourceOption(CLI::App& command, CaptureSource& source, const std::string& help);
 
 }  // namespace pbs::cli

@@ -29,4 +29,12 @@ void addOrderingOption(CLI::App& command, SurfelOrdering& ordering) {
       ->transform(CLI::CheckedTransformer(names));
 }
 
+void addCaptureSourceOption(CLI::App& command, CaptureSource& source, const std::string& help) {
+  std::map<std::string, CaptureSource> names;
+  for (CaptureSource s : {CaptureSource::Auto, CaptureSource::Triangles, CaptureSource::ChildSurfels})
+    names.emplace(std::string(captureSourceName(s)), s);
+  command.add_option("--capture-from", source, help + " (auto, the default: children where the triangles are over twice as many)")
+      ->transform(CLI::CheckedTransformer(names));
+}
+
 }  // namespace pbs::cli

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   pbs::cli::addSurfelizeCommand(app);
   pbs::cli::addRenderCommand(app);
   pbs::cli::addCompareCommand(app);
+  pbs::cli::addEvalCommand(app);
   pbs::cli::addBenchCommand(app);
   try {
     app.parse(argc, argv);

@@ -1,4 +1,4 @@
-// SVG line plots written by hand (no plotting dependency), and atomic text output.
+// SVG line and scatter plots written by hand (no plotting dependency), and atomic text output.
 #include "svg_plot.hpp"
 
 #include <algorithm>
@@ -105,6 +105,11 @@ std::string renderSvg(const Plot& plot) {
       yMin = std::min(yMin, y), yMax = std::max(yMax, y);
     }
   }
+  for (const PlotMarker& m : plot.markers) {
+    if (!usable(m.x, plot.x.log) || !usable(m.y, plot.y.log)) continue;
+    xMin = std::min(xMin, m.x), xMax = std::max(xMax, m.x);
+    yMin = std::min(yMin, m.y), yMax = std::max(yMax, m.y);
+  }
   const Scale xs = makeScale(plot.x, xMin, xMax);
   const Scale ys = makeScale(plot.y, yMin, yMax);
   const auto px = [&](double x) { return left + xs.fraction(x) * plotW; };
@@ -158,6 +163,15 @@ std::string renderSvg(const Plot& plot) {
     svg.append("<polyline fill=\"none\" stroke=\"" + escape(colors.back()) +
                "\" stroke-width=\"1.5\" clip-path=\"url(#plot-area)\" points=\"" + points + "\"><title>" +
                escape(s.name) + "</title></polyline>\n");
+  }
+  for (const PlotMarker& m : plot.markers) {
+    if (!usable(m.x, plot.x.log) || !usable(m.y, plot.y.log)) continue;
+    const std::string color = escape(m.color.empty() ? std::string("black") : m.color);
+    svg.append("<circle class=\"marker\" cx=\"" + number(px(m.x)) + "\" cy=\"" + number(py(m.y)) +
+               "\" r=\"4\" fill=\"" + color + "\"><title>" + escape(m.label) +
+               "</title></circle>\n");
+    svg.append("<text x=\"" + number(px(m.x) + 6) + "\" y=\"" + number(py(m.y) - 6) + "\" font-size=\"10\" fill=\"" +
+               color + "\">" + escape(m.label) + "</text>\n");
   }
   if (!plot.series.empty()) {
     std::size_t longest = 0;

@@ -1,4 +1,5 @@
-// Line plots as hand-written SVG (ρ(k) curves, error-vs-time curves), and whole-or-nothing text files.
+// Line and scatter plots as hand-written SVG (ρ(k) curves, error against time), and whole-or-nothing
+// text files.
 #pragma once
 
 #include <filesystem>
@@ -16,6 +17,14 @@ struct PlotSeries {
   std::string color;                              // any SVG colour; empty: the next one of a palette
 };
 
+// One labelled point of a scatter plot (a <circle class="marker">, its label beside it).
+struct PlotMarker {
+  double x = 0.0;
+  double y = 0.0;
+  std::string label;  // drawn beside the point and as its tooltip
+  std::string color;  // any SVG colour; empty: black
+};
+
 struct PlotAxis {
   std::string label;
   bool log = false;            // base-10 logarithmic scale, ticks at powers of ten
@@ -28,12 +37,14 @@ struct Plot {
   PlotAxis x;
   PlotAxis y;
   std::vector<PlotSeries> series;  // one <polyline> each, drawn in order, listed in the legend
+  std::vector<PlotMarker> markers; // drawn over the series, not in the legend; non-finite ones (and ≤ 0
+                                   // on a log axis) are left out; fitted ranges include them
   int width = 800;                 // SVG size in pixels
   int height = 500;
 };
 
 // The plot as a standalone SVG document (starts with "<svg"): frame, ticks with labels, grid lines,
-// axis labels, title, one polyline per series and a legend. Text is XML-escaped.
+// axis labels, title, one polyline per series, the markers and a legend. Text is XML-escaped.
 std::string renderSvg(const Plot& plot);
 
 // Writes `text` to a temporary name beside `file`, then renames it into place. Throws

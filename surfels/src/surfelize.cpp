@@ -108,6 +108,15 @@ std::vector<std::vector<std::uint32_t>> scheduleArrays(const Hierarchy& hierarch
 
 }  // namespace
 
+std::string_view captureSourceName(CaptureSource source) {
+  switch (source) {
+    case CaptureSource::Triangles: return "triangles";
+    case CaptureSource::ChildSurfels: return "children";
+    case CaptureSource::Auto: return "auto";
+  }
+  return "unknown";
+}
+
 SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                      SurfelizeStats* stats) {
   const detail::SurfelPlan plan = detail::planSurfelArrays(scene, hierarchy, options.file.threshold);

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <string_view>
 
 namespace pbs {
 
@@ -21,6 +22,9 @@ enum class CaptureSource : std::uint32_t {
   Auto = 2,
 };
 inline constexpr double kAutoChildSurfelRatio = 2.0;
+
+// "triangles", "children", "auto".
+std::string_view captureSourceName(CaptureSource source);
 
 struct SurfelizeProgress {
   std::uint32_t arraysDone = 0;

@@ -1,0 +1,46 @@
+// Orbit cameras and the parsing of their option texts.
+#include "orbit_views.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <sstream>
+
+namespace pbs::cli {
+
+Orbit parseOrbit(const std::string& text) {
+  Orbit orbit;
+  char comma1 = 0, comma2 = 0;
+  std::istringstream in(text);
+  in >> orbit.azimuthDegrees >> comma1 >> orbit.elevationDegrees >> comma2 >> orbit.distance;
+  if (!in || comma1 != ',' || comma2 != ',' || !(in >> std::ws).eof() || !(orbit.distance > 0.0))
+    throw CLI::ValidationError("--orbit", "expected AZ,EL,DIST in degrees, degrees, bounding radii > 0, got " + text);
+  return orbit;
+}
+
+std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text) {
+  unsigned width = 0, height = 0;
+  char x = 0;
+  std::istringstream in(text);
+  in >> width >> x >> height;
+  if (!in || (x != 'x' && x != 'X') || !(in >> std::ws).eof() || width < 1 || height < 1 || width > 16384 ||
+      height > 16384)
+    throw CLI::ValidationError("--size", "expected WxH with 1 ≤ W, H ≤ 16384, got " + text);
+  return {width, height};
+}
+
+std::vector<OrbitView> orbitViews(const Bounds& bounds, const Orbit& orbit, std::uint32_t frames, std::uint32_t width,
+                                  std::uint32_t height) {
+  const double radius = 0.5 * glm::length(bounds.size());
+  frames = std::max(1u, frames);
+  std::vector<OrbitView> views;
+  views.reserve(frames);
+  for (std::uint32_t f = 0; f < frames; ++f) {
+    Orbit view = orbit;
+    view.azimuthDegrees += 360.0 * f / frames;
+    views.push_back({view.azimuthDegrees, orbitCamera(bounds.center(), radius, view, width, height)});
+  }
+  return views;
+}
+
+}  // namespace pbs::cli
