@@ -14,10 +14,6 @@
 namespace pbs::gltf {
 namespace {
 
-// An accessor without a bufferView is all zeros and costs memory without costing file bytes, so its
-// size has to be capped by something other than the buffer.
-constexpr std::size_t kMaxZeroFilledElements = std::size_t{1} << 24;
-
 std::string componentTypeName(int componentType) {
   switch (componentType) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
@@ -223,7 +219,7 @@ std::span<const std::uint8_t> bufferViewBytes(const tinygltf::Model& model, int 
 }
 
 AccessorView viewAccessor(const tinygltf::Model& model, int accessor, const AccessorRules& rules, std::string_view file,
-                          std::string_view referrer) {
+                          std::string_view referrer, ZeroFilledBudget& zeros) {
   if (!validIndex(accessor, model.accessors.size())) {
     throw InputError(file, referrer, missingElement("accessor", accessor, model.accessors.size()));
   }
@@ -250,11 +246,13 @@ AccessorView viewAccessor(const tinygltf::Model& model, int accessor, const Acce
   const std::size_t elementSize = componentSize(a.componentType) * static_cast<std::size_t>(components);
 
   if (a.bufferView == -1) {
-    if (view.count > kMaxZeroFilledElements) {
+    if (view.count > zeros.left) {
       throw InputError(file, element,
-                       "has no bufferView but " + std::to_string(view.count) + " elements (at most " +
-                           std::to_string(kMaxZeroFilledElements) + " allowed)");
+                       "has no bufferView but " + std::to_string(view.count) + " elements: zero-filled elements are " +
+                           "limited to " + std::to_string(kMaxZeroFilledElements) + " per file, every use counted (" +
+                           std::to_string(zeros.left) + " left)");
     }
+    zeros.left -= view.count;
   } else {
     const auto bytes = bufferViewBytes(model, a.bufferView, file, element);
     const std::size_t byteStride = model.bufferViews[static_cast<std::size_t>(a.bufferView)].byteStride;

@@ -64,10 +64,19 @@ struct AccessorView {
 std::span<const std::uint8_t> bufferViewBytes(const tinygltf::Model& model, int bufferView, std::string_view file,
                                               std::string_view referrer);
 
+// An accessor without a bufferView is all zeros: its elements cost memory without costing file bytes,
+// and one such accessor can be read by any number of primitives and meshes. One budget per import caps
+// them all, every read counted, so that a file of a few hundred bytes cannot ask for gigabytes.
+inline constexpr std::size_t kMaxZeroFilledElements = std::size_t{1} << 20;
+struct ZeroFilledBudget {
+  std::size_t left = kMaxZeroFilledElements;
+};
+
 // Checks accessor `accessor` against `rules` and the buffers, throwing InputError naming the accessor,
-// bufferView or buffer at fault. `referrer` names who asked (for a missing accessor).
+// bufferView or buffer at fault. `referrer` names who asked (for a missing accessor). An accessor
+// without a bufferView spends its element count from `zeros`, throwing InputError when too few are left.
 AccessorView viewAccessor(const tinygltf::Model& model, int accessor, const AccessorRules& rules, std::string_view file,
-                          std::string_view referrer);
+                          std::string_view referrer, ZeroFilledBudget& zeros);
 
 // Decodes every element into `out` (out.size() == view.count), as float, integers normalized per the
 // glTF spec when the accessor says so. Throws InputError on a non-finite value or a bad sparse index.

@@ -37,6 +37,7 @@ ImportResult importGltfFromMemory(std::span<const std::uint8_t> bytes, const std
   Scene& scene = result.scene;
   gltf::MaterialImport materials(model, name, scene);
   gltf::SkippedPrimitives skipped;
+  gltf::ZeroFilledBudget zeros;
 
   // Meshes are imported when a node first uses them, so that one used by many nodes is stored once;
   // one with nothing to draw is not stored and its nodes carry no mesh.
@@ -45,7 +46,7 @@ ImportResult importGltfFromMemory(std::span<const std::uint8_t> bytes, const std
   const auto meshFor = [&](int gltfMesh) {
     std::int32_t& index = sceneMesh[static_cast<std::size_t>(gltfMesh)];
     if (index == kNotYet) {
-      Mesh mesh = gltf::importMesh(model, gltfMesh, name, materials, skipped);
+      Mesh mesh = gltf::importMesh(model, gltfMesh, name, materials, skipped, zeros);
       index = mesh.indices.empty() ? -1 : static_cast<std::int32_t>(scene.meshes.size());
       if (index != -1) scene.meshes.push_back(std::move(mesh));
     }

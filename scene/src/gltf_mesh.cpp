@@ -34,13 +34,14 @@ void checkSameCount(const AccessorView& view, const char* semantic, std::size_t 
 // The primitive's vertex indices: its index accessor, each checked against the vertex count, or
 // 0..n-1 for a non-indexed primitive, so that both go through one triangle conversion.
 void readPrimitiveIndices(const tinygltf::Model& model, const tinygltf::Primitive& primitive, std::size_t vertexCount,
-                          std::string_view file, const std::string& element, std::vector<std::uint32_t>& indices) {
+                          std::string_view file, const std::string& element, std::vector<std::uint32_t>& indices,
+                          ZeroFilledBudget& zeros) {
   if (primitive.indices == -1) {
     indices.resize(vertexCount);
     std::iota(indices.begin(), indices.end(), 0u);
     return;
   }
-  const AccessorView view = viewAccessor(model, primitive.indices, kIndexRules, file, element);
+  const AccessorView view = viewAccessor(model, primitive.indices, kIndexRules, file, element, zeros);
   indices.resize(view.count);
   readIndices(view, indices);
   for (const std::uint32_t index : indices) {
@@ -99,8 +100,9 @@ bool normaliseNormals(std::span<glm::vec3> normals) {
 // Appends a primitive's triangles (over vertices starting at `first`) and its part.
 void appendIndexedPart(const tinygltf::Model& model, const tinygltf::Primitive& primitive, std::size_t vertexCount,
                        std::size_t first, std::string_view file, const std::string& element,
-                       MaterialImport& materials, Mesh& result, std::vector<std::uint32_t>& scratch) {
-  readPrimitiveIndices(model, primitive, vertexCount, file, element, scratch);
+                       MaterialImport& materials, Mesh& result, std::vector<std::uint32_t>& scratch,
+                       ZeroFilledBudget& zeros) {
+  readPrimitiveIndices(model, primitive, vertexCount, file, element, scratch, zeros);
   const std::size_t firstIndex = result.indices.size();
   appendTriangles(primitive.mode, scratch, static_cast<std::uint32_t>(first), result.indices, file, element);
   if (result.indices.size() > firstIndex) {
@@ -125,7 +127,7 @@ struct VertexSource {
 // accessors), triangles and part. Returns whether some of its normals are still to be computed.
 bool appendPrimitive(const tinygltf::Model& model, int mesh, std::size_t p, std::string_view file,
                      MaterialImport& materials, Mesh& result, std::vector<std::uint32_t>& scratch,
-                     std::vector<VertexSource>& sources) {
+                     std::vector<VertexSource>& sources, ZeroFilledBudget& zeros) {
   const tinygltf::Primitive& primitive = primitiveAt(model, mesh, p);
   const std::string element = primitiveName(mesh, p);
   const int* position = findAttribute(primitive, "POSITION");
@@ -135,11 +137,11 @@ bool appendPrimitive(const tinygltf::Model& model, int mesh, std::size_t p, std:
   VertexSource source{*position, normal ? *normal : -1, texcoord ? *texcoord : -1};
   for (const VertexSource& seen : sources) {
     if (seen.sameAccessors(source)) {
-      appendIndexedPart(model, primitive, seen.count, seen.first, file, element, materials, result, scratch);
+      appendIndexedPart(model, primitive, seen.count, seen.first, file, element, materials, result, scratch, zeros);
       return false;  // its normals were dealt with when the vertices were read
     }
   }
-  const AccessorView positions = viewAccessor(model, *position, kPositionRules, file, element);
+  const AccessorView positions = viewAccessor(model, *position, kPositionRules, file, element, zeros);
   const std::size_t first = result.positions.size();
   const std::size_t vertexCount = positions.count;
   sources.push_back(VertexSource{source.position, source.normal, source.texcoord, first, vertexCount});
@@ -151,20 +153,20 @@ bool appendPrimitive(const tinygltf::Model& model, int mesh, std::size_t p, std:
   bool computeNormals = true;
   result.normals.resize(first + vertexCount);  // zero normals: computed after the merge
   if (normal) {
-    const AccessorView normals = viewAccessor(model, *normal, kNormalRules, file, element);
+    const AccessorView normals = viewAccessor(model, *normal, kNormalRules, file, element, zeros);
     checkSameCount(normals, "NORMAL", vertexCount);
     const auto span = std::span(result.normals).subspan(first);
     readVectors<3>(normals, span);
     computeNormals = normaliseNormals(span);
   }
   if (texcoord) {
-    const AccessorView uvs = viewAccessor(model, *texcoord, kTexcoordRules, file, element);
+    const AccessorView uvs = viewAccessor(model, *texcoord, kTexcoordRules, file, element, zeros);
     checkSameCount(uvs, "TEXCOORD_0", vertexCount);
     result.uvs.resize(first + vertexCount);  // also gives earlier primitives without uvs their (0,0)
     readVectors<2>(uvs, std::span(result.uvs).subspan(first));
   }
 
-  appendIndexedPart(model, primitive, vertexCount, first, file, element, materials, result, scratch);
+  appendIndexedPart(model, primitive, vertexCount, first, file, element, materials, result, scratch, zeros);
   return computeNormals;
 }
 
@@ -180,7 +182,7 @@ void SkippedPrimitives::appendWarnings(std::vector<std::string>& warnings) const
 }
 
 Mesh importMesh(const tinygltf::Model& model, int mesh, std::string_view file, MaterialImport& materials,
-                SkippedPrimitives& skipped) {
+                SkippedPrimitives& skipped, ZeroFilledBudget& zeros) {
   const tinygltf::Mesh& source = model.meshes[static_cast<std::size_t>(mesh)];
   Mesh result;
   result.name = source.name;
@@ -192,7 +194,7 @@ Mesh importMesh(const tinygltf::Model& model, int mesh, std::string_view file, M
     if (mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP) {
       ++skipped.byMode[static_cast<std::size_t>(mode)];
     } else if (mode >= TINYGLTF_MODE_TRIANGLES && mode <= TINYGLTF_MODE_TRIANGLE_FAN) {
-      computeNormals |= appendPrimitive(model, mesh, p, file, materials, result, scratch, sources);
+      computeNormals |= appendPrimitive(model, mesh, p, file, materials, result, scratch, sources, zeros);
     } else {
       throw InputError(file, primitiveName(mesh, p), "mode " + std::to_string(mode) + " is not a glTF primitive mode");
     }

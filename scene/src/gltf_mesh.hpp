@@ -1,6 +1,7 @@
 // Private to the glTF importer: one glTF mesh, its triangle primitives merged into one pbs Mesh.
 #pragma once
 
+#include "gltf_accessor.hpp"
 #include "gltf_material.hpp"
 #include "pbs/scene/scene.hpp"
 
@@ -25,8 +26,8 @@ struct SkippedPrimitives {
 // glTF mesh `mesh` with its TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives as triangle-list
 // MeshParts over one vertex array. Normals are computed where the file has none (or a zero one); uvs
 // are (0,0) for primitives without TEXCOORD_0 when others have it. With no triangles at all the
-// result is an empty Mesh.
+// result is an empty Mesh. Zero-filled accessors spend from `zeros`, the import's budget.
 Mesh importMesh(const tinygltf::Model& model, int mesh, std::string_view file, MaterialImport& materials,
-                SkippedPrimitives& skipped);
+                SkippedPrimitives& skipped, ZeroFilledBudget& zeros);
 
 }  // namespace pbs::gltf
