@@ -193,5 +193,21 @@ TEST(Cli, BillionTriangleCityLoadsInLittleMemory) {
               info.maxRssKb / 1024.0, double(std::filesystem::file_size(city)) / 1e6);
 }
 
+// --max-memory: a job estimated not to fit is refused up front with one error line and writes nothing.
+TEST(Cli, JobsOverTheMemoryLimitFailEarly) {
+  ScratchDir scratch;
+  const auto out = scratch / "x.surfels";
+  const CommandResult surfelize = runPbs("surfelize default -o '" + out.string() + "' --max-memory 50MB");
+  EXPECT_EQ(surfelize.status, 1);
+  EXPECT_EQ(surfelize.err.rfind("error: surfelize default would need about", 0), 0u) << surfelize.err;
+  EXPECT_NE(surfelize.err.find("(--max-memory)"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const CommandResult render = runPbs("render default --size 16384x16384 --max-memory 1GB -o '" +
+                                      (scratch / "x.png").string() + "'");
+  EXPECT_EQ(render.status, 1);
+  EXPECT_NE(render.err.find("rendering 16384x16384 would need about 10.00 GB"), std::string::npos) << render.err;
+  EXPECT_EQ(runPbs("render default --max-memory lots").status, 2) << "a size it cannot read is bad usage";
+}
+
 }  // namespace
 }  // namespace pbs::test

@@ -3,6 +3,7 @@
 #include "commands.hpp"
 #include "frame_renderer.hpp"
 #include "image_files.hpp"
+#include "memory_limit.hpp"
 #include "orbit_views.hpp"
 #include "scene_report.hpp"
 
@@ -30,6 +31,7 @@ struct RenderOptions {
   std::string output;
   std::uint32_t frames = 0;
   bool json = false;
+  std::uint64_t maxMemory = 0;
   int threads = 0;
 };
 
@@ -60,6 +62,14 @@ void run(const RenderOptions& options) {
                                                  : RenderMode::Exact;
   if (mode == RenderMode::Surfels && options.surfels.empty())
     throw CLI::ValidationError("--mode surfels", "needs --surfels FILE (make one with pbs surfelize)");
+  // Per pixel: the G-buffer (depth, colour, normal), the shaded image and its 8-bit copy; per stored
+  // surfel (16 bytes in the file): the file's bytes, the decoded file and the drawable arrays.
+  std::uint64_t estimate = std::uint64_t(width) * height * (4 + 4 + 12 + 16 + 4);
+  std::error_code noFile;
+  if (mode == RenderMode::Surfels)
+    if (const std::uintmax_t bytes = std::filesystem::file_size(options.surfels, noFile); !noFile)
+      estimate += bytes / kSurfelBytes * (kSurfelBytes + sizeof(Surfel) + 28);
+  requireMemory(estimate, "rendering " + std::to_string(width) + "x" + std::to_string(height), options.maxMemory);
 
   const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
   std::optional<SceneSurfels> surfels;
@@ -148,6 +158,7 @@ void addRenderCommand(CLI::App& app) {
   command->add_option("--frames", options->frames, "render an orbit of N frames around the azimuth")
       ->check(CLI::Range(1u, 100000u));
   command->add_flag("--json", options->json, "print JSON (per-frame figures with --frames)");
+  addMaxMemoryOption(*command, options->maxMemory);
   addThreadsOption(*command, options->threads);
   command->callback([options] { runWithThreads(options->threads, [&] { run(*options); }); });
 }

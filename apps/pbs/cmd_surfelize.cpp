@@ -1,6 +1,7 @@
 // `pbs surfelize SCENE -o OUT.surfels`: ordered surfel arrays for every complex node of a scene,
 // shared between instances, written as one .surfels file (paper, Sec. 2).
 #include "commands.hpp"
+#include "memory_limit.hpp"
 #include "progress_meter.hpp"
 #include "scene_report.hpp"
 
@@ -31,6 +32,7 @@ void addSurfelizeCommand(CLI::App& app) {
     SurfelizeOptions surfelize;
     bool json = false;
     bool quiet = false;
+    std::uint64_t maxMemory = 0;
     int threads = 0;
   };
   auto options = std::make_shared<Options>();
@@ -51,12 +53,15 @@ void addSurfelizeCommand(CLI::App& app) {
   command->add_option("--seed", file.seed, "seed of the orderings")->capture_default_str();
   command->add_flag("--json", options->json, "print JSON instead of text");
   command->add_flag("-q,--quiet", options->quiet, "no progress on stderr");
+  addMaxMemoryOption(*command, options->maxMemory);
   addThreadsOption(*command, options->threads);
   command->callback([options] {
     runWithThreads(options->threads, [&] {
       const auto start = std::chrono::steady_clock::now();
       const LoadedScene loaded = loadAndAnalyze(options->scene, LoadOptions{});
       SurfelizeOptions settings = options->surfelize;
+      requireMemory(surfelizeMemoryEstimate(loaded.scene, loaded.hierarchy, settings, resolveThreadCount(options->threads)),
+                    "surfelize " + loaded.name, options->maxMemory);
       ProgressMeter meter("surfelize", ProgressMeter::styleFor(options->quiet || options->json));
       settings.onProgress = [&](const SurfelizeProgress& p) {
         // Triangle captures cost about their subtree's triangles; child-surfel captures about the same each.

@@ -108,6 +108,20 @@ std::vector<std::vector<std::uint32_t>> scheduleArrays(const Hierarchy& hierarch
 
 }  // namespace
 
+std::uint64_t surfelizeMemoryEstimate(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
+                                      int workers) {
+  const detail::SurfelPlan plan = detail::planSurfelArrays(scene, hierarchy, options.file.threshold);
+  const std::uint64_t pixels = std::uint64_t(options.file.resolution) * options.file.resolution;
+  constexpr std::uint64_t kGBufferBytes = 4 + 4 + 12 + 12;  // depth, colour, position, normal per pixel
+  // A candidate: the surfel, its position for the ordering, and the ordering's grid and heap entries.
+  constexpr std::uint64_t kCandidateBytes = sizeof(Surfel) + 12 + 32;
+  const std::uint64_t capture = pixels * (kGBufferBytes + options.file.directions * kCandidateBytes);
+  const std::uint64_t frame = scene.nodes.size() * (sizeof(glm::dmat4) + sizeof(Bounds) + 24);
+  const std::uint64_t arrays =
+      std::uint64_t(plan.representative.size()) * options.file.maxSurfels * (sizeof(Surfel) + kSurfelBytes);
+  return std::uint64_t(std::max(workers, 1)) * (capture + frame) + arrays;
+}
+
 std::string_view captureSourceName(CaptureSource source) {
   switch (source) {
     case CaptureSource::Triangles: return "triangles";

@@ -58,4 +58,10 @@ struct SurfelizeStats {
 SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                      SurfelizeStats* stats = nullptr);
 
+// An upper estimate of the memory surfelize needs beyond the scene itself, with `workers` arrays made
+// at once: per worker a capture (G-buffer, every candidate surfel, the ordering's working set) and the
+// subtree's frame, plus every finished array (in memory and being written).
+std::uint64_t surfelizeMemoryEstimate(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
+                                      int workers);
+
 }  // namespace pbs
