@@ -2,6 +2,7 @@
 // marker per setting, the contact sheet's size), zero error for exact against exact, and fewer holes
 // with more surfels on a static view.
 #include "test_fixtures.hpp"
+#include "cli_scenes.hpp"
 #include "test_support.hpp"
 
 #include <pbs/scene/gltf_export.hpp>
@@ -17,21 +18,11 @@
 namespace pbs {
 namespace {
 
+using test::groupsWithSurfels;
 using test::ScratchDir;
 
 constexpr const char* kHeader =
     "setting,frame,azimuth,seconds,traverse_seconds,raster_seconds,triangles,surfels,rmse,psnr,ssim,hole_fraction";
-
-// twoIdenticalGroups() as a .glb and its .surfels in `scratch` (made with triangle captures).
-std::pair<std::string, std::string> groupsWithSurfels(const ScratchDir& scratch) {
-  writeGlb(test::twoIdenticalGroups(), scratch / "groups.glb");
-  const std::string scene = "'" + (scratch / "groups.glb").string() + "'";
-  const std::string surfels = "'" + (scratch / "groups.surfels").string() + "'";
-  const test::CommandResult made =
-      test::runPbs("surfelize " + scene + " -o " + surfels + " --threshold 1000 --max-surfels 4000 --quiet");
-  EXPECT_EQ(made.status, 0) << made.err;
-  return {scene, surfels};
-}
 
 struct CsvRow {
   std::map<std::string, std::string> fields;

@@ -1,6 +1,7 @@
 // The runtime half (paper, Sec. 3): traversal decisions, prefix sizes, edge-on shrinking, transitions
 // without popping, determinism, and `pbs render` / `pbs compare` from the command line.
 #include "test_fixtures.hpp"
+#include "cli_scenes.hpp"
 #include "test_support.hpp"
 
 #include <pbs/raster/headlight_shading.hpp>
@@ -22,6 +23,7 @@
 namespace pbs {
 namespace {
 
+using test::groupsWithSurfels;
 using test::ScratchDir;
 using test::twoIdenticalGroups;
 
@@ -266,17 +268,6 @@ TEST(RenderLod, TransitionsDoNotPopOnASharedScene) {
   // noise (measured: about 1.6 with the band, about 5 without it).
   EXPECT_LE(banded.worstRatio, 2.0);
   EXPECT_GT(popped.worstRatio, 2.0) << "the same criterion must catch abrupt switching";
-}
-
-// twoIdenticalGroups() as a .glb and its .surfels in `scratch`.
-std::pair<std::string, std::string> groupsWithSurfels(const ScratchDir& scratch) {
-  writeGlb(twoIdenticalGroups(), scratch / "groups.glb");
-  const std::string scene = "'" + (scratch / "groups.glb").string() + "'";
-  const std::string surfels = "'" + (scratch / "groups.surfels").string() + "'";
-  const test::CommandResult made =
-      test::runPbs("surfelize " + scene + " -o " + surfels + " --threshold 1000 --max-surfels 4000 --quiet");
-  EXPECT_EQ(made.status, 0) << made.err;
-  return {scene, surfels};
 }
 
 TEST(RenderCli, ModesWriteImagesThatCompare) {

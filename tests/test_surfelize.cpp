@@ -1,6 +1,7 @@
 // Whole-scene surfels: which nodes get arrays, sharing between instances, the frame arrays live in,
 // determinism across thread counts, capturing from children's surfels, and `pbs surfelize`.
 #include "test_fixtures.hpp"
+#include "cli_scenes.hpp"
 #include "test_support.hpp"
 
 #include <pbs/raster/box_view.hpp>
@@ -12,6 +13,8 @@
 #include <pbs/scene/scene_draws.hpp>
 #include <pbs/scene/scene_fingerprint.hpp>
 #include <pbs/scene/subtree_classes.hpp>
+#include <pbs/scene/surface_area.hpp>
+#include <pbs/surfels/scene_surfels.hpp>
 #include <pbs/surfels/surfelize.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -22,6 +25,7 @@
 namespace pbs {
 namespace {
 
+using test::groupsFile;
 using test::ScratchDir;
 using test::twoIdenticalGroups;
 
@@ -66,6 +70,15 @@ TEST(AnalyzeSubtree, SeesTheSubtreeFromTheNodesOwnFrame) {
   const Hierarchy a = analyzeSubtree(scene, 1);
   EXPECT_EQ(a.worldBounds[1].min, own.worldBounds[2].min);
   EXPECT_EQ(a.worldBounds[1].max, own.worldBounds[2].max);
+}
+
+TEST(SurfaceArea, OwnFrameAreasOfAllNodesMatchTheOneNodeSum) {
+  const Scene scene = twoIdenticalGroups();
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  const std::vector<double> areas = ownFrameSurfaceAreas(scene, hierarchy);
+  for (std::uint32_t n : hierarchy.preorder)
+    EXPECT_NEAR(areas[n], subtreeSurfaceArea(scene, analyzeSubtree(scene, n), n), 1e-12 * areas[n]) << n;
+  EXPECT_NEAR(areas[3], 24.0, 1e-9) << "a box [-1, 1]³ in its own frame";
 }
 
 TEST(Surfelize, InstancesShareArraysAndNodesGetStablePaths) {
@@ -173,14 +186,8 @@ struct SplatError {
 SplatError splatError(const Scene& scene, std::uint32_t node, const SurfelArray& array) {
   const Hierarchy frame = analyzeSubtree(scene, node);
   const std::vector<std::uint32_t> nodes = subtreeNodes(scene, node);
-  std::vector<glm::vec3> positions, normals;
-  std::vector<glm::u8vec4> colors;
-  for (const Surfel& s : array.surfels) {
-    positions.push_back(s.position);
-    normals.push_back(s.normal);
-    colors.push_back(s.color);
-  }
-  const double spacing = std::sqrt(array.packing / double(array.surfels.size()));
+  const SplatArray drawable = splatArrayOf(array);
+  const double spacing = drawable.spacing(drawable.size());
   std::uint64_t mismatched = 0, either = 0;
   double squared = 0.0;
   const std::vector<glm::dvec3> views = {{1, 0.3, 0.2}, {-0.4, 1, 0.5}, {0.2, -0.5, -1}, {-1, -1, 1}};
@@ -190,9 +197,9 @@ SplatError splatError(const Scene& scene, std::uint32_t node, const SurfelArray&
     Framebuffer exact = makeFramebuffer(camera.width, camera.height, kChannelColor);
     drawNodeTriangles(scene, frame, nodes, camera, exact);
     Framebuffer splats = makeFramebuffer(camera.width, camera.height, kChannelColor);
-    const PointSet set{.positions = positions,
-                       .normals = normals,
-                       .colors = colors,
+    const PointSet set{.positions = drawable.positions,
+                       .normals = drawable.normals,
+                       .colors = drawable.colors,
                        .worldFromObject = glm::translate(glm::dmat4(1.0), array.box.center()),
                        .pointSize = float(std::max(1.0, 1.25 * spacing / pixel))};
     drawPoints(splats, camera, std::span(&set, 1));
@@ -246,12 +253,6 @@ TEST(Surfelize, ChildSurfelCaptureErrorOnSharedScene) {
   const std::uint32_t leafArray = exact.nodes.back().array;
   EXPECT_EQ(exact.arrays[leafArray].surfels.size(), fromChildren.arrays[leafArray].surfels.size());
   EXPECT_EQ(exact.arrays[leafArray].surfels.front().position, fromChildren.arrays[leafArray].surfels.front().position);
-}
-
-// twoIdenticalGroups() as a .glb in `scratch`, quoted for the command line.
-std::string groupsFile(const ScratchDir& scratch) {
-  writeGlb(twoIdenticalGroups(), scratch / "groups.glb");
-  return "'" + (scratch / "groups.glb").string() + "'";
 }
 
 TEST(SurfelizeCli, WritesTheFileAndReportsJson) {

@@ -241,7 +241,6 @@ std::vector<Measured> analyzeScene(const Options& options, nlohmann::json& repor
 
 // File mode: every distinct array once, in its stored order; every node record listed with its array's values.
 std::vector<Measured> analyzeFile(const Options& options, nlohmann::json& report) {
-  if (!std::filesystem::is_regular_file(options.input)) throw InputError(options.input, "", "no such file");
   SurfelFileReader reader(options.input);
   if (!options.scene.empty()) reader.requireScene(sceneFingerprint(loadAndAnalyze(options.scene, LoadOptions{}).scene));
   const std::string ordering(orderingName(reader.options().ordering));

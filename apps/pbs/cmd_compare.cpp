@@ -1,6 +1,7 @@
 // `pbs compare A B [--json]`: how far image A is from image B (RMSE, PSNR, luminance SSIM, holes).
 #include "commands.hpp"
 #include "image_files.hpp"
+#include "report_numbers.hpp"
 
 #include <pbs/raster/image_metrics.hpp>
 #include <pbs/raster/thread_arena.hpp>
@@ -21,11 +22,11 @@ std::string sizeText(const RgbaImage& image) {
   return std::to_string(image.width) + "x" + std::to_string(image.height);
 }
 
-// PSNR is +infinity for identical images, which JSON cannot hold: it is written as null.
+// PSNR is +infinity for identical images: written as null.
 nlohmann::json differenceJson(const ImageDifference& d, const RgbaImage& a) {
   nlohmann::json j;
   j["rmse"] = d.rmse;
-  j["psnr"] = std::isfinite(d.psnr) ? nlohmann::json(d.psnr) : nlohmann::json(nullptr);
+  j["psnr"] = finiteOrNull(d.psnr);
   j["ssim"] = d.ssim;
   j["hole_fraction"] = d.holeFraction;
   j["width"] = a.width;

@@ -4,6 +4,7 @@
 #include "frame_renderer.hpp"
 #include "image_files.hpp"
 #include "progress_meter.hpp"
+#include "report_numbers.hpp"
 #include "scene_report.hpp"
 
 #include <pbs/raster/headlight_shading.hpp>
@@ -30,10 +31,6 @@ struct DemoOptions {
   bool json = false;
   int threads = 0;
 };
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 RgbaImage asImage(std::uint32_t width, std::uint32_t height, std::vector<glm::vec4> pixels) {
   return RgbaImage{width, height, std::move(pixels)};
@@ -85,7 +82,7 @@ void run(const DemoOptions& options) {
                        {"surfels_drawn", fast.stats.surfels},
                        {"triangles_drawn", fast.stats.triangles},
                        {"exact_triangles", exact.stats.triangles},
-                       {"psnr", std::isfinite(difference.psnr) ? nlohmann::json(difference.psnr) : nlohmann::json()},
+                       {"psnr", finiteOrNull(difference.psnr)},
                        {"ssim", difference.ssim},
                        {"hole_fraction", difference.holeFraction}};
     report["output"] = folder.string();

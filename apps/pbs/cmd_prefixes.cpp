@@ -4,13 +4,15 @@
 #include "image_files.hpp"
 #include "scene_report.hpp"
 
-#include <pbs/raster/projected_box.hpp>
 #include <pbs/raster/camera.hpp>
 #include <pbs/raster/framebuffer.hpp>
+#include <pbs/raster/headlight_shading.hpp>
 #include <pbs/raster/points.hpp>
+#include <pbs/raster/projected_box.hpp>
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/surfels/capture.hpp>
 #include <pbs/surfels/ordering.hpp>
+#include <pbs/surfels/scene_surfels.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -103,17 +105,10 @@ void addPrefixesCommand(CLI::App& app) {
       const std::uint32_t max = counts.back();
       const std::vector<std::uint32_t> order = orderPoints(options->ordering, positions, max, options->seed);
 
-      // The ordered surfels once, colours shaded by a headlight so the shape reads without lights.
-      std::vector<glm::vec3> orderedPositions, orderedNormals;
-      std::vector<glm::u8vec4> orderedColors;
-      for (std::uint32_t index : order) {
-        const Surfel& surfel = capture.surfels[index];
-        orderedPositions.push_back(surfel.position);
-        orderedNormals.push_back(surfel.normal);
-        const float facing = std::abs(glm::dot(glm::dvec3(surfel.normal), kViewDirection));
-        const glm::vec3 shaded = glm::vec3(surfel.color) * (0.3f + 0.7f * facing);
-        orderedColors.emplace_back(glm::u8vec3(glm::clamp(shaded + 0.5f, 0.0f, 255.0f)), 255);
-      }
+      // The ordered surfels once, in the form drawPoints reads.
+      SurfelArray ordered;
+      for (std::uint32_t index : order) ordered.surfels.push_back(capture.surfels[index]);
+      const SplatArray splats = splatArrayOf(ordered);
 
       const Bounds& box = loaded.hierarchy.worldBounds[node];
       const std::uint32_t size = options->panelSize;
@@ -128,24 +123,19 @@ void addPrefixesCommand(CLI::App& app) {
       for (std::uint32_t panel = 0; panel < options->panels; ++panel) {
         const std::size_t k = std::min<std::size_t>(counts[panel], order.size());
         PointSet set;
-        set.positions = std::span<const glm::vec3>(orderedPositions).first(k);
-        set.normals = std::span<const glm::vec3>(orderedNormals).first(k);
-        set.colors = std::span<const glm::u8vec4>(orderedColors).first(k);
+        set.positions = std::span(splats.positions).first(k);
+        set.normals = std::span(splats.normals).first(k);
+        set.colors = std::span(splats.colors).first(k);
         set.worldFromObject = glm::translate(glm::dmat4(1.0), capture.origin);
         set.pointSize = pointSizeFor(surfacePixels, k);
         set.nodeId = node;
-        Framebuffer framebuffer = makeFramebuffer(size, size, kChannelColor);
+        Framebuffer framebuffer = makeFramebuffer(size, size, kChannelColor | kChannelNormal);
         drawPoints(framebuffer, camera, std::span<const PointSet>(&set, 1));
-        for (std::uint32_t y = 0; y < size; ++y) {
-          for (std::uint32_t x = 0; x < size; ++x) {
-            const std::size_t pixel = std::size_t(y) * size + x;
-            if (!framebuffer.covered(pixel)) continue;
-            const std::size_t out = (std::size_t(y) * width + std::size_t(panel) * size + x) * 4;
-            const glm::u8vec4 c = framebuffer.color[pixel];
-            for (int channel = 0; channel < 3; ++channel) image[out + std::size_t(channel)] = c[channel];
-            image[out + 3] = 255;
-          }
-        }
+        // The renderer's one shading, so the shape reads without lights; background stays transparent.
+        const std::vector<std::uint8_t> rgba = toRgba8(shadeHeadlight(framebuffer, camera));
+        for (std::uint32_t y = 0; y < size; ++y)
+          std::copy_n(rgba.begin() + std::ptrdiff_t(y) * size * 4, std::size_t(size) * 4,
+                      image.begin() + (std::ptrdiff_t(y) * width + std::ptrdiff_t(panel) * size) * 4);
         std::printf("panel %u: %s surfels, point size %.2f px\n", panel, withThousands(k).c_str(),
                     double(set.pointSize));
       }

@@ -4,6 +4,7 @@
 #include "frame_renderer.hpp"
 #include "image_files.hpp"
 #include "memory_limit.hpp"
+#include "report_numbers.hpp"
 #include "orbit_views.hpp"
 #include "scene_report.hpp"
 
@@ -116,12 +117,9 @@ void run(const RenderOptions& options) {
     }
   }
   if (options.frames > 0) {
-    std::vector<double> sorted = seconds;
-    std::sort(sorted.begin(), sorted.end());
-    const double median = sorted.size() % 2 ? sorted[sorted.size() / 2]
-                                             : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
-    report["median_seconds"] = median;
-    if (!options.json) std::printf("%u frames: median %.1f ms\n", frames, median * 1e3);
+    const double medianSeconds = median(seconds);
+    report["median_seconds"] = medianSeconds;
+    if (!options.json) std::printf("%u frames: median %.1f ms\n", frames, medianSeconds * 1e3);
   }
   if (options.json) std::cout << report.dump(2) << "\n";
 }

@@ -1,5 +1,6 @@
 // Medians, the Pareto front, and the CSV, JSON and SVG texts of `pbs eval`.
 #include "eval_outputs.hpp"
+#include "report_numbers.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,8 +16,6 @@ std::string numberText(double value) {
   std::snprintf(text, sizeof text, "%.9g", value);
   return text;
 }
-
-nlohmann::json finiteOrNull(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
 
 template <typename Field>
 std::vector<double> column(const std::vector<EvalFrame>& frames, Field field) {
@@ -44,13 +43,6 @@ nlohmann::json summaryEntry(const EvalSummary& s, double exactSeconds) {
 }
 
 }  // namespace
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 EvalSummary summarize(const std::string& name, const std::vector<EvalFrame>& frames) {
   EvalSummary s;

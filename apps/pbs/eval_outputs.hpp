@@ -32,8 +32,6 @@ struct EvalSummary {
   double medianHoleFraction = 0.0, worstHoleFraction = 0.0;
 };
 
-// The median of `values` (the mean of the middle two for an even count); 0 for none.
-double median(std::vector<double> values);
 
 EvalSummary summarize(const std::string& name, const std::vector<EvalFrame>& frames);
 

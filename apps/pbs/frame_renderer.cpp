@@ -1,19 +1,16 @@
 // FrameRenderer: one G-buffer reused across frames, the mode's draw, the shared shading.
 #include "frame_renderer.hpp"
 
+#include "report_numbers.hpp"
+
 #include <pbs/raster/headlight_shading.hpp>
 
 #include <chrono>
 #include <stdexcept>
 
 namespace pbs::cli {
-namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-}  // namespace
 
 FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, RenderMode mode,
                              const SceneSurfels* surfels, const LodOptions& lod, std::uint32_t width,

@@ -1,6 +1,8 @@
 // Scene loading with timings and the summary shared by `pbs info` and `pbs demo`.
 #include "scene_report.hpp"
 
+#include "report_numbers.hpp"
+
 #include <pbs/scene/input_error.hpp>
 
 #include <chrono>
@@ -9,10 +11,6 @@
 
 namespace pbs::cli {
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 nlohmann::json vectorJson(const glm::dvec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }
 

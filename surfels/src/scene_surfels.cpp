@@ -37,9 +37,10 @@ SceneSurfels sceneSurfelsOf(const SurfelFile& file, const Scene& scene, const Hi
   for (const SurfelArray& array : file.arrays) result.arrays.push_back(splatArrayOf(array));
   result.arrayOfNode.assign(scene.nodes.size(), kNoSurfels);
   if (file.nodes.empty()) return result;
+  std::vector<std::string> paths = nodePaths(scene, hierarchy);
   std::unordered_map<std::string, std::uint32_t> nodeOfPath;
   nodeOfPath.reserve(hierarchy.preorder.size());
-  for (std::uint32_t n : hierarchy.preorder) nodeOfPath.emplace(nodePath(scene, hierarchy, n), n);
+  for (std::uint32_t n : hierarchy.preorder) nodeOfPath.emplace(std::move(paths[n]), n);
   for (const SurfelNodeRecord& record : file.nodes) {
     const auto found = nodeOfPath.find(record.path);
     if (found == nodeOfPath.end()) throw InputError(source, "node " + record.path, "no such node in the scene");

@@ -24,4 +24,15 @@ std::string nodePath(const Scene& scene, const Hierarchy& hierarchy, std::uint32
   return path;
 }
 
+std::vector<std::string> nodePaths(const Scene& scene, const Hierarchy& hierarchy) {
+  std::vector<std::string> paths(scene.nodes.size());
+  for (std::size_t r = 0; r < scene.roots.size(); ++r) paths[scene.roots[r]].append("/").append(std::to_string(r));
+  for (std::uint32_t n : hierarchy.preorder) {  // parents before children
+    const std::vector<std::uint32_t>& children = scene.nodes[n].children;
+    for (std::size_t c = 0; c < children.size(); ++c)
+      paths[children[c]].append(paths[n]).append("/").append(std::to_string(c));
+  }
+  return paths;
+}
+
 }  // namespace pbs

@@ -59,8 +59,10 @@ struct MadeArray {
   std::uint64_t candidates = 0;
 };
 
-MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& path, const SurfelizeOptions& options,
-                    const detail::SurfelPlan& plan, std::span<const SurfelArray> arrays) {
+// The array for `node`, whose path seeds its ordering and whose subtree has `area` in its own frame.
+MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& path, double area,
+                    const SurfelizeOptions& options, const detail::SurfelPlan& plan,
+                    std::span<const SurfelArray> arrays) {
   const Hierarchy frame = analyzeSubtree(scene, node);
   const CaptureOptions capture{.resolution = options.file.resolution, .directions = options.file.directions};
   const bool fromChildren = captureFromChildren(scene, frame, node, options.source, plan, arrays);
@@ -80,7 +82,7 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& p
   SurfelArray& array = made.array;
   array.box = frame.worldBounds[node];
   array.coverage = captured.coverage;
-  array.area = subtreeSurfaceArea(scene, frame, node);
+  array.area = area;
   array.surfels.reserve(order.size());
   for (std::uint32_t i : order) array.surfels.push_back(captured.surfels[i]);
   array.packing = packingValue(array.surfels);
@@ -138,10 +140,9 @@ SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const Surfe
   file.sceneFingerprint = sceneFingerprint(scene);
   file.options = options.file;
   file.arrays.resize(plan.representative.size());
-  for (std::uint32_t node : plan.nodes) file.nodes.push_back({nodePath(scene, hierarchy, node), plan.arrayOfNode[node]});
-  std::vector<std::string> representativePath(plan.representative.size());
-  for (std::size_t a = 0; a < plan.representative.size(); ++a)
-    representativePath[a] = nodePath(scene, hierarchy, plan.representative[a]);
+  const std::vector<std::string> paths = plan.nodes.empty() ? std::vector<std::string>() : nodePaths(scene, hierarchy);
+  const std::vector<double> areas = plan.nodes.empty() ? std::vector<double>() : ownFrameSurfaceAreas(scene, hierarchy);
+  for (std::uint32_t node : plan.nodes) file.nodes.push_back({paths[node], plan.arrayOfNode[node]});
 
   SurfelizeProgress progress;
   progress.arraysTotal = std::uint32_t(plan.representative.size());
@@ -158,7 +159,8 @@ SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const Surfe
     tbb::parallel_for(0, workers, [&](int) {
       for (std::size_t i = next++; i < group.size(); i = next++) {
         const std::uint32_t a = group[i];
-        MadeArray made = makeArray(scene, plan.representative[a], representativePath[a], options, plan, file.arrays);
+        const std::uint32_t node = plan.representative[a];
+        MadeArray made = makeArray(scene, node, paths[node], areas[node], options, plan, file.arrays);
         const std::lock_guard lock(progressMutex);
         file.arrays[a] = std::move(made.array);
         candidates += made.candidates;

@@ -5,6 +5,7 @@
 #include "pbs/scene/scene.hpp"
 
 #include <cstdint>
+#include <vector>
 
 namespace pbs {
 
@@ -13,5 +14,10 @@ namespace pbs {
 // Degenerate triangles add 0. Instances under a similarity transform (rotation × uniform scale) reuse
 // the mesh's own area, so a billion instanced triangles cost one pass over each distinct mesh.
 double subtreeSurfaceArea(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node);
+
+// For every node the area of its subtree in the node's own frame (its own transform left out: the frame
+// surfel arrays are made in), all at once: bottom-up, each subtree summed once, so a billion instanced
+// triangles cost one pass over each distinct mesh plus the instances under non-similarity transforms.
+std::vector<double> ownFrameSurfaceAreas(const Scene& scene, const Hierarchy& hierarchy);
 
 }  // namespace pbs

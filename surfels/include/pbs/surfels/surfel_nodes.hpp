@@ -19,4 +19,8 @@ std::vector<std::uint32_t> nodesNeedingSurfels(const Hierarchy& hierarchy, std::
 // names (which may repeat or be empty) or node numbering, so a re-exported scene keeps its paths.
 std::string nodePath(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node);
 
+// nodePath of every node, built in one pass from the roots (a node's path extends its parent's), so
+// scenes with very wide nodes cost no sibling searches. Indexed by node.
+std::vector<std::string> nodePaths(const Scene& scene, const Hierarchy& hierarchy);
+
 }  // namespace pbs
