@@ -5,6 +5,7 @@
 #include <pbs/raster/framebuffer.hpp>
 #include <pbs/scene/hierarchy.hpp>
 
+#include <gtest/gtest.h>
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -77,6 +78,17 @@ inline Mesh tessellatedBox(std::uint32_t n) {
 
 inline glm::dmat4 placed(glm::dvec3 at, double angle, glm::dvec3 scale) {
   return glm::scale(glm::rotate(glm::translate(glm::dmat4(1.0), at), angle, glm::dvec3(0.3, 1.0, 0.2)), scale);
+}
+
+// The parts cover the indices in order, whole triangles each.
+inline void expectPartsCoverIndices(const Mesh& mesh) {
+  std::uint32_t next = 0;
+  for (const MeshPart& part : mesh.parts) {
+    EXPECT_EQ(part.firstIndex, next);
+    EXPECT_EQ(part.indexCount % 3, 0u);
+    next += part.indexCount;
+  }
+  EXPECT_EQ(next, mesh.indices.size());
 }
 
 // root → {group A, group B}; each group holds two instances of the box mesh (1,200 triangles each),

@@ -2,6 +2,7 @@
 // feature (primitive modes, index and attribute encodings, sparse and strided data, transforms,
 // scene choice, instancing, materials and textures, external files, GLB).
 #include "gltf_test_files.hpp"
+#include "test_fixtures.hpp"
 #include "test_support.hpp"
 
 #include <pbs/scene/gltf_import.hpp>
@@ -42,16 +43,6 @@ void expectUnitNormals(const Mesh& mesh) {
   }
 }
 
-void expectPartsCoverIndices(const Mesh& mesh) {
-  std::uint32_t next = 0;
-  for (const MeshPart& part : mesh.parts) {
-    EXPECT_EQ(part.firstIndex, next);
-    EXPECT_EQ(part.indexCount % 3, 0u);
-    next += part.indexCount;
-  }
-  EXPECT_EQ(next, mesh.indices.size());
-}
-
 // ---------------------------------------------------------------------------------------------
 // The shared scenes
 
@@ -74,7 +65,7 @@ TEST_P(SharedScenes, LoadWithExactCounts) {
   EXPECT_EQ(mesh.triangleCount(), GetParam().triangles);
   EXPECT_EQ(mesh.positions.size(), GetParam().vertices);
   expectUnitNormals(mesh);
-  expectPartsCoverIndices(mesh);
+  test::expectPartsCoverIndices(mesh);
   EXPECT_FALSE(mesh.bounds.empty());
   EXPECT_TRUE(mesh.uvs.empty() || mesh.uvs.size() == mesh.positions.size());
   EXPECT_TRUE(result.warnings.empty()) << result.warnings.front();

@@ -27,16 +27,16 @@ using test::windowCamera;
 
 
 // The coverage rules of points.hpp evaluated literally over every pixel, for a point at window (x, y) of
-// drawn size s. `ambiguous` is set when a pixel centre lies within `epsilon` of the splat's edge, where a
-// last-ulp difference in the window position may flip the pixel.
+// nominal size s (PointOptions::subPixel as `subPixel`). `ambiguous` is set when a pixel centre lies within
+// `epsilon` of the splat's edge, where a last-ulp difference in the window position may flip the pixel.
 struct ExpectedSplat {
   PixelSet pixels;
   bool ambiguous = false;
 };
 
 ExpectedSplat expectedSplat(double x, double y, float size, bool round, int width, int height,
-                            double epsilon = 0.0) {
-  const double s = std::clamp(size, 1.0f, 4096.0f);
+                            double epsilon = 0.0, bool subPixel = false) {
+  const double s = std::clamp(size, subPixel ? 0.0f : 1.0f, 4096.0f);
   const double half = s / 2.0;
   ExpectedSplat expected;
   for (int py = 0; py < height; ++py) {
@@ -46,7 +46,8 @@ ExpectedSplat expectedSplat(double x, double y, float size, bool round, int widt
       double margin;
       if (round) {
         const double dx = cx - x, dy = cy - y;
-        inside = dx * dx + dy * dy < half * half || (px == std::floor(x) && py == std::floor(y));
+        const bool holding = !subPixel && px == std::floor(x) && py == std::floor(y);
+        inside = dx * dx + dy * dy < half * half || holding;
         margin = std::abs(std::sqrt(dx * dx + dy * dy) - half);
       } else {
         inside = cx >= x - half && cx < x + half && cy >= y - half && cy < y + half;
@@ -59,7 +60,7 @@ ExpectedSplat expectedSplat(double x, double y, float size, bool round, int widt
     }
   }
   // A disc's holding pixel changes where the centre crosses a pixel edge.
-  if (round && (std::abs(x - std::round(x)) <= epsilon || std::abs(y - std::round(y)) <= epsilon))
+  if (round && !subPixel && (std::abs(x - std::round(x)) <= epsilon || std::abs(y - std::round(y)) <= epsilon))
     expected.ambiguous = true;
   return expected;
 }
@@ -69,12 +70,12 @@ struct OnePoint {
   float size = 1.0f;
 };
 
-Framebuffer drawOne(const Camera& camera, const OnePoint& point, bool round) {
+Framebuffer drawOne(const Camera& camera, const OnePoint& point, bool round, bool subPixel = false) {
   Framebuffer framebuffer = makeFramebuffer(camera.width, camera.height, 0);
   PointSet set;
   set.positions = std::span(&point.position, 1);
   set.pointSize = point.size;
-  drawPoints(framebuffer, camera, std::span(&set, 1), PointOptions{round});
+  drawPoints(framebuffer, camera, std::span(&set, 1), PointOptions{.round = round, .subPixel = subPixel});
   return framebuffer;
 }
 
@@ -146,6 +147,44 @@ TEST(RasterPoints, SubPixelSizeDrawsOnePixel) {
   EXPECT_EQ(coveredPixels(drawOne(camera, {glm::vec3(10.3, 7.8, -0.5), 0.3f}, false)), (PixelSet{{10, 7}}));
   EXPECT_EQ(coveredPixels(drawOne(camera, {glm::vec3(10.3, 7.8, -0.5), 0.3f}, true)), (PixelSet{{10, 7}}));
   EXPECT_EQ(coveredPixels(drawOne(camera, {glm::vec3(10.0, 7.0, -0.5), 1e-6f}, false)), (PixelSet{{9, 6}}));
+}
+
+TEST(RasterPoints, SubPixelPointsCoverOnlyTheCentresInside) {
+  const Camera camera = windowCamera(16, 16);
+  for (const bool round : {false, true}) {
+    for (const float size : {1e-6f, 0.3f, 0.5f, 0.99f, 1.0f, 2.5f}) {
+      for (const glm::dvec2 centre : {glm::dvec2(10.5, 7.5), glm::dvec2(10.3, 7.8), glm::dvec2(10.0, 7.0),
+                                      glm::dvec2(10.6, 7.45)}) {
+        SCOPED_TRACE(testing::Message() << "size " << size << " at " << centre.x << ", " << centre.y
+                                        << (round ? " disc" : " square"));
+        EXPECT_EQ(coveredPixels(drawOne(camera, {glm::vec3(centre, -0.5), size}, round, true)),
+                  expectedSplat(centre.x, centre.y, size, round, 16, 16, 0.0, true).pixels);
+      }
+    }
+  }
+  // A tiny point on a pixel centre keeps that pixel; off it, none.
+  EXPECT_EQ(coveredPixels(drawOne(camera, {glm::vec3(10.5, 7.5, -0.5), 0.01f}, false, true)), (PixelSet{{10, 7}}));
+  EXPECT_TRUE(coveredPixels(drawOne(camera, {glm::vec3(10.3, 7.8, -0.5), 0.3f}, true, true)).empty());
+}
+
+// Sub-pixel points sample like area: one point per pixel at offsets (i + ½)/16 of a 16 × 16 lattice, squares of
+// side ½ cover the pixel for 8 of 16 offsets per axis, a quarter of the pixels (= side²), with or without
+// per-point size factors.
+TEST(RasterPoints, SubPixelSquaresCoverTheirAreaOfALattice) {
+  const Camera camera = windowCamera(16, 16);
+  std::vector<glm::vec3> positions;
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 16; ++i) positions.emplace_back(i + (i + 0.5) / 16.0, j + (j + 0.5) / 16.0, -0.5);
+  const std::vector<float> halves(positions.size(), 0.5f);
+  for (const bool factors : {false, true}) {
+    Framebuffer framebuffer = makeFramebuffer(16, 16, 0);
+    PointSet set;
+    set.positions = positions;
+    set.pointSize = factors ? 1.0f : 0.5f;
+    if (factors) set.sizeFactors = halves;
+    drawPoints(framebuffer, camera, std::span(&set, 1), PointOptions{.subPixel = true});
+    EXPECT_EQ(coveredPixels(framebuffer).size(), 64u) << (factors ? "factors" : "point size");
+  }
 }
 
 TEST(RasterPoints, HugeSizesAreClampedTo4096) {
@@ -446,16 +485,19 @@ TEST(RasterPoints, ImageIsIdenticalForAnyThreadCount) {
   const RandomScene scene;
   const glm::dmat4 view = glm::lookAt(glm::dvec3(0.0, 0.5, 3.0), glm::dvec3(0.0), glm::dvec3(0.0, 1.0, 0.0));
   const Camera camera = perspectiveCamera(view, 0.8, 0.5, 10.0, 320, 240);
-  for (const bool round : {false, true}) {
+  for (const PointOptions options : {PointOptions{.round = false}, PointOptions{.round = true},
+                                     PointOptions{.round = false, .subPixel = true},
+                                     PointOptions{.round = true, .subPixel = true}}) {
+    SCOPED_TRACE(testing::Message() << (options.round ? "discs" : "squares") << (options.subPixel ? ", sub-pixel" : ""));
     std::vector<Framebuffer> images;
     for (const int threads : {1, 2, 5}) {
       images.push_back(makeFramebuffer(320, 240, kChannelColor | kChannelPosition | kChannelNormal | kChannelIds,
                                        glm::dvec3(0.1, 0.2, 0.3)));
-      runWithThreads(threads, [&] { drawPoints(images.back(), camera, scene.sets, PointOptions{round}); });
+      runWithThreads(threads, [&] { drawPoints(images.back(), camera, scene.sets, options); });
     }
-    EXPECT_GT(coveredPixels(images[0]).size(), 320u * 240u / 2);
-    EXPECT_TRUE(sameFramebuffer(images[0], images[1])) << (round ? "discs" : "squares");
-    EXPECT_TRUE(sameFramebuffer(images[0], images[2])) << (round ? "discs" : "squares");
+    EXPECT_GT(coveredPixels(images[0]).size(), 320u * 240u / (options.subPixel ? 4 : 2));
+    EXPECT_TRUE(sameFramebuffer(images[0], images[1]));
+    EXPECT_TRUE(sameFramebuffer(images[0], images[2]));
   }
 }
 

@@ -1,6 +1,7 @@
 // `pbs eval SCENE --surfels F -o DIR`: error against run time. An orbit rendered exactly once as the
 // reference, then every setting of a sweep over the same views, timed and compared with it; written
-// as DIR/eval.csv, DIR/summary.json, DIR/error_vs_time.svg and DIR/contact_sheet.png.
+// as DIR/eval.csv, DIR/summary.json, DIR/error_vs_time.svg and DIR/contact_sheet.png. Simplified
+// meshes (simplify=R) are measured the same way, as the alternative to surfels.
 #include "commands.hpp"
 #include "contact_sheet.hpp"
 #include "eval_outputs.hpp"
@@ -9,10 +10,12 @@
 #include "image_files.hpp"
 #include "orbit_views.hpp"
 #include "progress_meter.hpp"
+#include "report_numbers.hpp"
 #include "scene_report.hpp"
 #include "svg_plot.hpp"
 
 #include <pbs/raster/thread_arena.hpp>
+#include <pbs/scene/simplified_meshes.hpp>
 #include <pbs/surfels/surfel_file.hpp>
 #include <pbs/surfels/surfelize.hpp>
 
@@ -33,6 +36,7 @@ struct EvalOptions {
   std::uint32_t frames = 24;
   std::string size = "1920x1080";
   std::string orbit = "30,20,2.5";
+  LodOptions baseline;  // what every setting starts from
   CaptureSource captureFrom = CaptureSource::Auto;
   bool quiet = false;
   int threads = 0;
@@ -79,6 +83,55 @@ class SurfelSources {
   std::map<SurfelOrdering, SceneSurfels> made_;
 };
 
+// Simplified copies of the scene, one per ratio a sweep names, made before timing starts; the time
+// each took is reported in summary.json apart from the frames'.
+class SimplifiedScenes {
+ public:
+  SimplifiedScenes(const Scene& scene, bool quiet) : scene_(scene), quiet_(quiet) {}
+
+  const Scene& of(const EvalSetting& setting) {
+    const double ratio = *setting.simplify;
+    auto found = made_.find(ratio);
+    if (found != made_.end()) return found->second.simplified.scene;
+    ProgressMeter meter(setting.name, ProgressMeter::styleFor(quiet_));
+    SimplifyOptions options;
+    options.ratio = ratio;
+    const auto start = std::chrono::steady_clock::now();
+    Made made{simplifyScene(scene_, options), 0.0};
+    made.seconds = secondsSince(start);
+    meter.finish(withThousands(made.simplified.trianglesBefore) + " → " +
+                 withThousands(made.simplified.trianglesAfter) + " mesh triangles");
+    return made_.emplace(ratio, std::move(made)).first->second.simplified.scene;
+  }
+
+  // Per ratio: its time, the meshes' triangles (each mesh once) before and after, the largest relative
+  // deformation reached and the error bound simplification stopped at.
+  nlohmann::json json() const {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& [ratio, made] : made_) {
+      const SimplifiedScene& s = made.simplified;
+      list.push_back({{"ratio", ratio},
+                      {"seconds", made.seconds},
+                      {"mesh_triangles_before", s.trianglesBefore},
+                      {"mesh_triangles_after", s.trianglesAfter},
+                      {"kept_fraction",
+                       s.trianglesBefore > 0 ? double(s.trianglesAfter) / double(s.trianglesBefore) : 1.0},
+                      {"largest_error", s.largestError},
+                      {"target_error", SimplifyOptions{}.targetError}});
+    }
+    return list;
+  }
+
+ private:
+  struct Made {
+    SimplifiedScene simplified;
+    double seconds = 0.0;
+  };
+  const Scene& scene_;
+  bool quiet_;
+  std::map<double, Made> made_;
+};
+
 std::string psnrText(double psnr) {
   if (!std::isfinite(psnr)) return "inf";
   char text[32];
@@ -104,18 +157,22 @@ void run(const EvalOptions& options) {
   const auto [width, height] = parseSize(options.size);
   const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
   SurfelSources sources(loaded, options.surfels, options.captureFrom, options.quiet);
-  const LodOptions baseline;
+  const LodOptions& baseline = options.baseline;
   const std::vector<EvalSetting> settings = evalSettings(
       options.sweeps.empty() ? defaultSweep(sources.fileOrdering()) : options.sweeps, baseline);
   const std::optional<std::size_t> baselineIndex = baselineSetting(settings, baseline);
-  // Arrays of other orderings are made before timing starts, so no frame waits on them.
-  for (const EvalSetting& setting : settings)
+  // Arrays of other orderings and simplified meshes are made before timing starts, so no frame waits on them.
+  SimplifiedScenes simplifiedScenes(loaded.scene, options.quiet);
+  for (const EvalSetting& setting : settings) {
     if (!setting.exact) sources.of(setting);
+    if (setting.simplify) simplifiedScenes.of(setting);
+  }
 
   const std::vector<OrbitView> views = orbitViews(loaded.summary.bounds, orbit, options.frames, width, height);
   ProgressMeter meter("eval", ProgressMeter::styleFor(options.quiet));
   const EvalResults results = runEval(
       loaded.scene, loaded.hierarchy, views, settings, [&](const EvalSetting& s) -> const SceneSurfels& { return sources.of(s); },
+      [&](const EvalSetting& s) -> const Scene& { return simplifiedScenes.of(s); },
       [&](std::size_t done, std::size_t total, const std::string& detail) {
         meter.update(double(done) / double(total), detail);
       });
@@ -132,7 +189,8 @@ void run(const EvalOptions& options) {
       summaryJson(EvalRunInfo{.scene = loaded.name, .surfels = options.surfels, .width = width, .height = height,
                               .frames = std::uint32_t(views.size()), .orbit = orbit, .baseline = baselineIndex},
                   summaries, reference);
-  writeTextFile(folder / "error_vs_time.svg", renderSvg(errorTimePlot(summaries, baselineIndex)));
+  summary["simplification"] = simplifiedScenes.json();
+  writeTextFile(folder / "error_vs_time.svg", renderSvg(errorTimePlot(settings, summaries, baselineIndex)));
 
   // Contact sheet of frame 0: exact | setting | |difference| × kDifferenceGain, one row per setting shown.
   const std::vector<std::size_t> rows = sheetSettings(settings, summaries, baselineIndex);
@@ -168,10 +226,13 @@ void addEvalCommand(CLI::App& app) {
                       "folder for eval.csv, summary.json, error_vs_time.svg, contact_sheet.png (created if missing)")
       ->required();
   command->add_option("--sweep", options->sweeps,
-                      "KEY=V1,V2,… (keys: " + sweepKeys() +
-                          "), repeatable; each value one setting over the default LOD options. Default: "
-                          "overdraw=1,2,4,8 threshold=64,256 point=1,4 and the file's other orderings. 'exact' always "
-                          "comes first");
+                      "KEY=V1,V2,… or KEY=V+KEY=V (keys: " + sweepKeys() +
+                          "), repeatable; each value one setting over the baseline LOD options (--threshold, --point-size, "
+                          "…). Default: "
+                          "overdraw=1,2,4,8 threshold=64,256 point=1,4, the file's other orderings and "
+                          "simplify=0.25,0.05,0.01 (meshes simplified to that fraction of their triangles, drawn in "
+                          "place of surfels). 'exact' always comes first");
+  addLodOptions(*command, options->baseline);
   command->add_option("--frames", options->frames, "views on the orbit")->check(CLI::Range(1u, 100000u))->capture_default_str();
   command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
   command->add_option("--orbit", options->orbit, "AZ,EL,DIST: degrees, degrees, distance in bounding radii")

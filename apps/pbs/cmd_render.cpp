@@ -28,7 +28,6 @@ struct RenderOptions {
   std::string orbit = "30,20,2.5";
   std::string size = "1920x1080";
   LodOptions lod;
-  std::string prefixRule = "coverage";
   std::string output;
   std::uint32_t frames = 0;
   bool json = false;
@@ -75,9 +74,8 @@ void run(const RenderOptions& options) {
   const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
   std::optional<SceneSurfels> surfels;
   if (mode == RenderMode::Surfels) surfels = loadSceneSurfels(options.surfels, loaded.scene, loaded.hierarchy);
-  LodOptions lod = options.lod;
-  lod.prefixRule = options.prefixRule == "packing" ? PrefixRule::Packing : PrefixRule::Coverage;
-  FrameRenderer renderer(loaded.scene, loaded.hierarchy, mode, surfels ? &*surfels : nullptr, lod, width, height);
+  FrameRenderer renderer(loaded.scene, loaded.hierarchy, mode, surfels ? &*surfels : nullptr, options.lod, width,
+                         height);
 
   const std::vector<OrbitView> views = orbitViews(loaded.summary.bounds, orbit, options.frames, width, height);
   const std::uint32_t frames = std::uint32_t(views.size());
@@ -137,21 +135,7 @@ void addRenderCommand(CLI::App& app) {
   command->add_option("--orbit", options->orbit, "AZ,EL,DIST: degrees, degrees, distance in bounding radii")
       ->capture_default_str();
   command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
-  command->add_option("--threshold", options->lod.threshold, "projected size (pixels) above which nodes are descended")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  command->add_option("--band", options->lod.band, "transition band above the threshold, as a fraction of it")
-      ->check(CLI::Range(0.0, 10.0))
-      ->capture_default_str();
-  command->add_option("--overdraw", options->lod.overdraw, "surfels per covered pixel (paper: 4)")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  command->add_option("--point-size", options->lod.pointSize, "point size in pixels")
-      ->check(CLI::Range(1.0f, 64.0f))
-      ->capture_default_str();
-  command->add_option("--prefix-rule", options->prefixRule, "coverage (paper) or packing (authors' later rule)")
-      ->check(CLI::IsMember({"coverage", "packing"}))
-      ->capture_default_str();
+  addLodOptions(*command, options->lod);
   command->add_option("-o,--output", options->output, "image (.png or .exr); with --frames a folder of PNGs");
   command->add_option("--frames", options->frames, "render an orbit of N frames around the azimuth")
       ->check(CLI::Range(1u, 100000u));

@@ -1,6 +1,7 @@
 // The subcommands of `pbs`: each file registers one on the application.
 #pragma once
 
+#include <pbs/surfels/lod_render.hpp>
 #include <pbs/surfels/ordering.hpp>
 #include <pbs/surfels/surfelize.hpp>
 
@@ -21,12 +22,17 @@ void addSurfelizeCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
+void addFigureCommand(CLI::App& app);
 
 // The `--threads` option every command has (0: all hardware threads).
 void addThreadsOption(CLI::App& command, int& threads);
 
 // `--resolution` and `--directions` of the commands that capture nodes (see CaptureOptions).
 void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32_t& directions);
+
+// The LOD options of `pbs render` (and the baseline `pbs eval` sweeps from): --threshold, --band,
+// --overdraw, --point-size, --prefix-rule.
+void addLodOptions(CLI::App& command, LodOptions& lod);
 
 // `--ordering farthest|dart|random`.
 void addOrderingOption(CLI::App& command, SurfelOrdering& ordering);

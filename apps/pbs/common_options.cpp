@@ -21,6 +21,25 @@ void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32
       ->capture_default_str();
 }
 
+void addLodOptions(CLI::App& command, LodOptions& lod) {
+  command.add_option("--threshold", lod.threshold, "projected size (pixels) above which nodes are descended")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command.add_option("--band", lod.band, "transition band above the threshold, as a fraction of it")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  command.add_option("--overdraw", lod.overdraw, "surfels per covered pixel (paper: 4)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command.add_option("--point-size", lod.pointSize,
+                     "point size in pixels; below 1, sub-pixel points (for scenes of sub-pixel parts)")
+      ->check(CLI::Range(0.05f, 64.0f))
+      ->capture_default_str();
+  const std::map<std::string, PrefixRule> rules = {{"coverage", PrefixRule::Coverage}, {"packing", PrefixRule::Packing}};
+  command.add_option("--prefix-rule", lod.prefixRule, "coverage (paper, default) or packing (authors' later rule)")
+      ->transform(CLI::CheckedTransformer(rules));
+}
+
 void addOrderingOption(CLI::App& command, SurfelOrdering& ordering) {
   std::map<std::string, SurfelOrdering> names;
   for (SurfelOrdering o : {SurfelOrdering::Farthest, SurfelOrdering::Dart, SurfelOrdering::Random})

@@ -1,9 +1,25 @@
-// contactSheet: alpha compositing of RGBA8 tiles into one RGB8 grid.
+// contactSheet: alpha compositing of RGBA8 tiles into one RGB8 grid; differenceRgba8: what it shows of errors.
 #include "contact_sheet.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace pbs::cli {
+
+std::vector<std::uint8_t> differenceRgba8(const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b,
+                                          float gain) {
+  if (a.size() != b.size()) throw std::invalid_argument("differenceRgba8: images differ in size");
+  std::vector<std::uint8_t> out(a.size() * 4);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      const float d = std::clamp(std::abs(a[i][c] - b[i][c]) * gain, 0.0f, 1.0f);
+      out[4 * i + std::size_t(c)] = std::uint8_t(std::lround(d * 255.0f));
+    }
+    out[4 * i + 3] = 255;
+  }
+  return out;
+}
 
 std::vector<std::uint8_t> contactSheet(std::uint32_t width, std::uint32_t height, std::uint32_t columns,
                                        const std::vector<std::span<const std::uint8_t>>& tiles,

@@ -10,12 +10,6 @@
 namespace pbs::cli {
 namespace {
 
-std::string numberText(double value) {
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  char text[32];
-  std::snprintf(text, sizeof text, "%.9g", value);
-  return text;
-}
 
 template <typename Field>
 std::vector<double> column(const std::vector<EvalFrame>& frames, Field field) {
@@ -91,10 +85,10 @@ std::string evalCsv(const std::vector<EvalSetting>& settings, const EvalResults&
     for (const EvalFrame& f : results.settings[s].frames) {
       csv.append(settings[s].name);
       for (const std::string& field :
-           {std::to_string(f.frame), numberText(f.azimuthDegrees), numberText(f.seconds),
-            numberText(f.stats.traverseSeconds), numberText(f.stats.rasterSeconds), std::to_string(f.stats.triangles),
-            std::to_string(f.stats.surfels), numberText(f.error.rmse), numberText(f.error.psnr),
-            numberText(f.error.ssim), numberText(f.error.holeFraction)})
+           {std::to_string(f.frame), csvNumber(f.azimuthDegrees), csvNumber(f.seconds),
+            csvNumber(f.stats.traverseSeconds), csvNumber(f.stats.rasterSeconds), std::to_string(f.stats.triangles),
+            std::to_string(f.stats.surfels), csvNumber(f.error.rmse), csvNumber(f.error.psnr),
+            csvNumber(f.error.ssim), csvNumber(f.error.holeFraction)})
         csv.append(",").append(field);
       csv.push_back('\n');
     }
@@ -125,21 +119,35 @@ nlohmann::json summaryJson(const EvalRunInfo& info, const std::vector<EvalSummar
   return json;
 }
 
-Plot errorTimePlot(const std::vector<EvalSummary>& summaries, std::optional<std::size_t> baseline) {
+Plot errorTimePlot(const std::vector<EvalSetting>& settings, const std::vector<EvalSummary>& summaries,
+                   std::optional<std::size_t> baseline) {
+  const std::string simplifiedColor = "#ff7f0e";
   Plot plot;
   plot.title = "Error against time (median over the orbit)";
   plot.x = PlotAxis{.label = "milliseconds per frame", .log = true, .min = {}, .max = {}};
   plot.y = PlotAxis{.label = "RMSE against exact", .log = false, .min = 0.0, .max = {}};
   std::vector<std::pair<double, double>> points;
+  std::vector<std::pair<double, std::size_t>> simplified;  // (ratio, setting)
   for (std::size_t i = 0; i < summaries.size(); ++i) {
     const EvalSummary& s = summaries[i];
     points.emplace_back(s.medianSeconds * 1e3, s.medianRmse);
-    const std::string color = s.name == "exact" ? "black" : baseline == i ? "#d62728" : "#1f77b4";
+    if (settings[i].simplify) simplified.emplace_back(*settings[i].simplify, i);
+    const std::string color = settings[i].exact      ? "black"
+                              : settings[i].simplify ? simplifiedColor
+                              : baseline == i        ? "#d62728"
+                                                     : "#1f77b4";
     plot.markers.push_back({.x = points.back().first, .y = points.back().second, .label = s.name, .color = color});
   }
   PlotSeries front{.name = "Pareto front", .points = {}, .color = "#7f7f7f"};
   for (std::size_t i : paretoFront(points)) front.points.push_back(points[i]);
   plot.series.push_back(std::move(front));
+  // A line through the simplified meshes gives them a legend entry and shows their own trade-off.
+  if (!simplified.empty()) {
+    std::sort(simplified.begin(), simplified.end());
+    PlotSeries meshes{.name = "simplified meshes", .points = {}, .color = simplifiedColor};
+    for (const auto& [ratio, i] : simplified) meshes.points.push_back(points[i]);
+    plot.series.push_back(std::move(meshes));
+  }
   return plot;
 }
 

@@ -55,8 +55,11 @@ struct EvalRunInfo {
 nlohmann::json summaryJson(const EvalRunInfo& info, const std::vector<EvalSummary>& summaries,
                            const EvalSummary& reference);
 
-// Median RMSE against median milliseconds per frame (log axis), a marker per setting, the front drawn.
-Plot errorTimePlot(const std::vector<EvalSummary>& summaries, std::optional<std::size_t> baseline);
+// Median RMSE against median milliseconds per frame (log axis), a marker per setting (exact black, the
+// baseline red, other surfel settings blue, simplified meshes orange and joined in order of their ratio),
+// the Pareto front over all settings drawn, so one sees which family wins at which time.
+Plot errorTimePlot(const std::vector<EvalSetting>& settings, const std::vector<EvalSummary>& summaries,
+                   std::optional<std::size_t> baseline);
 
 // The contact sheet's rows: the baseline between the surfel settings of lowest and highest median
 // PSNR (distinct settings only, in that order); only exact when there is no surfel setting.

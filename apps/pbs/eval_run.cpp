@@ -5,29 +5,14 @@
 
 #include <pbs/raster/headlight_shading.hpp>
 
-#include <algorithm>
-#include <cmath>
 #include <stdexcept>
 
 namespace pbs::cli {
 
-std::vector<std::uint8_t> differenceRgba8(const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b,
-                                          float gain) {
-  if (a.size() != b.size()) throw std::invalid_argument("differenceRgba8: images differ in size");
-  std::vector<std::uint8_t> out(a.size() * 4);
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    for (int c = 0; c < 3; ++c) {
-      const float d = std::clamp(std::abs(a[i][c] - b[i][c]) * gain, 0.0f, 1.0f);
-      out[4 * i + std::size_t(c)] = std::uint8_t(std::lround(d * 255.0f));
-    }
-    out[4 * i + 3] = 255;
-  }
-  return out;
-}
-
 EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::vector<OrbitView>& views,
                     const std::vector<EvalSetting>& settings,
                     const std::function<const SceneSurfels&(const EvalSetting&)>& surfelsOf,
+                    const std::function<const Scene&(const EvalSetting&)>& simplifiedOf,
                     const std::function<void(std::size_t, std::size_t, const std::string&)>& onProgress) {
   if (views.empty()) throw std::invalid_argument("runEval: no views");
   const std::uint32_t width = views.front().camera.width, height = views.front().camera.height;
@@ -54,8 +39,9 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
   }
   for (const EvalSetting& setting : settings) {
     const SceneSurfels* surfels = setting.exact ? nullptr : &surfelsOf(setting);
-    FrameRenderer renderer(scene, hierarchy, setting.exact ? RenderMode::Exact : RenderMode::Surfels, surfels,
-                           setting.lod, width, height);
+    const Scene* simplified = setting.simplify ? &simplifiedOf(setting) : nullptr;
+    const RenderMode mode = setting.exact ? RenderMode::Exact : simplified ? RenderMode::Simplified : RenderMode::Surfels;
+    FrameRenderer renderer(scene, hierarchy, mode, surfels, setting.lod, width, height, simplified);
     EvalSettingResult result;
     for (std::size_t f = 0; f < views.size(); ++f) {
       FrameResult frame = renderer.render(views[f].camera);

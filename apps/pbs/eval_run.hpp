@@ -2,6 +2,7 @@
 // the same views, each frame timed and compared with the reference of its view.
 #pragma once
 
+#include "contact_sheet.hpp"
 #include "eval_settings.hpp"
 #include "orbit_views.hpp"
 
@@ -39,19 +40,15 @@ struct EvalResults {
   std::vector<EvalSettingResult> settings;      // parallel to the settings given
 };
 
-inline constexpr float kDifferenceGain = 4.0f;
-
-// |a − b| × gain per RGB channel, clamped, alpha 1: what the contact sheet shows of the error. Both
-// images must have the same size (else std::invalid_argument).
-std::vector<std::uint8_t> differenceRgba8(const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b,
-                                          float gain);
-
 // Renders views × (1 + settings) frames. `surfelsOf` gives the arrays a surfel setting draws (called
-// once per setting, never for exact ones); `onProgress(done, total, detail)` after every frame. Memory:
+// once per setting, never for exact ones; simplify settings take their traversal's decisions from
+// them), `simplifiedOf` the simplified scene a simplify setting draws (called once per such setting);
+// `onProgress(done, total, detail)` after every frame. Memory:
 // the reference images of all views are kept (16 bytes a pixel each).
 EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::vector<OrbitView>& views,
                     const std::vector<EvalSetting>& settings,
                     const std::function<const SceneSurfels&(const EvalSetting&)>& surfelsOf,
+                    const std::function<const Scene&(const EvalSetting&)>& simplifiedOf,
                     const std::function<void(std::size_t, std::size_t, const std::string&)>& onProgress);
 
 }  // namespace pbs::cli

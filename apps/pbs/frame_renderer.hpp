@@ -16,7 +16,8 @@
 
 namespace pbs::cli {
 
-enum class RenderMode { Surfels, Exact, Embree };
+// Simplified: surfels' traversal, small nodes drawn from a simplified copy of the scene (simplified_lod.hpp).
+enum class RenderMode { Surfels, Exact, Embree, Simplified };
 
 struct FrameResult {
   std::vector<glm::vec4> image;  // shaded (headlight_shading.hpp), linear RGBA, alpha 0 = background
@@ -26,10 +27,11 @@ struct FrameResult {
 
 class FrameRenderer {
  public:
-  // `surfels` is needed by (and only read in) RenderMode::Surfels; scene and hierarchy must outlive
-  // the renderer. Embree's BVH is built here (buildSeconds()).
+  // `surfels` is needed by (and only read in) RenderMode::Surfels and Simplified, `simplified` (the
+  // scene's simplifyScene copy) by Simplified alone; all of them, scene and hierarchy must outlive the
+  // renderer. Embree's BVH is built here (buildSeconds()).
   FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, RenderMode mode, const SceneSurfels* surfels,
-                const LodOptions& lod, std::uint32_t width, std::uint32_t height);
+                const LodOptions& lod, std::uint32_t width, std::uint32_t height, const Scene* simplified = nullptr);
 
   FrameResult render(const Camera& camera);
   double buildSeconds() const { return buildSeconds_; }
@@ -39,6 +41,7 @@ class FrameRenderer {
   const Hierarchy& hierarchy_;
   RenderMode mode_;
   const SceneSurfels* surfels_;
+  const Scene* simplified_;
   SceneSurfels none_;  // exact mode: the LOD traversal with no arrays draws every visible mesh
   LodOptions lod_;
   Framebuffer gbuffer_;

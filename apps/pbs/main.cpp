@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   pbs::cli::addRenderCommand(app);
   pbs::cli::addCompareCommand(app);
   pbs::cli::addEvalCommand(app);
+  pbs::cli::addFigureCommand(app);
   pbs::cli::addBenchCommand(app);
   try {
     app.parse(argc, argv);

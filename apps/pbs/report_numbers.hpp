@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 namespace pbs::cli {
@@ -21,6 +23,16 @@ inline double median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   const std::size_t n = values.size();
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// A number as the CSV files write it: whole numbers in full (%.9g would round a billion triangles),
+// others %.9g, "inf" for the PSNR of identical images.
+inline std::string csvNumber(double value) {
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  char text[32];
+  const bool count = value == std::floor(value) && std::abs(value) < 1e15;
+  std::snprintf(text, sizeof text, count ? "%.0f" : "%.9g", value);
+  return text;
 }
 
 // JSON cannot hold infinities (a PSNR of identical images): they are written as null.

@@ -70,22 +70,23 @@ void forEachSetPart(const PointSets& sets, ChunkRange range, Visit&& visit) {
 }
 
 // Projects a chunk's points into `sorter`, keeping those that draw. When every point has drawn size 1 (or 0)
-// the chunk takes the 1-pixel fast path.
+// the chunk takes the 1-pixel fast path: without sub-pixel points a largest size of at most 1 says so.
 template <class Splat>
-void projectChunk(const PointSets& sets, const Camera& camera, const TileGrid& grid,
+void projectChunk(const PointSets& sets, const Camera& camera, const TileGrid& grid, bool subPixel,
                   const std::vector<float>& largestSizes, ChunkRange range, ChunkSorter<Splat>& sorter) {
   constexpr bool round = std::is_same_v<Splat, DiscSplat>;
-  bool onePixel = true;
+  const float smallest = subPixel ? 0.0f : 1.0f;
+  bool onePixel = !subPixel;
   forEachSetPart(sets, range, [&](std::size_t s, std::size_t, std::size_t) { onePixel &= largestSizes[s] <= 1.0f; });
   alignas(64) float sizes[kBlockPoints];
   alignas(64) std::uint32_t payloads[kBlockPoints] = {};
   PixelBlock pixels;
   forEachSetPart(sets, range, [&](std::size_t s, std::size_t index, std::size_t count) {
     const PointSet& set = sets.set(s);
-    const SplatProjector projector(camera, sets.clipFromObject(s));
+    const SplatProjector projector(camera, sets.clipFromObject(s), subPixel);
     for (std::size_t i = index; i < index + count; i += kBlockPoints) {
       const std::size_t n = std::min(kBlockPoints, index + count - i);
-      drawnSizes(set, i, n, sizes);
+      drawnSizes(set, smallest, i, n, sizes);
       sets.payloads(s, i, n, range.batchStart, payloads);
       if (onePixel) {
         projector.projectPixels(set.positions.subspan(i, n), sizes, round, grid, pixels);
@@ -98,10 +99,10 @@ void projectChunk(const PointSets& sets, const Camera& camera, const TileGrid& g
 }
 
 template <class Splat>
-void drawBatches(Framebuffer& framebuffer, const Camera& camera, const PointSets& sets) {
+void drawBatches(Framebuffer& framebuffer, const Camera& camera, const PointSets& sets, bool subPixel) {
   const TileGrid grid = makeTileGrid(framebuffer.width, framebuffer.height);
   std::vector<float> largestSizes(sets.size());
-  for (std::size_t s = 0; s < sets.size(); ++s) largestSizes[s] = largestDrawnSize(sets.set(s));
+  for (std::size_t s = 0; s < sets.size(); ++s) largestSizes[s] = largestDrawnSize(sets.set(s), subPixel ? 0.0f : 1.0f);
   const Partition part = partition(largestSizes, grid);
   const std::uint64_t total = sets.total();
   std::vector<ChunkBins> bins((std::min(total, part.batchPoints) + part.chunkPoints - 1) / part.chunkPoints);
@@ -118,7 +119,7 @@ void drawBatches(Framebuffer& framebuffer, const Camera& camera, const PointSets
         const std::uint64_t begin = batchStart + c * part.chunkPoints;
         const std::uint64_t end = std::min(batchEnd, begin + part.chunkPoints);
         sorter.start(grid, static_cast<std::size_t>(end - begin));
-        projectChunk(sets, camera, grid, largestSizes, ChunkRange{begin, end, batchStart}, sorter);
+        projectChunk(sets, camera, grid, subPixel, largestSizes, ChunkRange{begin, end, batchStart}, sorter);
         sorter.sort(bins[c]);
       }
     });
@@ -139,9 +140,9 @@ void drawPoints(Framebuffer& framebuffer, const Camera& camera, std::span<const 
   const PointSets table(framebuffer, camera, sets);
   if (table.total() == 0 || framebuffer.pixelCount() == 0) return;
   if (options.round)
-    drawBatches<DiscSplat>(framebuffer, camera, table);
+    drawBatches<DiscSplat>(framebuffer, camera, table, options.subPixel);
   else
-    drawBatches<SquareSplat>(framebuffer, camera, table);
+    drawBatches<SquareSplat>(framebuffer, camera, table, options.subPixel);
 }
 
 }  // namespace pbs

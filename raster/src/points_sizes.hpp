@@ -7,10 +7,10 @@
 
 namespace pbs::points {
 
-// The drawn sizes of points [first, first + count) of a set.
-void drawnSizes(const PointSet& set, std::size_t first, std::size_t count, float* sizes);
+// The drawn sizes of points [first, first + count) of a set; `smallest` as splatSize takes it.
+void drawnSizes(const PointSet& set, float smallest, std::size_t first, std::size_t count, float* sizes);
 
 // The largest drawn size in a set (0 when none draws), which bounds how many tiles a splat can overlap.
-float largestDrawnSize(const PointSet& set);
+float largestDrawnSize(const PointSet& set, float smallest);
 
 }  // namespace pbs::points

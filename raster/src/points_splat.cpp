@@ -136,10 +136,10 @@ void discPixels(const Window& __restrict window, std::size_t n, const TileGrid& 
   }
 }
 
-// Along one axis: the pixels whose centre lies strictly within `radius` of c, with the one holding c, clipped to
-// [0, n). The real-number answer is corrected by one step either way with the same floating-point test as the
-// per-pixel coverage: rounding moves the edge by ulps, so by one pixel at most.
-inline void discAxis(double c, double radius, int n, int& lo, int& hi) {
+// Along one axis: the pixels whose centre lies strictly within `radius` of c, with the one holding c when
+// `withHolding`, clipped to [0, n). The real-number answer is corrected by one step either way with the same
+// floating-point test as the per-pixel coverage: rounding moves the edge by ulps, so by one pixel at most.
+inline void discAxis(double c, double radius, int n, bool withHolding, int& lo, int& hi) {
   const double radiusSquared = radius * radius;
   const auto within = [&](int p) {
     const double d = (p + 0.5) - c;
@@ -152,6 +152,11 @@ inline void discAxis(double c, double radius, int n, int& lo, int& hi) {
   first += !within(first);
   last -= !within(last);
   // A non-empty span contains the holding pixel (whose centre is the nearest), so the union is a span.
+  if (!withHolding) {
+    lo = std::max(first, 0);
+    hi = std::min(last + 1, n);
+    return;
+  }
   const int hold = floorToInt(c);
   const bool empty = first > last;
   lo = std::max(std::min(empty ? hold : first, hold), 0);
@@ -160,10 +165,11 @@ inline void discAxis(double c, double radius, int n, int& lo, int& hi) {
 
 // The bounding rectangles of discs: every covered pixel lies inside, not every pixel inside is covered.
 PBS_BLOCK_CLONES
-void discRects(const Window& __restrict window, std::size_t n, int width, int height, Rects& __restrict rects) {
+void discRects(const Window& __restrict window, std::size_t n, int width, int height, bool withHolding,
+               Rects& __restrict rects) {
   for (std::size_t i = 0; i < n; ++i) {
-    discAxis(window.x[i], window.half[i], width, rects.x0[i], rects.x1[i]);
-    discAxis(window.y[i], window.half[i], height, rects.y0[i], rects.y1[i]);
+    discAxis(window.x[i], window.half[i], width, withHolding, rects.x0[i], rects.x1[i]);
+    discAxis(window.y[i], window.half[i], height, withHolding, rects.y0[i], rects.y1[i]);
   }
 }
 
@@ -178,8 +184,8 @@ void setRect(SquareSplat& splat, const Rects& rects, std::size_t i, float depth,
 
 }  // namespace
 
-SplatProjector::SplatProjector(const Camera& camera, const glm::dmat4& clipFromObject)
-    : width_(static_cast<int>(camera.width)), height_(static_cast<int>(camera.height)) {
+SplatProjector::SplatProjector(const Camera& camera, const glm::dmat4& clipFromObject, bool subPixel)
+    : width_(static_cast<int>(camera.width)), height_(static_cast<int>(camera.height)), subPixel_(subPixel) {
   // Rows (W/2·(x + w), H/2·(w − y), (z + w)/2, w): divided by w they are camera.hpp's window x, y and depth.
   glm::dmat4 windowFromClip(0.0);
   windowFromClip[0][0] = camera.width / 2.0;
@@ -208,7 +214,7 @@ std::size_t SplatProjector::project(std::span<const glm::vec3> positions, const 
   Window window;
   windowBlock(windowFromObject_, positions.data(), sizes, positions.size(), width_, height_, window);
   Rects rects;
-  discRects(window, positions.size(), width_, height_, rects);
+  discRects(window, positions.size(), width_, height_, !subPixel_, rects);
   std::size_t count = 0;
   for (std::size_t i = 0; i < positions.size(); ++i) {
     if (rects.x0[i] >= rects.x1[i] || rects.y0[i] >= rects.y1[i]) continue;
@@ -216,8 +222,8 @@ std::size_t SplatProjector::project(std::span<const glm::vec3> positions, const 
     splat.x = window.x[i];
     splat.y = window.y[i];
     splat.radiusSquared = window.half[i] * window.half[i];
-    splat.holdX = floorToInt(splat.x);
-    splat.holdY = floorToInt(splat.y);
+    splat.holdX = subPixel_ ? -1 : floorToInt(splat.x);
+    splat.holdY = subPixel_ ? -1 : floorToInt(splat.y);
     // Splats of one pixel skip the per-pixel test later (the 1-pixel fast path), so test it here: clipping can
     // leave a single pixel of the bounding box that the disc misses.
     const bool onePixel = rects.x1[i] - rects.x0[i] == 1 && rects.y1[i] - rects.y0[i] == 1;

@@ -21,8 +21,9 @@ inline constexpr float kMaxPointSize = 4096.0f;
 inline constexpr std::size_t kBlockPoints = 256;
 
 // The drawn size of a point of nominal size pointSize × factor (points.hpp); 0 when it draws nothing.
-inline float splatSize(float size) {
-  const float clamped = std::min(std::max(size, 1.0f), kMaxPointSize);
+// `smallest`: 1 (GL's minimum point size) or 0 (PointOptions::subPixel).
+inline float splatSize(float size, float smallest) {
+  const float clamped = std::min(std::max(size, smallest), kMaxPointSize);
   return size > 0.0f && size <= std::numeric_limits<float>::max() ? clamped : 0.0f;
 }
 
@@ -38,7 +39,7 @@ struct SquareSplat {
 struct DiscSplat : SquareSplat {
   double x, y;           // window position of the centre
   double radiusSquared;  // (size / 2)²
-  int holdX, holdY;      // the pixel holding the centre, always covered
+  int holdX, holdY;      // the pixel holding the centre, always covered; −1 for sub-pixel discs (none)
 
   bool covers(int px, int py) const {
     const double dx = (px + 0.5) - x;
@@ -61,7 +62,8 @@ struct PixelBlock {
 // (around 1e-12 pixel), and exactly wherever the arithmetic is exact.
 class SplatProjector {
  public:
-  SplatProjector(const Camera& camera, const glm::dmat4& clipFromObject);
+  // `subPixel`: discs cover only the pixels whose centres they contain, not also the one holding them.
+  SplatProjector(const Camera& camera, const glm::dmat4& clipFromObject, bool subPixel);
 
   // Projects positions (at most kBlockPoints) with their drawn sizes (from splatSize) and payloads, and writes
   // the splats of those that cover a pixel to `out`; returns how many it wrote. A point is dropped outside
@@ -79,6 +81,7 @@ class SplatProjector {
   glm::dmat4 windowFromObject_;
   int width_;
   int height_;
+  bool subPixel_;
 };
 
 }  // namespace pbs::points

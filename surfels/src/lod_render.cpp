@@ -79,7 +79,7 @@ LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSu
 
   const auto rasterStart = Clock::now();
   drawNodeTriangles(scene, hierarchy, draws.geometryNodes, camera, framebuffer, TriangleOptions{.cullBackFaces = false});
-  drawPoints(framebuffer, camera, sets);
+  drawPoints(framebuffer, camera, sets, PointOptions{.subPixel = options.pointSize < 1.0f});
   stats.rasterSeconds = secondsSince(rasterStart);
 
   stats.triangles = draws.triangles;

@@ -84,7 +84,7 @@ class Traversal {
 std::uint32_t prefixLength(const SplatArray& array, double projectedSize, double worldPixel, double scale,
                            const LodOptions& options) {
   double count = 0.0;
-  const double pointSize = std::max(1.0, double(options.pointSize));
+  const double pointSize = double(options.pointSize);
   if (options.prefixRule == PrefixRule::Coverage) {
     const double relativeSize = pointSize / kReferencePointSize;
     count = projectedSize * projectedSize * array.coverage * options.overdraw / (relativeSize * relativeSize);

@@ -24,13 +24,18 @@ struct PointSet {
 
 struct PointOptions {
   bool round = false;  // discs instead of squares
+  // Sizes below 1 pixel drawn as they are: such a point covers a pixel only where the pixel's centre
+  // lies inside it, as a triangle would, so tiny points sample sub-pixel geometry without inflating it.
+  // Off, they draw as 1 pixel (GL's minimum point size).
+  bool subPixel = false;
 };
 
 // Each point is projected like a triangle vertex (camera.hpp); points outside the near/far range
 // are dropped. Size s = pointSize × factor: s ≤ 0 or non-finite draws nothing; 0 < s < 1 draws
-// as 1 pixel (as GL clamps to its minimum point size); s > 4096 draws as 4096. A point covers the
-// pixels whose centres lie in [x − s/2, x + s/2) × [y − s/2, y + s/2) (a square), or strictly
-// within s/2 of (x, y) (a disc, plus at least the pixel holding the point). Its depth is the
+// as 1 pixel (as GL clamps to its minimum point size) unless PointOptions::subPixel; s > 4096 draws
+// as 4096. A point covers the pixels whose centres lie in [x − s/2, x + s/2) × [y − s/2, y + s/2)
+// (a square), or strictly within s/2 of (x, y) (a disc, plus the pixel holding the point unless
+// subPixel). Its depth is the
 // centre's. The nearest point wins; equal depths go to the earlier point (set order, then index),
 // so the image depends neither on the thread count nor on scheduling.
 void drawPoints(Framebuffer& framebuffer, const Camera& camera, std::span<const PointSet> sets,

@@ -34,7 +34,10 @@ struct LodOptions {
   // children at once. 0 switches abruptly (popping, for comparison).
   double band = 0.5;
   double overdraw = 4.0;
-  float pointSize = 2.0f;  // pixels
+  // Pixels. Below 1 the points are sub-pixel (PointOptions::subPixel): each covers a pixel only where
+  // the pixel's centre falls inside it, which keeps scenes of sub-pixel parts (a city far away) from
+  // being inflated by one-pixel points; the prefix grows as the points shrink.
+  float pointSize = 2.0f;
   PrefixRule prefixRule = PrefixRule::Coverage;
   // A surfel seen at angle θ between its normal and the view direction is drawn max(|cos θ|, this)
   // times the point size, so silhouettes stay sharp (paper, Sec. 3). 1 disables the shrinking.

@@ -1,0 +1,106 @@
+// `pbs figure scaling|views -o DIR`: the evaluation's figures, each written by one command: frame time
+// against scene size (figure_scaling.hpp), and exact against surfels from near to far (figure_views.hpp).
+#include "commands.hpp"
+#include "figure_scaling.hpp"
+#include "figure_views.hpp"
+#include "orbit_views.hpp"
+
+#include <pbs/raster/thread_arena.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+
+namespace pbs::cli {
+namespace {
+
+// bunny.glb of the shared scenes ($PBS_SCENES, else ../shared/scenes beside the repository).
+std::string defaultMesh() {
+  const char* env = std::getenv("PBS_SCENES");
+  const std::filesystem::path folder = env && *env ? std::filesystem::path(env) : std::filesystem::path(PBS_DEFAULT_SCENES);
+  const std::filesystem::path mesh = folder / "bunny.glb";
+  if (!std::filesystem::is_regular_file(mesh))
+    throw std::runtime_error(mesh.string() + " not found: give --mesh F.glb, or set PBS_SCENES to the shared scenes folder");
+  return mesh.string();
+}
+
+void addScaling(CLI::App& figure) {
+  struct Options {
+    ScalingOptions scaling;
+    std::string output;
+    std::string size = "1920x1080";
+    int threads = 0;
+  };
+  auto options = std::make_shared<Options>();
+  ScalingOptions& scaling = options->scaling;
+  CLI::App* command = figure.add_subcommand(
+      "scaling", "frame time against scene size: generated cities of about 1 M to 1.4 G triangles (with bunny.glb), "
+                 "each surfelized in memory and drawn exactly and with surfels");
+  command->add_option("-o,--output", options->output, "folder for scaling.csv, scaling.json, scaling.svg (created if missing)")
+      ->required();
+  command->add_option("--mesh", scaling.meshes,
+                      "a .gltf/.glb file the cities instance (repeat for several; default: bunny.glb of $PBS_SCENES "
+                      "or ../shared/scenes)");
+  command->add_option("--frames", scaling.frames, "orbit views per city")->check(CLI::Range(1u, 1000u))->capture_default_str();
+  command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
+  command->add_option("--max-triangles", scaling.maxTriangles, "leave out the cities of more triangles")
+      ->check(CLI::PositiveNumber);
+  addLodOptions(*command, scaling.lod);
+  command->add_flag("-q,--quiet", scaling.quiet, "no progress on stderr");
+  addThreadsOption(*command, options->threads);
+  command->callback([options] {
+    std::tie(options->scaling.width, options->scaling.height) = parseSize(options->size);
+    if (options->scaling.meshes.empty()) options->scaling.meshes = {defaultMesh()};
+    runWithThreads(options->threads, [&] { writeScalingFigure(options->scaling, options->output); });
+  });
+}
+
+void addViews(CLI::App& figure) {
+  struct Options {
+    ViewsOptions views;
+    std::string output;
+    std::string size = "1920x1080";
+    int threads = 0;
+  };
+  auto options = std::make_shared<Options>();
+  ViewsOptions& views = options->views;
+  // As in `pbs demo`: surfels made here are captured at 256 px (surfelize's default is 512), a quarter
+  // of the work; give a file from `pbs surfelize` for the full resolution.
+  views.surfelize.file.resolution = 256;
+  CLI::App* command = figure.add_subcommand(
+      "views", "image quality near to far: one direction at three distances, exact | surfels | difference");
+  command->add_option("scene", views.scene, "a .gltf/.glb file, or 'default'")->required();
+  command->add_option("--surfels", views.surfels, "the scene's .surfels file (default: made in memory)");
+  command->add_option("-o,--output", options->output, "folder for views.png, views.csv, views.json (created if missing)")
+      ->required();
+  command->add_option("--size", options->size, "WxH pixels of each view")->capture_default_str();
+  command->add_option("--direction", views.direction, "AZ,EL in degrees")
+      ->delimiter(',')
+      ->capture_default_str();
+  command->add_option("--distances", views.distances, "NEAR,MIDDLE,FAR in bounding radii from the centre")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  addCaptureOptions(*command, views.surfelize.file.resolution, views.surfelize.file.directions);
+  addLodOptions(*command, views.lod);
+  command->add_flag("-q,--quiet", views.quiet, "no progress on stderr");
+  addThreadsOption(*command, options->threads);
+  command->callback([options] {
+    std::tie(options->views.width, options->views.height) = parseSize(options->size);
+    runWithThreads(options->threads, [&] { writeViewsFigure(options->views, options->output); });
+  });
+}
+
+}  // namespace
+
+void addFigureCommand(CLI::App& app) {
+  CLI::App* figure = app.add_subcommand("figure", "Write one of the evaluation's figures into a folder");
+  figure->require_subcommand(1);
+  addScaling(*figure);
+  addViews(*figure);
+}
+
+}  // namespace pbs::cli

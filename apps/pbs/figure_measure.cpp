@@ -1,0 +1,51 @@
+// surfelizeInMemory and ModeComparison: the measuring both figures share.
+#include "figure_measure.hpp"
+
+#include "progress_meter.hpp"
+#include "report_numbers.hpp"
+#include "scene_report.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace pbs::cli {
+
+MadeSurfels surfelizeInMemory(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
+                              const std::string& label, bool quiet) {
+  ProgressMeter meter(label, ProgressMeter::styleFor(quiet));
+  SurfelizeOptions settings = options;
+  settings.onProgress = [&](const SurfelizeProgress& p) {
+    meter.update(double(p.arraysDone) / double(std::max(p.arraysTotal, 1u)),
+                 std::to_string(p.arraysDone) + "/" + std::to_string(p.arraysTotal) + " arrays");
+  };
+  MadeSurfels made;
+  const auto start = std::chrono::steady_clock::now();
+  const SurfelFile file = surfelize(scene, hierarchy, settings, &made.stats);
+  made.seconds = secondsSince(start);
+  if (made.stats.arrays > 0)
+    meter.finish(std::to_string(made.stats.arrays) + " arrays, " + withThousands(made.stats.surfels) + " surfels");
+  made.surfels = sceneSurfelsOf(file, scene, hierarchy, label);
+  return made;
+}
+
+ModeComparison::ModeComparison(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
+                               const LodOptions& lod, std::uint32_t width, std::uint32_t height)
+    : width_(width),
+      height_(height),
+      exact_(scene, hierarchy, RenderMode::Exact, nullptr, lod, width, height),
+      surfels_(scene, hierarchy, RenderMode::Surfels, &surfels, lod, width, height) {}
+
+ModeFrames ModeComparison::render(const Camera& camera) {
+  ModeFrames frames;
+  frames.exact = exact_.render(camera);
+  frames.surfels = surfels_.render(camera);
+  // compareImages takes whole images; the copies cost far less than the frames themselves.
+  frames.error = compareImages(RgbaImage{width_, height_, frames.surfels.image},
+                               RgbaImage{width_, height_, frames.exact.image});
+  return frames;
+}
+
+
+}  // namespace pbs::cli

@@ -1,0 +1,51 @@
+// What both `pbs figure` plots measure: surfels made in memory (progress on stderr), and a view drawn
+// exactly and with surfels, timed and compared.
+#pragma once
+
+#include "frame_renderer.hpp"
+
+#include <pbs/raster/camera.hpp>
+#include <pbs/raster/image_metrics.hpp>
+#include <pbs/scene/hierarchy.hpp>
+#include <pbs/scene/scene.hpp>
+#include <pbs/surfels/scene_surfels.hpp>
+#include <pbs/surfels/surfelize.hpp>
+
+#include <cstdint>
+#include <string>
+
+namespace pbs::cli {
+
+struct MadeSurfels {
+  SceneSurfels surfels;
+  SurfelizeStats stats;
+  double seconds = 0.0;  // surfelize alone, matching to the scene left out
+};
+
+// surfelize() with a progress meter labelled `label` (none when `quiet`), its arrays matched to the scene.
+MadeSurfels surfelizeInMemory(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
+                              const std::string& label, bool quiet);
+
+struct ModeFrames {
+  FrameResult exact;
+  FrameResult surfels;
+  ImageDifference error;  // surfels (A) against exact (B)
+};
+
+// One FrameRenderer per mode, each reused over the views so timings match `pbs render`'s.
+class ModeComparison {
+ public:
+  // scene, hierarchy and surfels must outlive the comparison.
+  ModeComparison(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const LodOptions& lod,
+                 std::uint32_t width, std::uint32_t height);
+
+  ModeFrames render(const Camera& camera);
+
+ private:
+  std::uint32_t width_, height_;
+  FrameRenderer exact_;
+  FrameRenderer surfels_;
+};
+
+
+}  // namespace pbs::cli
