@@ -5,7 +5,6 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -87,7 +86,8 @@ void PointSets::payloads(std::size_t s, std::size_t index, std::size_t count, st
   switch (payloadKind_) {
     case PayloadKind::none: return;
     case PayloadKind::color:
-      for (std::size_t i = 0; i < count; ++i) out[i] = std::bit_cast<std::uint32_t>(sets_[s].colors[index + i]);
+      // RGBA8 is the payload word, byte for byte: one block copy.
+      std::memcpy(out, sets_[s].colors.data() + index, count * sizeof(std::uint32_t));
       return;
     case PayloadKind::ordinal:
       // Batches hold fewer than 2^32 points (points.cpp), so a batch ordinal fits.

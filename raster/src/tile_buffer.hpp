@@ -8,9 +8,11 @@
 
 namespace pbs::triangles {
 
-// Rows carry kBlockSize spare columns: a block starts at any column of the tile (a multiple of
-// four), and its lanes past the tile's edge are masked but still loaded and stored.
-inline constexpr int kTileStride = kTileSize + kBlockSize;
+// Blocks start at multiples of kBlockSize columns, so they never reach past the tile's 64 columns;
+// in a tile narrower than that (at the window's right edge) lanes past its edge are masked but
+// still loaded and stored.
+inline constexpr int kTileStride = kTileSize;
+static_assert(kTileSize % kBlockSize == 0);
 
 struct TileBuffer {
   int x0 = 0, y0 = 0;           // window pixel of the tile's first pixel

@@ -1,17 +1,13 @@
 // Coverage and depth of one triangle within one tile: exact integer edge functions evaluated on
-// 8×8 blocks anchored at the triangle's box (trivial accept and reject per block), with a
-// 4-lane kernel in GCC vector extensions that compiles to branch-free SSE (and AVX2 in the clone
-// picked at load time, simd_clones.hpp).
+// 8×8 blocks anchored at the triangle's box (trivial accept and reject per block), with an
+// 8-lane kernel in GCC vector extensions that compiles to branch-free AVX2 in the clone picked at
+// load time (simd_clones.hpp) and to SSE pairs in the baseline one.
 #include "simd_clones.hpp"
 #include "tile_buffer.hpp"
 
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
-
-#if defined(__SSE__)
-#include <xmmintrin.h>
-#endif
 
 namespace pbs::triangles {
 namespace {
@@ -20,9 +16,9 @@ namespace {
 // block loop meets, up to 8 pixels beside its box, below 2^30 in magnitude: int32 suffices.
 constexpr std::int64_t kSmallExtent = std::int64_t(1) << 14;
 
-// Four 32-bit lanes fill one SSE register, so each 8-pixel block row is two lane groups.
-constexpr int kLanes = 4;
-constexpr int kGroups = kBlockSize / kLanes;
+// A block row is one vector of eight 32-bit lanes: one AVX2 register in the AVX2 clone, a pair of
+// SSE registers in the baseline one.
+constexpr int kLanes = kBlockSize;
 
 template <class T>
 struct LaneVector {
@@ -34,27 +30,22 @@ using FloatLanes = Lanes<float>;
 using MaskLanes = Lanes<std::int32_t>;  // all ones where a lane is drawn
 using IdLanes = Lanes<std::uint32_t>;
 
-// Lane numbers within a block row, per group. (Vectors are passed by reference throughout: by
-// value they would change the calling convention between SSE and AVX builds.)
-static_assert(kLanes == 4 && kGroups * kLanes == kBlockSize);
-constexpr MaskLanes kLaneIndex[kGroups] = {{0, 1, 2, 3}, {4, 5, 6, 7}};
+// Lane numbers within a block row. (Vectors are passed by reference throughout: by value they
+// would change the calling convention between SSE and AVX builds.)
+static_assert(kLanes == 8);
+constexpr MaskLanes kLaneIndex = {0, 1, 2, 3, 4, 5, 6, 7};
 
-// z < 0 ? 0 : (z > 1 ? 1 : z), NaN kept, as two instructions: minps(a, b) is a < b ? a : b and
-// maxps(a, b) is a > b ? a : b, exactly, for every input including NaN and −0.
-PBS_CLONE_INLINE FloatLanes clampDepth(const FloatLanes& z) {
-#if defined(__SSE__)
-  return _mm_max_ps(FloatLanes{}, _mm_min_ps(FloatLanes{} + 1.0f, z));
-#else
-  return z < 0.0f ? FloatLanes{} : (z > 1.0f ? FloatLanes{} + 1.0f : z);
-#endif
-}
-
-// One group of a block row: lanes set in `lanes` whose biased edge values are all ≥ 0 (unless
-// the block is known inside) and whose depth is less than the stored one take the triangle's
-// depth and id.
+// One block row: lanes set in `lanes` whose biased edge values are all ≥ 0 (unless the block is
+// known inside) and whose depth, clamped to [0, 1], is less than the stored one take that depth
+// and the triangle's id.
 template <class Edge, bool kTestEdges>
 PBS_CLONE_INLINE void rasterizeLanes(float* depth, std::uint32_t* ids, const Lanes<Edge> (&edge)[3],
-                                     const MaskLanes& lanes, const FloatLanes& z, std::uint32_t id) {
+                                     const MaskLanes& lanes, const FloatLanes& unclamped, std::uint32_t id) {
+  // z < 0 ? 0 : (z > 1 ? 1 : z), NaN and −0 kept, written as (minps, maxps) would compute it:
+  // min(a, b) = a < b ? a : b, max(a, b) = a > b ? a : b, exactly, for every input.
+  const FloatLanes one = FloatLanes{} + 1.0f, zero = FloatLanes{};
+  const FloatLanes below = one < unclamped ? one : unclamped;
+  const FloatLanes z = zero > below ? zero : below;
   MaskLanes pass = lanes;
   if constexpr (kTestEdges) pass &= __builtin_convertvector((edge[0] | edge[1] | edge[2]) >= 0, MaskLanes);
   FloatLanes storedDepth;
@@ -70,30 +61,40 @@ PBS_CLONE_INLINE void rasterizeLanes(float* depth, std::uint32_t* ids, const Lan
 
 // Rows y … y + rows − 1 of a block whose lane 0 lies at column bx: `edge` holds the lanes' edge
 // values on row y, `lanes` which lanes are pixels of the triangle's box.
-template <class Edge, bool kTestEdges, int kGroupCount>
-PBS_CLONE_INLINE void rasterizeBlockRows(TileBuffer& tile, const RasterTriangle& t, Lanes<Edge> (&edge)[kGroups][3],
-                                         const Edge (&stepY)[3], const MaskLanes (&lanes)[kGroups], int bx, int y,
-                                         int rows) {
-  FloatLanes zColumn[kGroupCount];  // the zx·dx term of the depth (z0 + zy·dy) + zx·dx, per lane
-  for (int g = 0; g < kGroupCount; ++g)
-    zColumn[g] = t.zx * __builtin_convertvector(kLaneIndex[g] + (bx - t.minX), FloatLanes);
-  for (const int end = y + rows; y < end; ++y) {
-    const int offset = (y - tile.y0) * kTileStride + (bx - tile.x0);
-    const float zRow = t.z0 + t.zy * float(y - t.minY);
-    for (int g = 0; g < kGroupCount; ++g) {
-      const FloatLanes z = zColumn[g] + zRow;
-      const FloatLanes clamped = clampDepth(z);
-      rasterizeLanes<Edge, kTestEdges>(tile.depth + offset + g * kLanes, tile.ids + offset + g * kLanes, edge[g],
-                                       lanes[g], clamped, t.id);
-      for (int k = 0; k < 3; ++k) edge[g][k] += stepY[k];
-    }
+template <class Edge, bool kTestEdges>
+PBS_CLONE_INLINE void rasterizeBlockRows(TileBuffer& tile, const RasterTriangle& t, Lanes<Edge> (&edge)[3],
+                                         const Edge (&stepY)[3], const MaskLanes& lanes, int bx, int y, int rows) {
+  // The depth (z0 + zy·dy) + zx·dx: the zx·dx term per lane, the z0 + zy·dy term of each of the
+  // block's rows computed at once, lane r for row y + r.
+  const FloatLanes zColumn = t.zx * __builtin_convertvector(kLaneIndex + (bx - t.minX), FloatLanes);
+  const FloatLanes zRowLanes = t.z0 + t.zy * __builtin_convertvector(kLaneIndex + (y - t.minY), FloatLanes);
+  float zRows[kLanes];
+  std::memcpy(zRows, &zRowLanes, sizeof zRows);
+  float* depth = tile.depth + (y - tile.y0) * kTileStride + (bx - tile.x0);
+  std::uint32_t* ids = tile.ids + (y - tile.y0) * kTileStride + (bx - tile.x0);
+  for (int row = 0; row < rows; ++row, depth += kTileStride, ids += kTileStride) {
+    const FloatLanes z = zColumn + zRows[row];
+    rasterizeLanes<Edge, kTestEdges>(depth, ids, edge, lanes, z, t.id);
+    for (int k = 0; k < 3; ++k) edge[k] += stepY[k];
+  }
+}
+
+// {0, s, 2s, …, 7s}: one multiply of 32-bit lanes in AVX2; 64-bit lanes (which neither SSE2 nor
+// AVX2 multiplies) built from scalars.
+template <class Edge>
+PBS_CLONE_INLINE void laneSteps(Edge s1, Lanes<Edge>& steps) {
+  if constexpr (sizeof(Edge) == sizeof(std::int32_t)) {
+    steps = kLaneIndex * s1;
+  } else {
+    const Edge s2 = s1 + s1, s4 = s2 + s2;
+    steps = Lanes<Edge>{0, s1, s2, s2 + s1, s4, s4 + s1, s4 + s2, s4 + s2 + s1};
   }
 }
 
 // Pixels x0 … x1 × y0 … y1 (window coordinates) of the triangle within the tile, in blocks of
-// 8×8 whose lane groups start at multiples of 4 columns: the 16-byte loads and stores of
-// successive triangles then meet the earlier ones exactly or not at all, never partly, which
-// would defeat store-to-load forwarding.
+// 8×8 starting at multiples of 8 columns: the 32-byte loads and stores of successive triangles
+// then meet the earlier ones exactly or not at all, never partly, which would defeat
+// store-to-load forwarding.
 template <class Edge>
 PBS_CLONE_INLINE void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, int x0, int y0, int x1, int y1) {
   // Edge k runs from vertex k to k + 1; with the positive area set up, the inside is where its
@@ -101,7 +102,7 @@ PBS_CLONE_INLINE void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, i
   // so the others get a bias of −1 and every test becomes "≥ 0".
   const int ax = x0 & ~(kLanes - 1);
   Edge origin[3], stepX[3], stepY[3];  // origin: at the centre of pixel (ax, y0)
-  Lanes<Edge> laneStep[kGroups][3];
+  Lanes<Edge> laneStep[3];
   const std::int64_t sx = std::int64_t(ax) * kSubpixelScale + kSubpixelScale / 2;
   const std::int64_t sy = std::int64_t(y0) * kSubpixelScale + kSubpixelScale / 2;
   for (int k = 0; k < 3; ++k) {
@@ -112,10 +113,7 @@ PBS_CLONE_INLINE void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, i
     origin[k] = Edge(a * (sx - t.x[k]) + c * (sy - t.y[k]) - (topLeft ? 0 : 1));
     stepX[k] = Edge(a * kSubpixelScale);
     stepY[k] = Edge(c * kSubpixelScale);
-    // Built from scalars: SSE2 has no 32-bit vector multiply.
-    const Edge step = stepX[k], step2 = step + step;
-    laneStep[0][k] = Lanes<Edge>{0, step, step2, step2 + step};
-    laneStep[1][k] = laneStep[0][k] + (step2 + step2);
+    laneSteps(stepX[k], laneStep[k]);
   }
   for (int by = y0; by <= y1; by += kBlockSize) {
     const int rows = std::min(kBlockSize, y1 - by + 1);
@@ -133,22 +131,15 @@ PBS_CLONE_INLINE void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, i
         }
       }
       if (reject) continue;
-      Edge corner[3];  // at the centre of pixel (bx, by)
-      for (int k = 0; k < 3; ++k) corner[k] = origin[k] + stepX[k] * Edge(bx - ax) + stepY[k] * Edge(by - y0);
-      Lanes<Edge> edge[kGroups][3];
-      MaskLanes lanes[kGroups];
-      for (int g = 0; g < kGroups; ++g) {
-        for (int k = 0; k < 3; ++k) edge[g][k] = laneStep[g][k] + corner[k];
-        const MaskLanes column = kLaneIndex[g] + bx;
-        lanes[g] = (column >= x0) & (column <= x1);
-      }
-      const bool oneGroup = rx1 < bx + kLanes;
+      Lanes<Edge> edge[3];  // from the centre of pixel (bx, by)
+      for (int k = 0; k < 3; ++k)
+        edge[k] = laneStep[k] + (origin[k] + stepX[k] * Edge(bx - ax) + stepY[k] * Edge(by - y0));
+      const MaskLanes column = kLaneIndex + bx;
+      const MaskLanes lanes = (column >= x0) & (column <= x1);
       if (accept)
-        rasterizeBlockRows<Edge, false, kGroups>(tile, t, edge, stepY, lanes, bx, by, rows);
-      else if (oneGroup)
-        rasterizeBlockRows<Edge, true, 1>(tile, t, edge, stepY, lanes, bx, by, rows);
+        rasterizeBlockRows<Edge, false>(tile, t, edge, stepY, lanes, bx, by, rows);
       else
-        rasterizeBlockRows<Edge, true, kGroups>(tile, t, edge, stepY, lanes, bx, by, rows);
+        rasterizeBlockRows<Edge, true>(tile, t, edge, stepY, lanes, bx, by, rows);
     }
   }
 }
