@@ -13,6 +13,7 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <utility>
 
 namespace pbs {
 namespace {
@@ -103,15 +104,20 @@ void validateScene(const Scene& scene, std::string_view source) {
       parent[child] = std::int64_t(n);
     }
   }
+  // The walk also checks world transforms: finite local ones can overflow in their product (scale
+  // 1e200 under scale 1e200), and every world bound and drawn position below would be Inf.
   std::vector<bool> reached(count, false);
-  std::vector<std::uint32_t> stack(scene.roots.begin(), scene.roots.end());
+  std::vector<std::pair<std::uint32_t, glm::dmat4>> stack;
+  for (std::uint32_t root : scene.roots) stack.emplace_back(root, scene.nodes[root].local);
   std::size_t reachedCount = 0;
   while (!stack.empty()) {
-    const std::uint32_t n = stack.back();
+    const auto [n, world] = stack.back();
     stack.pop_back();
+    if (!finite(world))
+      throw InputError(source, element("node", n), "world transform is not finite (the transforms above it overflow)");
     reached[n] = true;
     ++reachedCount;
-    stack.insert(stack.end(), scene.nodes[n].children.begin(), scene.nodes[n].children.end());
+    for (std::uint32_t child : scene.nodes[n].children) stack.emplace_back(child, world * scene.nodes[child].local);
   }
   if (reachedCount != count) {
     const auto orphan = std::find(reached.begin(), reached.end(), false) - reached.begin();

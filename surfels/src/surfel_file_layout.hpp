@@ -33,6 +33,7 @@
 
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <span>
@@ -112,6 +113,19 @@ template <class Io>
 void layoutNode(Io& io, SurfelNodeRecord& n) {
   io.string(n.path);
   io.u32(n.array);
+}
+
+// The first of an array's values that is NaN or Inf ("box", "coverage", "packing", "area"), or
+// nullptr. pbs never writes one and the reader refuses one: a renderer would place or count surfels
+// with it.
+template <class Array>
+const char* nonFiniteArrayValue(const Array& a) {
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(a.box.min[i]) || !std::isfinite(a.box.max[i])) return "box";
+  if (!std::isfinite(a.coverage)) return "coverage";
+  if (!std::isfinite(a.packing)) return "packing";
+  if (!std::isfinite(a.area)) return "area";
+  return nullptr;
 }
 
 inline std::uint64_t chunkCount(std::uint64_t surfels) { return (surfels + kSurfelsPerChunk - 1) / kSurfelsPerChunk; }

@@ -134,6 +134,8 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
     if (info.dataOffset > fileSize || bytes > fileSize - info.dataOffset) {
       throw InputError(file, element, beyond(info.dataOffset, bytes, fileSize));
     }
+    if (const char* value = nonFiniteArrayValue(info))
+      throw InputError(file, element, std::string(value) + " is not finite");
   }
 }
 

@@ -23,6 +23,8 @@ void checkInput(const SurfelFile& file) {
     if (file.arrays[a].surfels.size() > kU32Max) {
       throw std::invalid_argument("surfel file: array " + std::to_string(a) + " has more than 2^32 - 1 surfels");
     }
+    if (const char* value = nonFiniteArrayValue(file.arrays[a]))
+      throw std::invalid_argument("surfel file: array " + std::to_string(a) + ": " + value + " is not finite");
   }
   for (const SurfelNodeRecord& node : file.nodes) {
     if (node.array >= file.arrays.size()) {

@@ -70,7 +70,9 @@ struct SurfelFile {
 
 // Writes `file` to a temporary name beside `path`, then renames it over `path`: readers see the old
 // file or the whole new one, never a part. Throws std::runtime_error naming the path on I/O failure
-// (the temporary is removed), std::invalid_argument for a node naming a missing array.
+// (the temporary is removed), std::invalid_argument for a node naming a missing array or an array
+// whose box, coverage, packing or area is NaN or infinite (nothing is written; the reader refuses
+// such values too).
 void writeSurfelFile(const std::filesystem::path& path, const SurfelFile& file);
 
 // The per-array values of the array table, without the surfels.
