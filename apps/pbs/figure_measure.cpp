@@ -37,13 +37,21 @@ ModeComparison::ModeComparison(const Scene& scene, const Hierarchy& hierarchy, c
       exact_(scene, hierarchy, RenderMode::Exact, nullptr, lod, width, height),
       surfels_(scene, hierarchy, RenderMode::Surfels, &surfels, lod, width, height) {}
 
-ModeFrames ModeComparison::render(const Camera& camera) {
-  ModeFrames frames;
-  frames.exact = exact_.render(camera);
-  frames.surfels = surfels_.render(camera);
-  // compareImages takes whole images; the copies cost far less than the frames themselves.
-  frames.error = compareImages(RgbaImage{width_, height_, frames.surfels.image},
-                               RgbaImage{width_, height_, frames.exact.image});
+std::vector<ModeFrames> ModeComparison::render(std::span<const Camera> cameras,
+                                               const std::function<void(std::size_t, std::size_t)>& onFrame) {
+  std::vector<ModeFrames> frames(cameras.size());
+  const std::size_t total = 2 * cameras.size();
+  for (std::size_t v = 0; v < cameras.size(); ++v) {
+    frames[v].exact = exact_.render(cameras[v]);
+    onFrame(v + 1, total);
+  }
+  for (std::size_t v = 0; v < cameras.size(); ++v) {
+    frames[v].surfels = surfels_.render(cameras[v]);
+    // compareImages takes whole images; the copies cost far less than the frames themselves.
+    frames[v].error = compareImages(RgbaImage{width_, height_, frames[v].surfels.image},
+                                    RgbaImage{width_, height_, frames[v].exact.image});
+    onFrame(cameras.size() + v + 1, total);
+  }
   return frames;
 }
 

@@ -12,7 +12,10 @@
 #include <pbs/surfels/surfelize.hpp>
 
 #include <cstdint>
+#include <functional>
+#include <span>
 #include <string>
+#include <vector>
 
 namespace pbs::cli {
 
@@ -39,7 +42,11 @@ class ModeComparison {
   ModeComparison(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const LodOptions& lod,
                  std::uint32_t width, std::uint32_t height);
 
-  ModeFrames render(const Camera& camera);
+  // Every view exactly, then every view with surfels: each mode runs warm, as in `pbs render --frames`,
+  // and no surfel frame pays for the memory an exact frame of a billion triangles just went through.
+  // `onFrame(done, total)` after each of the 2 × views frames.
+  std::vector<ModeFrames> render(std::span<const Camera> cameras,
+                                 const std::function<void(std::size_t, std::size_t)>& onFrame);
 
  private:
   std::uint32_t width_, height_;

@@ -44,8 +44,12 @@ ScalingPoint measureCity(const Scene& city, const Hierarchy& hierarchy, const Sc
 
   ProgressMeter meter("render " + name, ProgressMeter::styleFor(options.quiet));
   std::vector<double> exactMs, surfelsMs, surfelsDrawn, trianglesDrawn, exactTriangles, psnr, ssim;
-  for (std::size_t f = 0; f < views.size(); ++f) {
-    const ModeFrames frames = modes.render(views[f].camera);
+  std::vector<Camera> cameras;
+  for (const OrbitView& view : views) cameras.push_back(view.camera);
+  const std::vector<ModeFrames> rendered = modes.render(cameras, [&](std::size_t done, std::size_t total) {
+    meter.update(double(done) / double(total), "frame " + std::to_string(done) + "/" + std::to_string(total));
+  });
+  for (const ModeFrames& frames : rendered) {
     exactMs.push_back(frames.exact.seconds * 1e3);
     surfelsMs.push_back(frames.surfels.seconds * 1e3);
     surfelsDrawn.push_back(double(frames.surfels.stats.surfels));
@@ -53,8 +57,6 @@ ScalingPoint measureCity(const Scene& city, const Hierarchy& hierarchy, const Sc
     exactTriangles.push_back(double(frames.exact.stats.triangles));
     psnr.push_back(frames.error.psnr);
     ssim.push_back(frames.error.ssim);
-    meter.update(double(f + 1) / double(views.size()),
-                 "frame " + std::to_string(f + 1) + "/" + std::to_string(views.size()));
   }
   meter.finish(std::to_string(views.size()) + " frames in each mode");
   return {.levels = levels,

@@ -99,22 +99,26 @@ void writeViewsFigure(const ViewsOptions& options, const std::filesystem::path& 
   ProgressMeter meter("render", ProgressMeter::styleFor(options.quiet));
   std::vector<ViewRow> rows;
   std::vector<std::vector<std::uint8_t>> tiles;  // exact, surfels, difference per view
+  std::vector<Camera> cameras;
+  for (double distance : options.distances)
+    cameras.push_back(orbitCamera(bounds.center(), 0.5 * glm::length(bounds.size()),
+                                  Orbit{options.direction[0], options.direction[1], distance}, options.width,
+                                  options.height));
+  const std::vector<ModeFrames> rendered = modes.render(cameras, [&](std::size_t done, std::size_t total) {
+    meter.update(double(done) / double(total), "frame " + std::to_string(done) + "/" + std::to_string(total));
+  });
   for (std::size_t v = 0; v < kViewNames.size(); ++v) {
-    const Orbit orbit{options.direction[0], options.direction[1], options.distances[v]};
-    const Camera camera =
-        orbitCamera(bounds.center(), 0.5 * glm::length(bounds.size()), orbit, options.width, options.height);
-    const ModeFrames frames = modes.render(camera);
+    const ModeFrames& frames = rendered[v];
     tiles.push_back(toRgba8(frames.exact.image));
     tiles.push_back(toRgba8(frames.surfels.image));
     tiles.push_back(differenceRgba8(frames.surfels.image, frames.exact.image, kDifferenceGain));
     rows.push_back({.name = kViewNames[v],
-                    .distance = orbit.distance,
+                    .distance = options.distances[v],
                     .exactMs = frames.exact.seconds * 1e3,
                     .surfelsMs = frames.surfels.seconds * 1e3,
                     .surfelsStats = frames.surfels.stats,
                     .exactTriangles = frames.exact.stats.triangles,
                     .error = frames.error});
-    meter.update(double(v + 1) / double(kViewNames.size()), kViewNames[v]);
   }
   meter.finish(std::to_string(kViewNames.size()) + " views in each mode");
 
