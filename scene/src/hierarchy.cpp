@@ -105,7 +105,13 @@ void validateScene(const Scene& scene, std::string_view source) {
     }
   }
   // The walk also checks world transforms: finite local ones can overflow in their product (scale
-  // 1e200 under scale 1e200), and every world bound and drawn position below would be Inf.
+  // 1e200 under scale 1e200), and every world bound and drawn position below would be Inf. And where
+  // a mesh lands: pbs stores and draws in float, so a world coordinate past float's range (a vertex
+  // near 3e38 under a scale above 1) would reach the outputs as Inf.
+  std::vector<Bounds> meshBoxes(scene.meshes.size());
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+    for (const glm::vec3& p : scene.meshes[m].positions) meshBoxes[m].extend(glm::dvec3(p));
+  constexpr double kFloatRange = std::numeric_limits<float>::max();
   std::vector<bool> reached(count, false);
   std::vector<std::pair<std::uint32_t, glm::dmat4>> stack;
   for (std::uint32_t root : scene.roots) stack.emplace_back(root, scene.nodes[root].local);
@@ -115,6 +121,12 @@ void validateScene(const Scene& scene, std::string_view source) {
     stack.pop_back();
     if (!finite(world))
       throw InputError(source, element("node", n), "world transform is not finite (the transforms above it overflow)");
+    if (const std::int32_t mesh = scene.nodes[n].mesh; mesh >= 0 && !meshBoxes[std::size_t(mesh)].empty()) {
+      const Bounds box = transformCorners(meshBoxes[std::size_t(mesh)], world);
+      if (!(glm::all(glm::lessThanEqual(glm::abs(box.min), glm::dvec3(kFloatRange))) &&
+            glm::all(glm::lessThanEqual(glm::abs(box.max), glm::dvec3(kFloatRange)))))
+        throw InputError(source, element("node", n), "its mesh reaches past float's range in the world (above 3.4e38)");
+    }
     reached[n] = true;
     ++reachedCount;
     for (std::uint32_t child : scene.nodes[n].children) stack.emplace_back(child, world * scene.nodes[child].local);

@@ -74,12 +74,30 @@ TEST(StabilityScene, NonFiniteNormalsAndUvsInAGlbAreInputErrors) {
 TEST(StabilityScene, NodeTransformsWhoseProductOverflowsAreInputErrors) {
   test::ScratchDir dir;
   GltfBuilder b = test::triangleFile();
+  b.json["nodes"][0].erase("mesh");  // only the child's world overflows, not a mesh under the parent
   b.json["nodes"][0]["scale"] = {1e200, 1e200, 1e200};
   b.json["nodes"][0]["children"] = {1};
   b.addNode({{"mesh", 0}, {"scale", {1e200, 1e200, 1e200}}});
   const std::string error = importError(b, dir);
   EXPECT_TRUE(error.starts_with((dir / "stiff.glb").string() + ": node 1: ")) << error;
   EXPECT_NE(error.find("not finite"), std::string::npos) << error;
+}
+
+// Expected: vertices near float's largest value are accepted where they stay in range and refused,
+// naming the node, where a world scale pushes them past it: pbs stores and draws in float, so such a
+// coordinate would reach the outputs as Inf.
+TEST(StabilityScene, MeshesPushedPastFloatRangeAreInputErrors) {
+  Mesh mesh = test::tessellatedBox(1);
+  for (glm::vec3& p : mesh.positions) p *= 3e38f;
+  updateMeshBounds(mesh);
+  EXPECT_NO_THROW(test::sceneOf(mesh, {glm::dmat4(1.0)}));
+  try {
+    test::sceneOf(mesh, {glm::dmat4(1.0), glm::scale(glm::dmat4(1.0), glm::dvec3(2.0))});
+    ADD_FAILURE() << "a world coordinate of 6e38 was accepted";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("node 1: its mesh reaches past float's range"), std::string::npos)
+        << error.what();
+  }
 }
 
 // Expected: a glTF mesh whose only primitive draws no triangles (POINTS) is not imported and its node

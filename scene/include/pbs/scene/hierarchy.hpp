@@ -13,7 +13,8 @@ namespace pbs {
 // Throws InputError naming `source` and the element when the scene is not well formed: a
 // reference out of range, a node with two parents or in a cycle, a root that is not a root,
 // non-finite transforms or vertex data, world transforms whose product overflows (finite local ones
-// can), index out of range, parts that do not cover the indices.
+// can), a mesh whose world coordinates pass float's range, index out of range, parts that do not
+// cover the indices.
 void validateScene(const Scene& scene, std::string_view source);
 
 struct Hierarchy {
