@@ -3,6 +3,7 @@
 // in it, in its stored order. Per prefix k: d_min(k), ρ(k) and (at log-spaced k) the mean nearest-
 // neighbour distance; summaries rho_min / rho_mean; and the flat-patch spectrum of each ordering.
 #include "commands.hpp"
+#include "report_numbers.hpp"
 #include "scene_report.hpp"
 #include "svg_plot.hpp"
 
@@ -227,7 +228,7 @@ std::vector<Measured> analyzeScene(const Options& options, nlohmann::json& repor
     m.coverage = capture.coverage;
     const auto start = std::chrono::steady_clock::now();
     const std::vector<std::uint32_t> order = orderPoints(ordering, points, options.max, options.seed);
-    m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    m.seconds = secondsSince(start);
     measure(m, points, order);
     measured.push_back(std::move(m));
   }

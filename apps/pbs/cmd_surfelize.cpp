@@ -3,6 +3,7 @@
 #include "commands.hpp"
 #include "memory_limit.hpp"
 #include "progress_meter.hpp"
+#include "report_numbers.hpp"
 #include "scene_report.hpp"
 
 #include <pbs/raster/thread_arena.hpp>
@@ -75,7 +76,7 @@ void addSurfelizeCommand(CLI::App& app) {
       if (stats.arrays > 0) meter.finish(std::to_string(stats.arrays) + " arrays, " + withThousands(stats.surfels) + " surfels");
       writeSurfelFile(options->output, surfels);
       const std::uint64_t bytes = std::filesystem::file_size(options->output);
-      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double seconds = secondsSince(start);
 
       if (options->json) {
         const nlohmann::json report = {

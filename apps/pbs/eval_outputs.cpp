@@ -82,16 +82,11 @@ std::string evalCsv(const std::vector<EvalSetting>& settings, const EvalResults&
   std::string csv = kEvalCsvHeader;
   csv.push_back('\n');
   for (std::size_t s = 0; s < settings.size(); ++s) {
-    for (const EvalFrame& f : results.settings[s].frames) {
-      csv.append(settings[s].name);
-      for (const std::string& field :
-           {std::to_string(f.frame), csvNumber(f.azimuthDegrees), csvNumber(f.seconds),
-            csvNumber(f.stats.traverseSeconds), csvNumber(f.stats.rasterSeconds), std::to_string(f.stats.triangles),
-            std::to_string(f.stats.surfels), csvNumber(f.error.rmse), csvNumber(f.error.psnr),
-            csvNumber(f.error.ssim), csvNumber(f.error.holeFraction)})
-        csv.append(",").append(field);
-      csv.push_back('\n');
-    }
+    for (const EvalFrame& f : results.settings[s].frames)
+      appendCsvLine(csv, settings[s].name,
+                    {double(f.frame), f.azimuthDegrees, f.seconds, f.stats.traverseSeconds, f.stats.rasterSeconds,
+                     double(f.stats.triangles), double(f.stats.surfels), f.error.rmse, f.error.psnr, f.error.ssim,
+                     f.error.holeFraction});
   }
   return csv;
 }

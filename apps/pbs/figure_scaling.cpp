@@ -75,13 +75,11 @@ ScalingPoint measureCity(const Scene& city, const Hierarchy& hierarchy, const Sc
 
 std::string scalingCsv(const std::vector<ScalingPoint>& points) {
   std::string csv = std::string(kCsvHeader) + "\n";
-  for (const ScalingPoint& p : points) {
-    for (double value : {double(p.triangles), double(p.instances), double(p.levels), double(kScalingFanout),
-                         p.surfelizeSeconds, double(p.surfelsMade), p.exactMs, p.surfelsMs, p.surfelsDrawn,
-                         p.trianglesDrawn, p.exactTrianglesDrawn, p.psnr, p.ssim})
-      csv.append(csvNumber(value)).push_back(',');
-    csv.back() = '\n';
-  }
+  for (const ScalingPoint& p : points)
+    appendCsvLine(csv, csvNumber(double(p.triangles)),
+                  {double(p.instances), double(p.levels), double(kScalingFanout), p.surfelizeSeconds,
+                   double(p.surfelsMade), p.exactMs, p.surfelsMs, p.surfelsDrawn, p.trianglesDrawn,
+                   p.exactTrianglesDrawn, p.psnr, p.ssim});
   return csv;
 }
 

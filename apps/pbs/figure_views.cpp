@@ -37,15 +37,11 @@ struct ViewRow {
 
 std::string viewsCsv(const std::vector<ViewRow>& rows) {
   std::string csv = std::string(kCsvHeader) + "\n";
-  for (const ViewRow& r : rows) {
-    csv.append(r.name).push_back(',');
-    for (double value : {r.distance, r.exactMs, r.surfelsMs, double(r.surfelsStats.surfels),
-                         double(r.surfelsStats.triangles), double(r.exactTriangles),
-                         double(r.surfelsStats.nodesGeometry), double(r.surfelsStats.nodesSurfels), r.error.psnr,
-                         r.error.ssim, r.error.holeFraction})
-      csv.append(csvNumber(value)).push_back(',');
-    csv.back() = '\n';
-  }
+  for (const ViewRow& r : rows)
+    appendCsvLine(csv, r.name,
+                  {r.distance, r.exactMs, r.surfelsMs, double(r.surfelsStats.surfels), double(r.surfelsStats.triangles),
+                   double(r.exactTriangles), double(r.surfelsStats.nodesGeometry), double(r.surfelsStats.nodesSurfels),
+                   r.error.psnr, r.error.ssim, r.error.holeFraction});
   return csv;
 }
 

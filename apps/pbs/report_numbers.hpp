@@ -8,7 +8,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace pbs::cli {
@@ -33,6 +35,13 @@ inline std::string csvNumber(double value) {
   const bool count = value == std::floor(value) && std::abs(value) < 1e15;
   std::snprintf(text, sizeof text, count ? "%.0f" : "%.9g", value);
   return text;
+}
+
+// Appends one CSV line: `first`, then every value as csvNumber writes it.
+inline void appendCsvLine(std::string& csv, std::string_view first, std::initializer_list<double> values) {
+  csv.append(first);
+  for (double value : values) csv.append(",").append(csvNumber(value));
+  csv.push_back('\n');
 }
 
 // JSON cannot hold infinities (a PSNR of identical images): they are written as null.

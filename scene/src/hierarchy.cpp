@@ -108,9 +108,6 @@ void validateScene(const Scene& scene, std::string_view source) {
   // 1e200 under scale 1e200), and every world bound and drawn position below would be Inf. And where
   // a mesh lands: pbs stores and draws in float, so a world coordinate past float's range (a vertex
   // near 3e38 under a scale above 1) would reach the outputs as Inf.
-  std::vector<Bounds> meshBoxes(scene.meshes.size());
-  for (std::size_t m = 0; m < scene.meshes.size(); ++m)
-    for (const glm::vec3& p : scene.meshes[m].positions) meshBoxes[m].extend(glm::dvec3(p));
   constexpr double kFloatRange = std::numeric_limits<float>::max();
   std::vector<bool> reached(count, false);
   std::vector<std::pair<std::uint32_t, glm::dmat4>> stack;
@@ -121,8 +118,8 @@ void validateScene(const Scene& scene, std::string_view source) {
     stack.pop_back();
     if (!finite(world))
       throw InputError(source, element("node", n), "world transform is not finite (the transforms above it overflow)");
-    if (const std::int32_t mesh = scene.nodes[n].mesh; mesh >= 0 && !meshBoxes[std::size_t(mesh)].empty()) {
-      const Bounds box = transformCorners(meshBoxes[std::size_t(mesh)], world);
+    if (const std::int32_t mesh = scene.nodes[n].mesh; mesh >= 0 && !scene.meshes[std::size_t(mesh)].bounds.empty()) {
+      const Bounds box = transformCorners(scene.meshes[std::size_t(mesh)].bounds, world);
       if (!(glm::all(glm::lessThanEqual(glm::abs(box.min), glm::dvec3(kFloatRange))) &&
             glm::all(glm::lessThanEqual(glm::abs(box.max), glm::dvec3(kFloatRange)))))
         throw InputError(source, element("node", n), "its mesh reaches past float's range in the world (above 3.4e38)");

@@ -2,6 +2,7 @@
 // shrunk where surfels are seen edge-on.
 #include "pbs/surfels/lod_render.hpp"
 
+#include "elapsed.hpp"
 #include "pbs/raster/points.hpp"
 #include "pbs/raster/triangles.hpp"
 #include "pbs/scene/scene_draws.hpp"
@@ -11,15 +12,13 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 namespace pbs {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+using detail::Clock;
+using detail::secondsSince;
 
 // max(|cos θ|, minimum) per surfel of the prefix, θ between its world normal and the view direction
 // toward the node (one direction per node: the node is small on screen when it draws surfels).

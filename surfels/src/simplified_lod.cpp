@@ -1,18 +1,13 @@
 // renderSimplifiedLod: traverseLod's surfel draws swapped for the simplified scene's subtree triangles.
 #include "pbs/surfels/simplified_lod.hpp"
 
+#include "elapsed.hpp"
 #include "pbs/scene/scene_draws.hpp"
 
-#include <chrono>
-
 namespace pbs {
-namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-}  // namespace
+using detail::Clock;
+using detail::secondsSince;
 
 LodStats renderSimplifiedLod(const Scene& scene, const Scene& simplified, const Hierarchy& hierarchy,
                              const SceneSurfels& surfels, const Camera& camera, Framebuffer& framebuffer,

@@ -1,6 +1,8 @@
 // benchOrder: seeded sphere points, each ordering timed on one thread, then its blue-noise summary.
 #include "order_bench.hpp"
 
+#include "../report_numbers.hpp"
+
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/surfels/blue_noise_metrics.hpp>
 #include <pbs/surfels/ordering.hpp>
@@ -21,7 +23,7 @@ nlohmann::json measure(const std::vector<glm::vec3>& points, const Ordering& ord
   std::vector<std::uint32_t> order;
   const auto start = std::chrono::steady_clock::now();
   runWithThreads(1, [&] { order = ordering(); });
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = cli::secondsSince(start);
   const BlueNoiseSummary summary = summarizeBlueNoise(points, order, 4.0 * std::numbers::pi);
   return {{"seconds", seconds}, {"count", order.size()}, {"rho_min", summary.rhoMin}, {"rho_mean", summary.rhoMean}};
 }

@@ -108,7 +108,7 @@ nlohmann::json timeEmbreeCapture(const Scene& scene, const Hierarchy& hierarchy,
   runWithThreads(threads, [&] {
     const auto start = std::chrono::steady_clock::now();
     const EmbreeScene embree(scene, hierarchy);
-    result["bvh_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result["bvh_seconds"] = cli::secondsSince(start);
     result["seconds"] = medianSeconds(repeats, [&] {
       for (std::size_t v = 0; v < views.cameras.size(); ++v) {
         clearFramebuffer(views.framebuffers[v]);

@@ -1,6 +1,8 @@
 // Timing helpers for the benchmarks: the median of repeated runs of a piece of work.
 #pragma once
 
+#include "../report_numbers.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <vector>
@@ -15,7 +17,7 @@ double medianSeconds(int repeats, Work&& work) {
   for (int r = 0; r < std::max(1, repeats); ++r) {
     const auto start = std::chrono::steady_clock::now();
     work();
-    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    seconds.push_back(cli::secondsSince(start));
   }
   std::nth_element(seconds.begin(), seconds.begin() + seconds.size() / 2, seconds.end());
   return seconds[seconds.size() / 2];
