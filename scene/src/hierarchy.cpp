@@ -107,7 +107,8 @@ void validateScene(const Scene& scene, std::string_view source) {
   // The walk also checks world transforms: finite local ones can overflow in their product (scale
   // 1e200 under scale 1e200), and every world bound and drawn position below would be Inf. And where
   // a mesh lands: pbs stores and draws in float, so a world coordinate past float's range (a vertex
-  // near 3e38 under a scale above 1) would reach the outputs as Inf.
+  // near 3e38 under a scale above 1) would reach the outputs as Inf. Mesh::bounds is every
+  // producer's (updateMeshBounds); a mesh without them is not checked here.
   constexpr double kFloatRange = std::numeric_limits<float>::max();
   std::vector<bool> reached(count, false);
   std::vector<std::pair<std::uint32_t, glm::dmat4>> stack;
