@@ -26,10 +26,6 @@ inline bool overlaps(const RasterTriangle& t, const TileBuffer& tile) {
   return t.maxX >= tile.x0 && t.minX < tile.x0 + tile.width && t.maxY >= tile.y0 && t.minY < tile.y0 + tile.height;
 }
 
-// Depth-tests the triangle's covered pixel centres in the tile (less: an equal depth keeps the
-// earlier triangle) and records its packed id where it wins.
-void rasterizeInTile(TileBuffer& tile, const RasterTriangle& triangle);
-
 // Writes the channels other than depth for every pixel a triangle of this batch won.
 void resolveTile(const TriangleBatch& batch, const TileBuffer& tile);
 

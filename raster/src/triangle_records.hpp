@@ -7,6 +7,8 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <new>
+#include <utility>
 #include <vector>
 
 namespace pbs::triangles {
@@ -16,6 +18,25 @@ namespace pbs::triangles {
 // time of a bunny view.
 template <class T>
 using BatchVector = std::vector<T, tbb::scalable_allocator<T>>;
+
+// The same allocator, but growing a vector leaves the new elements default-initialised: floats
+// are then left unwritten, for setup to fill in place, instead of zeroed first.
+template <class T>
+struct UninitializedAllocator : tbb::scalable_allocator<T> {
+  using tbb::scalable_allocator<T>::scalable_allocator;
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
 
 inline constexpr int kSubpixelBits = 8;
 inline constexpr std::int64_t kSubpixelScale = std::int64_t(1) << kSubpixelBits;
@@ -65,7 +86,6 @@ struct ShadingLayout {
   std::uint32_t uv = kAbsent;        // AttributePlane<glm::vec2>
   std::uint32_t stride = kHeaderFloats;
 };
-inline constexpr std::uint32_t kMaxRecordFloats = ShadingLayout::kHeaderFloats + 3 + 9 + 12 + 6;
 
 // Records are read float by float, straight into registers: copying whole parts through the
 // stack stalls on store forwarding in the per-pixel loop. Integers travel bit-cast.
@@ -109,7 +129,8 @@ template <int N>
 // What one setup task produced, in submission order: raster[i] and shading record i belong together.
 struct TriangleChunk {
   BatchVector<RasterTriangle> raster;
-  BatchVector<float> shading;  // raster.size() records of ShadingLayout::stride floats
+  // raster.size() records of ShadingLayout::stride floats, each written in place when it is added.
+  std::vector<float, UninitializedAllocator<float>> shading;
 
   const float* record(std::uint32_t local, const ShadingLayout& layout) const {
     return shading.data() + std::size_t(local) * layout.stride;

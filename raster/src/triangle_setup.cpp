@@ -112,7 +112,9 @@ class ChunkWriter {
   [[gnu::always_inline]] void appendRecord(const SourceTriangle& source, const TriangleSpan& span,
                                            const Barycentrics& l, const ProjectedVertex* v0, const ProjectedVertex* v1,
                                            const ProjectedVertex* v2, std::uint16_t px0, std::uint16_t py0) {
-    float record[kMaxRecordFloats];
+    const std::size_t at = chunk_.shading.size();
+    chunk_.shading.resize(at + layout_.stride);
+    float* const record = chunk_.shading.data() + at;
     storeHeader(record, ShadingHeader{source.span, source.primitive, px0, py0, span.flatColor});
     // 1/w and a/w are affine in the window, so dividing one by the other is perspective-correct.
     // Where w ≡ 1 the plane is exactly 1, so the division changes nothing and can be skipped.
@@ -133,7 +135,6 @@ class ChunkWriter {
     }
     if (layout_.uv != ShadingLayout::kAbsent)
       storeAttribute<2>(record + layout_.uv, lf, v0->uv * w0, v1->uv * w1, v2->uv * w2);
-    chunk_.shading.insert(chunk_.shading.end(), record, record + layout_.stride);
   }
 
   static glm::vec3 faceNormal(const SourceTriangle& source, bool mirrored) {

@@ -1,6 +1,8 @@
 // The tile stage: one TBB task per tile walks its bin and the large-triangle bin in submission
 // order, then writes depth back and resolves the winners' attributes. No two tasks share a pixel.
+#include "simd_clones.hpp"
 #include "tile_buffer.hpp"
+#include "tile_coverage.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -37,6 +39,7 @@ void storeTileDepth(Framebuffer& framebuffer, const TileBuffer& tile) {
                 tile.depth + row * kTileStride, std::size_t(tile.width) * sizeof(float));
 }
 
+PBS_AVX2_CLONES
 void rasterizeTile(const TriangleBatch& batch, int tileIndex) {
   const std::uint32_t* binned = batch.bins.data() + batch.binStart[tileIndex];
   const std::uint32_t* binnedEnd = batch.bins.data() + batch.binStart[tileIndex + 1];

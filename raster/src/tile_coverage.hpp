@@ -1,7 +1,10 @@
 // Coverage and depth of one triangle within one tile: exact integer edge functions evaluated on
 // 8×8 blocks anchored at the triangle's box (trivial accept and reject per block), with an
 // 8-lane kernel in GCC vector extensions that compiles to branch-free AVX2 in the clone picked at
-// load time (simd_clones.hpp) and to SSE pairs in the baseline one.
+// load time (simd_clones.hpp) and to SSE pairs in the baseline one. Inlined into the tile loop,
+// which is cloned, so that a triangle of a few pixels pays no call and reloads no constants.
+#pragma once
+
 #include "simd_clones.hpp"
 #include "tile_buffer.hpp"
 
@@ -10,7 +13,7 @@
 #include <cstring>
 
 namespace pbs::triangles {
-namespace {
+namespace coverage {
 
 // A triangle no wider or taller than this (in 1/256 pixel: 64 pixels) has every edge value the
 // block loop meets, up to 8 pixels beside its box, below 2^30 in magnitude: int32 suffices.
@@ -91,30 +94,79 @@ PBS_CLONE_INLINE void laneSteps(Edge s1, Lanes<Edge>& steps) {
   }
 }
 
+// The edge functions of a triangle on the pixel grid, from the centre of pixel (ax, y0). Edge k runs
+// from vertex k to k + 1; with the positive area set up, the inside is where its function is
+// positive. Samples exactly on it belong to the triangle for top-left edges only, so the others
+// get a bias of −1 and every test becomes "≥ 0".
+template <class Edge>
+struct EdgeGrid {
+  Edge origin[3], stepX[3], stepY[3];
+  Lanes<Edge> laneStep[3];  // {0, 1, …, 7} · stepX
+
+  PBS_CLONE_INLINE EdgeGrid(const RasterTriangle& t, int ax, int y0) {
+    const std::int64_t sx = std::int64_t(ax) * kSubpixelScale + kSubpixelScale / 2;
+    const std::int64_t sy = std::int64_t(y0) * kSubpixelScale + kSubpixelScale / 2;
+    for (int k = 0; k < 3; ++k) {
+      const int b = (k + 1) % 3;
+      const std::int64_t a = std::int64_t(t.y[k]) - t.y[b];  // coefficient of x
+      const std::int64_t c = std::int64_t(t.x[b]) - t.x[k];  // coefficient of y
+      const bool topLeft = a > 0 || (a == 0 && c > 0);
+      origin[k] = Edge(a * (sx - t.x[k]) + c * (sy - t.y[k]) - (topLeft ? 0 : 1));
+      stepX[k] = Edge(a * kSubpixelScale);
+      stepY[k] = Edge(c * kSubpixelScale);
+      laneSteps(stepX[k], laneStep[k]);
+    }
+  }
+};
+
+// Which lanes of the block row starting at column bx lie in columns x0 … x1.
+PBS_CLONE_INLINE void columnLanes(int bx, int x0, int x1, MaskLanes& lanes) {
+  const MaskLanes column = kLaneIndex + bx;
+  lanes = (column >= x0) & (column <= x1);
+}
+
+// A small rectangle, at most kBlockSize rows of at most two blocks: walked row by row with
+// everything set up once, as a triangle of a few pixels costs more to set up than to test. The
+// edge and depth values are those of the block loop below, so the two paths agree bit for bit.
+template <class Edge>
+PBS_CLONE_INLINE void rasterizeSmallRect(TileBuffer& tile, const RasterTriangle& t, int x0, int y0, int x1, int y1) {
+  const int ax = x0 & ~(kLanes - 1);
+  const EdgeGrid<Edge> grid(t, ax, y0);
+  const bool twoBlocks = x1 - ax >= kBlockSize;
+  Lanes<Edge> edge[3], nextEdge[3];  // the rows' edge values in the first block and the next
+  for (int k = 0; k < 3; ++k) {
+    edge[k] = grid.laneStep[k] + grid.origin[k];
+    nextEdge[k] = grid.laneStep[k] + (grid.origin[k] + grid.stepX[k] * Edge(kBlockSize));
+  }
+  MaskLanes lanes, nextLanes;
+  columnLanes(ax, x0, x1, lanes);
+  columnLanes(ax + kBlockSize, x0, x1, nextLanes);
+  const FloatLanes zColumn = t.zx * __builtin_convertvector(kLaneIndex + (ax - t.minX), FloatLanes);
+  const FloatLanes nextZColumn = t.zx * __builtin_convertvector(kLaneIndex + (ax + kBlockSize - t.minX), FloatLanes);
+  float* depth = tile.depth + (y0 - tile.y0) * kTileStride + (ax - tile.x0);
+  std::uint32_t* ids = tile.ids + (y0 - tile.y0) * kTileStride + (ax - tile.x0);
+  for (int y = y0; y <= y1; ++y, depth += kTileStride, ids += kTileStride) {
+    const float zRow = t.z0 + t.zy * float(y - t.minY);
+    rasterizeLanes<Edge, true>(depth, ids, edge, lanes, zColumn + zRow, t.id);
+    if (twoBlocks) {
+      rasterizeLanes<Edge, true>(depth + kBlockSize, ids + kBlockSize, nextEdge, nextLanes, nextZColumn + zRow, t.id);
+      for (int k = 0; k < 3; ++k) nextEdge[k] += grid.stepY[k];
+    }
+    for (int k = 0; k < 3; ++k) edge[k] += grid.stepY[k];
+  }
+}
+
 // Pixels x0 … x1 × y0 … y1 (window coordinates) of the triangle within the tile, in blocks of
 // 8×8 starting at multiples of 8 columns: the 32-byte loads and stores of successive triangles
 // then meet the earlier ones exactly or not at all, never partly, which would defeat
 // store-to-load forwarding.
 template <class Edge>
 PBS_CLONE_INLINE void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, int x0, int y0, int x1, int y1) {
-  // Edge k runs from vertex k to k + 1; with the positive area set up, the inside is where its
-  // function is positive. Samples exactly on it belong to the triangle for top-left edges only,
-  // so the others get a bias of −1 and every test becomes "≥ 0".
   const int ax = x0 & ~(kLanes - 1);
-  Edge origin[3], stepX[3], stepY[3];  // origin: at the centre of pixel (ax, y0)
-  Lanes<Edge> laneStep[3];
-  const std::int64_t sx = std::int64_t(ax) * kSubpixelScale + kSubpixelScale / 2;
-  const std::int64_t sy = std::int64_t(y0) * kSubpixelScale + kSubpixelScale / 2;
-  for (int k = 0; k < 3; ++k) {
-    const int b = (k + 1) % 3;
-    const std::int64_t a = std::int64_t(t.y[k]) - t.y[b];  // coefficient of x
-    const std::int64_t c = std::int64_t(t.x[b]) - t.x[k];  // coefficient of y
-    const bool topLeft = a > 0 || (a == 0 && c > 0);
-    origin[k] = Edge(a * (sx - t.x[k]) + c * (sy - t.y[k]) - (topLeft ? 0 : 1));
-    stepX[k] = Edge(a * kSubpixelScale);
-    stepY[k] = Edge(c * kSubpixelScale);
-    laneSteps(stepX[k], laneStep[k]);
-  }
+  const EdgeGrid<Edge> grid(t, ax, y0);
+  const auto& origin = grid.origin;
+  const auto& stepX = grid.stepX;
+  const auto& stepY = grid.stepY;
   for (int by = y0; by <= y1; by += kBlockSize) {
     const int rows = std::min(kBlockSize, y1 - by + 1);
     for (int bx = ax; bx <= x1; bx += kBlockSize) {
@@ -133,9 +185,9 @@ PBS_CLONE_INLINE void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, i
       if (reject) continue;
       Lanes<Edge> edge[3];  // from the centre of pixel (bx, by)
       for (int k = 0; k < 3; ++k)
-        edge[k] = laneStep[k] + (origin[k] + stepX[k] * Edge(bx - ax) + stepY[k] * Edge(by - y0));
-      const MaskLanes column = kLaneIndex + bx;
-      const MaskLanes lanes = (column >= x0) & (column <= x1);
+        edge[k] = grid.laneStep[k] + (origin[k] + stepX[k] * Edge(bx - ax) + stepY[k] * Edge(by - y0));
+      MaskLanes lanes;
+      columnLanes(bx, x0, x1, lanes);
       if (accept)
         rasterizeBlockRows<Edge, false>(tile, t, edge, stepY, lanes, bx, by, rows);
       else
@@ -144,19 +196,25 @@ PBS_CLONE_INLINE void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, i
   }
 }
 
-}  // namespace
+}  // namespace coverage
 
-PBS_AVX2_CLONES
-void rasterizeInTile(TileBuffer& tile, const RasterTriangle& t) {
+// Depth-tests the triangle's covered pixel centres in the tile (less: an equal depth keeps the
+// earlier triangle) and records its packed id where it wins.
+PBS_CLONE_INLINE void rasterizeInTile(TileBuffer& tile, const RasterTriangle& t) {
+  using namespace coverage;
   const int x0 = std::max<int>(t.minX, tile.x0), x1 = std::min<int>(t.maxX, tile.x0 + tile.width - 1);
   const int y0 = std::max<int>(t.minY, tile.y0), y1 = std::min<int>(t.maxY, tile.y0 + tile.height - 1);
   if (x0 > x1 || y0 > y1) return;
   const auto [minX, maxX] = std::minmax({t.x[0], t.x[1], t.x[2]});
   const auto [minY, maxY] = std::minmax({t.y[0], t.y[1], t.y[2]});
-  if (std::int64_t(maxX) - minX <= kSmallExtent && std::int64_t(maxY) - minY <= kSmallExtent)
-    rasterizeRect<std::int32_t>(tile, t, x0, y0, x1, y1);
-  else
+  if (std::int64_t(maxX) - minX <= kSmallExtent && std::int64_t(maxY) - minY <= kSmallExtent) {
+    if (y1 - y0 < kBlockSize && x1 - (x0 & ~(kLanes - 1)) < 2 * kBlockSize)
+      rasterizeSmallRect<std::int32_t>(tile, t, x0, y0, x1, y1);
+    else
+      rasterizeRect<std::int32_t>(tile, t, x0, y0, x1, y1);
+  } else {
     rasterizeRect<std::int64_t>(tile, t, x0, y0, x1, y1);
+  }
 }
 
 }  // namespace pbs::triangles
