@@ -80,7 +80,7 @@ struct TriangleBatch {
 
   std::vector<TriangleSpan> spans;
   std::uint32_t triangleCount = 0;
-  BatchVector<ProjectedVertex> vertices;
+  UninitializedVector<ProjectedVertex> vertices;  // each written whole by projectVertices
   std::vector<TriangleChunk> chunks;
   // Bins: one per tile, then one of the triangles spanning more than kMaxBinnedTiles tiles, which
   // every tile scans. Bin b is bins[binStart[b] … binStart[b + 1]), in submission order.

@@ -37,6 +37,8 @@ struct UninitializedAllocator : tbb::scalable_allocator<T> {
     ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
   }
 };
+template <class T>
+using UninitializedVector = std::vector<T, UninitializedAllocator<T>>;
 
 inline constexpr int kSubpixelBits = 8;
 inline constexpr std::int64_t kSubpixelScale = std::int64_t(1) << kSubpixelBits;
@@ -130,7 +132,7 @@ template <int N>
 struct TriangleChunk {
   BatchVector<RasterTriangle> raster;
   // raster.size() records of ShadingLayout::stride floats, each written in place when it is added.
-  std::vector<float, UninitializedAllocator<float>> shading;
+  UninitializedVector<float> shading;
 
   const float* record(std::uint32_t local, const ShadingLayout& layout) const {
     return shading.data() + std::size_t(local) * layout.stride;

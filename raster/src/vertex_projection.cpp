@@ -8,10 +8,11 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
-#include <climits>
 #include <cmath>
+#include <limits>
 
 namespace pbs::triangles {
 namespace {
@@ -27,20 +28,62 @@ bool isInside(const TriangleBatch& batch, const glm::dvec4& c) {
          std::abs(c.y) <= batch.guardY * c.w;
 }
 
-// The index range a span references (indices past the vertex array are skipped later). Selects
-// rather than a skip, so that the loop vectorises.
+// Smallest and largest of a set of indices or coordinates; merged by min and max, so the result
+// is the same however a parallel reduction splits the work.
+template <class T>
+struct Extent {
+  T lo = std::numeric_limits<T>::max();
+  T hi = std::numeric_limits<T>::lowest();
+
+  void add(T value) {
+    lo = std::min(lo, value);
+    hi = std::max(hi, value);
+  }
+  Extent merged(const Extent& other) const { return {std::min(lo, other.lo), std::max(hi, other.hi)}; }
+};
+
+// A span of one large mesh is one task of every per-span stage below: its scans over indices and
+// vertices are split in pieces of this many, so that they run on every thread too.
+constexpr std::size_t kScanGrain = 1 << 14;
+
+// Reduces body(first, end, partial) over [0, count) in parallel pieces, merging the partial results
+// (of a type with `merged`) in any order.
+template <class Partial, class Body>
+Partial parallelScan(std::size_t count, Body body) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, count, kScanGrain), Partial{},
+      [&](const tbb::blocked_range<std::size_t>& r, Partial partial) {
+        body(r.begin(), r.end(), partial);
+        return partial;
+      },
+      [](const Partial& a, const Partial& b) { return a.merged(b); });
+}
+
+// The valid indices among indices[first, end): those below the vertex count. Selects rather than
+// a skip, so that the loop vectorises.
 PBS_AVX2_CLONES
-void chooseCacheRange(const TriangleSpan& span, std::size_t vertexLimit, std::uint32_t& first,
-                      std::uint32_t& count) {
-  const auto indices = span.draw->indices.subspan(span.firstIndex, std::size_t(span.count) * 3);
+void addValidIndices(const std::uint32_t* indices, std::size_t first, std::size_t end, std::size_t vertexLimit,
+                     Extent<std::uint32_t>& extent) {
   const bool anyIndex = vertexLimit > 0xffffffffu;
   const std::uint32_t limit = std::uint32_t(std::min<std::size_t>(vertexLimit, 0xffffffffu));
-  std::uint32_t lo = 0xffffffffu, hi = 0;
-  for (const std::uint32_t index : indices) {
-    const bool valid = anyIndex || index < limit;
-    lo = std::min(lo, valid ? index : 0xffffffffu);
-    hi = std::max(hi, valid ? index : 0u);
+  std::uint32_t lo = extent.lo, hi = extent.hi;
+  for (std::size_t i = first; i < end; ++i) {
+    const bool valid = anyIndex || indices[i] < limit;
+    lo = std::min(lo, valid ? indices[i] : 0xffffffffu);
+    hi = std::max(hi, valid ? indices[i] : 0u);
   }
+  extent = {lo, hi};
+}
+
+// The index range a span references (indices past the vertex array are skipped later).
+void chooseCacheRange(const TriangleSpan& span, std::size_t vertexLimit, std::uint32_t& first,
+                      std::uint32_t& count) {
+  const std::uint32_t* indices = span.draw->indices.data() + span.firstIndex;
+  const auto range = parallelScan<Extent<std::uint32_t>>(
+      std::size_t(span.count) * 3, [&](std::size_t begin, std::size_t end, Extent<std::uint32_t>& extent) {
+        addValidIndices(indices, begin, end, vertexLimit, extent);
+      });
+  const std::uint32_t lo = range.lo, hi = range.hi;
   const bool useful = lo <= hi && std::size_t(hi - lo) < kCachedVerticesPerTriangle * span.count + kCachedVerticesSlack;
   first = useful ? lo : 0;
   count = useful ? hi - lo + 1 : 0;
@@ -123,20 +166,29 @@ void addRunAttributes(TriangleBatch& batch, const TriangleSpan& span, std::uint3
 
 // Whether the span's cached vertices, all inside, fall on few pixel centres: their box within the
 // viewport, counted as emit counts a triangle's.
+// The box of a span's cached window positions, and whether any vertex lies outside.
+struct WindowExtent {
+  Extent<std::int32_t> x, y;
+  bool outside = false;
+
+  WindowExtent merged(const WindowExtent& other) const {
+    return {x.merged(other.x), y.merged(other.y), outside || other.outside};
+  }
+};
+
 bool shouldDefer(const TriangleBatch& batch, const TriangleSpan& span) {
   if (span.vertexCount == 0) return false;
   const ProjectedVertex* vertices = batch.vertices.data() + span.cacheOffset;
-  std::int32_t minX = INT32_MAX, minY = INT32_MAX, maxX = INT32_MIN, maxY = INT32_MIN;
-  bool inside = true;
-  for (std::uint32_t v = 0; v < span.vertexCount; ++v) {
-    inside &= vertices[v].inside;
-    minX = std::min(minX, vertices[v].x);
-    maxX = std::max(maxX, vertices[v].x);
-    minY = std::min(minY, vertices[v].y);
-    maxY = std::max(maxY, vertices[v].y);
-  }
-  if (!inside) return false;
-  const PixelBox box = pixelBox(batch.framebuffer, minX, minY, maxX, maxY);
+  const auto window = parallelScan<WindowExtent>(span.vertexCount, [&](std::size_t first, std::size_t end,
+                                                                       WindowExtent& extent) {
+    for (std::size_t v = first; v < end; ++v) {
+      extent.outside |= !vertices[v].inside;
+      extent.x.add(vertices[v].x);
+      extent.y.add(vertices[v].y);
+    }
+  });
+  if (window.outside) return false;
+  const PixelBox box = pixelBox(batch.framebuffer, window.x.lo, window.y.lo, window.x.hi, window.y.hi);
   if (box.empty()) return true;
   const std::uint64_t pixels = std::uint64_t(box.x1 - box.x0 + 1) * std::uint64_t(box.y1 - box.y0 + 1);
   return pixels * kDeferVerticesPerPixel < span.vertexCount;
