@@ -581,6 +581,22 @@ TEST(TriangleDeterminism, SameBytesWithOneTwoAndSevenThreads) {
   }
 }
 
+// Meshes of tens of thousands of triangles: vertex projection scans a span's indices and window
+// box in parallel pieces (of 2^14), near (attributes per vertex) and far away (the span defers
+// its attributes to the few triangles that cover a pixel centre).
+TEST(TriangleDeterminism, LargeMeshesScannedInPiecesGiveTheSameBytes) {
+  RandomScene scene(60000, 11);
+  for (const double distance : {3.0, 150.0}) {
+    SCOPED_TRACE("camera at distance " + std::to_string(distance));
+    const glm::dmat4 view = glm::lookAt(glm::dvec3(0.1, 0.1, distance), glm::dvec3(0.0), glm::dvec3(0.0, 1.0, 0.0));
+    const Camera camera = perspectiveCamera(view, glm::radians(60.0), 0.5, 1000.0, 300, 200);
+    const Framebuffer one = scene.draw(camera, 1);
+    EXPECT_GT(coveredPixels(one).size(), distance < 10.0 ? 20000u : 4u);
+    expectIdentical(one, scene.draw(camera, 2));
+    expectIdentical(one, scene.draw(camera, 7));
+  }
+}
+
 // More triangles than one batch (2^18) in one call equal the same triangles in several calls.
 TEST(TriangleStreaming, OneHugeCallEqualsSmallerCalls) {
   constexpr std::uint32_t kTriangles = 300000;
