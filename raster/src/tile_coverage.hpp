@@ -134,22 +134,26 @@ PBS_CLONE_INLINE void rasterizeSmallRect(TileBuffer& tile, const RasterTriangle&
   const EdgeGrid<Edge> grid(t, ax, y0);
   const bool twoBlocks = x1 - ax >= kBlockSize;
   Lanes<Edge> edge[3], nextEdge[3];  // the rows' edge values in the first block and the next
-  for (int k = 0; k < 3; ++k) {
-    edge[k] = grid.laneStep[k] + grid.origin[k];
-    nextEdge[k] = grid.laneStep[k] + (grid.origin[k] + grid.stepX[k] * Edge(kBlockSize));
-  }
+  for (int k = 0; k < 3; ++k) edge[k] = grid.laneStep[k] + grid.origin[k];
+  if (twoBlocks)
+    for (int k = 0; k < 3; ++k) nextEdge[k] = edge[k] + grid.stepX[k] * Edge(kBlockSize);
   MaskLanes lanes, nextLanes;
   columnLanes(ax, x0, x1, lanes);
   columnLanes(ax + kBlockSize, x0, x1, nextLanes);
+  // The depth (z0 + zy·dy) + zx·dx as in the block loop: the zx·dx term per lane, the z0 + zy·dy
+  // term of each row computed at once, lane r for row y0 + r.
   const FloatLanes zColumn = t.zx * __builtin_convertvector(kLaneIndex + (ax - t.minX), FloatLanes);
   const FloatLanes nextZColumn = t.zx * __builtin_convertvector(kLaneIndex + (ax + kBlockSize - t.minX), FloatLanes);
+  const FloatLanes zRowLanes = t.z0 + t.zy * __builtin_convertvector(kLaneIndex + (y0 - t.minY), FloatLanes);
+  float zRows[kLanes];
+  std::memcpy(zRows, &zRowLanes, sizeof zRows);
   float* depth = tile.depth + (y0 - tile.y0) * kTileStride + (ax - tile.x0);
   std::uint32_t* ids = tile.ids + (y0 - tile.y0) * kTileStride + (ax - tile.x0);
-  for (int y = y0; y <= y1; ++y, depth += kTileStride, ids += kTileStride) {
-    const float zRow = t.z0 + t.zy * float(y - t.minY);
-    rasterizeLanes<Edge, true>(depth, ids, edge, lanes, zColumn + zRow, t.id);
+  for (int row = 0; row <= y1 - y0; ++row, depth += kTileStride, ids += kTileStride) {
+    rasterizeLanes<Edge, true>(depth, ids, edge, lanes, zColumn + zRows[row], t.id);
     if (twoBlocks) {
-      rasterizeLanes<Edge, true>(depth + kBlockSize, ids + kBlockSize, nextEdge, nextLanes, nextZColumn + zRow, t.id);
+      rasterizeLanes<Edge, true>(depth + kBlockSize, ids + kBlockSize, nextEdge, nextLanes, nextZColumn + zRows[row],
+                                 t.id);
       for (int k = 0; k < 3; ++k) nextEdge[k] += grid.stepY[k];
     }
     for (int k = 0; k < 3; ++k) edge[k] += grid.stepY[k];
