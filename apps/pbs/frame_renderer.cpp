@@ -37,7 +37,8 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, Ren
 FrameResult FrameRenderer::render(const Camera& camera) {
   FrameResult result;
   const auto start = Clock::now();
-  clearFramebuffer(gbuffer_);
+  // Embree overwrites every pixel itself; the rasterizer draws into a cleared G-buffer.
+  if (mode_ != RenderMode::Embree) clearFramebuffer(gbuffer_);
   switch (mode_) {
     case RenderMode::Surfels: result.stats = renderLod(scene_, hierarchy_, *surfels_, camera, gbuffer_, lod_); break;
     case RenderMode::Exact: result.stats = renderLod(scene_, hierarchy_, none_, camera, gbuffer_, lod_); break;

@@ -109,11 +109,9 @@ nlohmann::json timeEmbreeCapture(const Scene& scene, const Hierarchy& hierarchy,
     const auto start = std::chrono::steady_clock::now();
     const EmbreeScene embree(scene, hierarchy);
     result["bvh_seconds"] = cli::secondsSince(start);
+    // render overwrites every pixel (a miss with the cleared values): no separate clear to time.
     result["seconds"] = medianSeconds(repeats, [&] {
-      for (std::size_t v = 0; v < views.cameras.size(); ++v) {
-        clearFramebuffer(views.framebuffers[v]);
-        embree.render(views.cameras[v], views.framebuffers[v]);
-      }
+      for (std::size_t v = 0; v < views.cameras.size(); ++v) embree.render(views.cameras[v], views.framebuffers[v]);
     });
   });
   std::uint64_t covered = 0;
