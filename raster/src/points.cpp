@@ -80,18 +80,19 @@ void projectChunk(const PointSets& sets, const Camera& camera, const TileGrid& g
   forEachSetPart(sets, range, [&](std::size_t s, std::size_t, std::size_t) { onePixel &= largestSizes[s] <= 1.0f; });
   alignas(64) float sizes[kBlockPoints];
   alignas(64) std::uint32_t payloads[kBlockPoints] = {};
-  PixelBlock pixels;
   forEachSetPart(sets, range, [&](std::size_t s, std::size_t index, std::size_t count) {
     const PointSet& set = sets.set(s);
     const SplatProjector projector(camera, sets.clipFromObject(s), subPixel);
     for (std::size_t i = index; i < index + count; i += kBlockPoints) {
       const std::size_t n = std::min(kBlockPoints, index + count - i);
       drawnSizes(set, smallest, i, n, sizes);
-      sets.payloads(s, i, n, range.batchStart, payloads);
       if (onePixel) {
-        projector.projectPixels(set.positions.subspan(i, n), sizes, round, grid, pixels);
-        sorter.addPixels(pixels, payloads, n);
+        const auto columns = sorter.pixels();
+        sets.payloads(s, i, n, range.batchStart, columns.payloads);
+        projector.projectPixels(set.positions.subspan(i, n), sizes, round, grid, columns.keys);
+        sorter.addPixels(n);
       } else {
+        sets.payloads(s, i, n, range.batchStart, payloads);
         sorter.add(projector.project(set.positions.subspan(i, n), sizes, payloads, sorter.next()));
       }
     }

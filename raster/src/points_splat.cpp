@@ -106,33 +106,36 @@ void squareRects(const Window& __restrict window, std::size_t n, int width, int 
   }
 }
 
-// PixelBlock's key of pixel (x, y), or −1 when `inside` is false.
-inline std::int32_t pixelKey(const TileGrid& grid, int x, int y, bool inside) {
+// PixelKeys' key of pixel (x, y), or of the tile past the last when `inside` is false. The block loops take the
+// grid by value: the keys they store could otherwise alias its fields, which would stop vectorisation.
+inline std::uint32_t pixelKey(const TileGrid& grid, int x, int y, bool inside) {
   const int mask = int(grid.tileSize()) - 1;
   const int tile = (y >> grid.shift) * int(grid.columns) + (x >> grid.shift);
-  return inside ? tile << 16 | (y & mask) << grid.shift | (x & mask) : -1;
+  return static_cast<std::uint32_t>(inside ? tile << 16 | (y & mask) << grid.shift | (x & mask)
+                                           : int(grid.count()) << 16);
 }
 
 // With s = 1 the clipped span has one pixel or none; the arithmetic is squareAxis's, so the paths agree.
 PBS_BLOCK_CLONES
-void squarePixels(const Window& __restrict window, std::size_t n, const TileGrid& grid,
-                  PixelBlock& __restrict pixels) {
+void squarePixels(const Window& __restrict window, std::size_t n, const TileGrid grid, std::uint32_t* __restrict key,
+                  float* __restrict depth) {
   for (std::size_t i = 0; i < n; ++i) {
     int x0, x1, y0, y1;
     squareAxis(window.x[i], 0.5, int(grid.width), x0, x1);
     squareAxis(window.y[i], 0.5, int(grid.height), y0, y1);
-    pixels.key[i] = pixelKey(grid, x0, y0, (x0 < x1) & (y0 < y1));
-    pixels.depth[i] = window.depth[i];
+    key[i] = pixelKey(grid, x0, y0, (x0 < x1) & (y0 < y1));
+    depth[i] = window.depth[i];
   }
 }
 
 // No pixel centre is strictly within ½ of (x, y) but the holding pixel's, so a 1-pixel disc covers just that.
 PBS_BLOCK_CLONES
-void discPixels(const Window& __restrict window, std::size_t n, const TileGrid& grid, PixelBlock& __restrict pixels) {
+void discPixels(const Window& __restrict window, std::size_t n, const TileGrid grid, std::uint32_t* __restrict key,
+                float* __restrict depth) {
   for (std::size_t i = 0; i < n; ++i) {
     const int x = floorToInt(window.x[i]), y = floorToInt(window.y[i]);
-    pixels.key[i] = pixelKey(grid, x, y, (x >= 0) & (x < int(grid.width)) & (y >= 0) & (y < int(grid.height)));
-    pixels.depth[i] = window.depth[i];
+    key[i] = pixelKey(grid, x, y, (x >= 0) & (x < int(grid.width)) & (y >= 0) & (y < int(grid.height)));
+    depth[i] = window.depth[i];
   }
 }
 
@@ -235,13 +238,13 @@ std::size_t SplatProjector::project(std::span<const glm::vec3> positions, const 
 }
 
 void SplatProjector::projectPixels(std::span<const glm::vec3> positions, const float* sizes, bool round,
-                                   const TileGrid& grid, PixelBlock& pixels) const {
+                                   const TileGrid& grid, PixelKeys pixels) const {
   Window window;
   windowBlock(windowFromObject_, positions.data(), sizes, positions.size(), width_, height_, window);
   if (round)
-    discPixels(window, positions.size(), grid, pixels);
+    discPixels(window, positions.size(), grid, pixels.key, pixels.depth);
   else
-    squarePixels(window, positions.size(), grid, pixels);
+    squarePixels(window, positions.size(), grid, pixels.key, pixels.depth);
 }
 
 }  // namespace pbs::points
