@@ -16,20 +16,13 @@ void forEachTile(const TileGrid& grid, const SquareSplat& splat, Visit&& visit) 
     for (std::uint32_t tx = tx0; tx <= tx1; ++tx) visit(ty * grid.columns + tx);
 }
 
-std::vector<SquareSplat>& binsOf(ChunkBins& bins, const SquareSplat*) {
+Buffer<SquareSplat>& binsOf(ChunkBins& bins, const SquareSplat*) {
   bins.kind = BinKind::squares;
   return bins.squares;
 }
-std::vector<DiscSplat>& binsOf(ChunkBins& bins, const DiscSplat*) {
+Buffer<DiscSplat>& binsOf(ChunkBins& bins, const DiscSplat*) {
   bins.kind = BinKind::discs;
   return bins.discs;
-}
-
-// Grows without shrinking, so a vector reused across batches is zero-filled at most once per element.
-template <class T>
-T* sized(std::vector<T>& v, std::size_t n) {
-  if (v.size() < n) v.resize(n);
-  return v.data();
 }
 
 }  // namespace

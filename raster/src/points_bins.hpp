@@ -2,12 +2,12 @@
 // reads its splats in submission order, chunk after chunk, without a global sort or any shared counter.
 #pragma once
 
+#include "points_buffer.hpp"
 #include "points_grid.hpp"
 #include "points_splat.hpp"
 
 #include <cstdint>
 #include <span>
-#include <vector>
 
 namespace pbs::points {
 
@@ -24,10 +24,10 @@ enum class BinKind { pixels, squares, discs };
 // A chunk whose splats all cover one pixel stores the compact PixelSplat: the 1-pixel fast path.
 struct ChunkBins {
   BinKind kind = BinKind::pixels;
-  std::vector<std::uint32_t> offsets;
-  std::vector<PixelSplat> pixels;
-  std::vector<SquareSplat> squares;
-  std::vector<DiscSplat> discs;
+  Buffer<std::uint32_t> offsets;
+  Buffer<PixelSplat> pixels;
+  Buffer<SquareSplat> squares;
+  Buffer<DiscSplat> discs;
 
   // Calls f with the span of this chunk's splats binned to `tile`, of the type `kind` names.
   template <class F>
@@ -67,14 +67,14 @@ class ChunkSorter {
 
  private:
   const TileGrid* grid_ = nullptr;
-  std::vector<Splat> splats_;
+  Buffer<Splat> splats_;
   // The fast path's columns, in submission order.
-  std::vector<std::uint32_t> keys_;
-  std::vector<float> depths_;
-  std::vector<std::uint32_t> payloads_;
-  std::vector<PixelSplat> sortedPixels_;
-  std::vector<Splat> sortedSplats_;
-  std::vector<std::uint32_t> counts_;  // per tile, and for the fast path's dropped points past the last
+  Buffer<std::uint32_t> keys_;
+  Buffer<float> depths_;
+  Buffer<std::uint32_t> payloads_;
+  Buffer<PixelSplat> sortedPixels_;
+  Buffer<Splat> sortedSplats_;
+  Buffer<std::uint32_t> counts_;  // per tile, and for the fast path's dropped points past the last
   std::size_t size_ = 0;
   std::size_t pixelCount_ = 0;
   bool single_ = true;  // every splat from add() so far covers one pixel

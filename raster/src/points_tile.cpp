@@ -11,13 +11,6 @@ namespace pbs::points {
 
 namespace {
 
-// Grows without shrinking: the scratch is reused from tile to tile.
-template <class T>
-T* sized(std::vector<T>& v, std::size_t n) {
-  if (v.size() < n) v.resize(n);
-  return v.data();
-}
-
 // The tile's pixel rectangle in the framebuffer, and the tile-local copy of its pixels. With payloads, a pixel is
 // one 64-bit word: its depth's bits in the low half, the payload of the splat that won it in the high half, so
 // that a test is one load, one compare and one store. A depth-only framebuffer needs the depth alone, which
