@@ -41,22 +41,28 @@ struct WindowPoint {
   bool keep;
 };
 
-// Where the matrix's w row is (0, 0, 0, 1) (orthographic), w is exactly 1 for a finite position and NaN
-// otherwise, and 1/w is w itself, bit for bit (1/1 = 1; a division by a NaN returns that NaN): kAffine skips
-// the division, the slowest step of the loop.
+// Where the matrix's w row is (0, 0, 0, 1) (orthographic), w is exactly 1 for a finite position, so kAffine
+// skips w and the division, the slowest step of the loop. A position that is not finite is dropped all the same:
+// each of x, y and z sums a multiple of every coordinate, so z is NaN or infinite and fails the depth test.
 template <bool kAffine>
 PBS_CLONE_INLINE WindowPoint windowPoint(const glm::dmat4& m, const glm::vec3& position, float size, double xHigh,
                                          double yHigh) {
   const double low = -kReach;
   const double px = position.x, py = position.y, pz = position.z;
-  const double x = m[0][0] * px + m[1][0] * py + m[2][0] * pz + m[3][0];
-  const double y = m[0][1] * px + m[1][1] * py + m[2][1] * pz + m[3][1];
-  const double z = m[0][2] * px + m[1][2] * py + m[2][2] * pz + m[3][2];
-  const double w = m[0][3] * px + m[1][3] * py + m[2][3] * pz + m[3][3];
-  const double inverse = kAffine ? w : 1.0 / w;
-  const double wx = x * inverse, wy = y * inverse, depth = z * inverse;
+  double wx = m[0][0] * px + m[1][0] * py + m[2][0] * pz + m[3][0];
+  double wy = m[0][1] * px + m[1][1] * py + m[2][1] * pz + m[3][1];
+  double depth = m[0][2] * px + m[1][2] * py + m[2][2] * pz + m[3][2];
+  bool front = true;
+  if constexpr (!kAffine) {
+    const double w = m[0][3] * px + m[1][3] * py + m[2][3] * pz + m[3][3];
+    const double inverse = 1.0 / w;
+    wx *= inverse;
+    wy *= inverse;
+    depth *= inverse;
+    front = w > 0.0;
+  }
   // Comparisons that fail for NaN, so NaN and infinite positions are dropped too.
-  const bool keep = (w > 0.0) & (depth >= 0.0) & (depth <= 1.0) & (size > 0.0f);
+  const bool keep = front & (depth >= 0.0) & (depth <= 1.0) & (size > 0.0f);
   // Clamped so that NaN becomes low (std::max(low, NaN) is low), written as min and max for GCC to vectorise.
   const double cx = std::min(xHigh, std::max(low, wx));
   const double cy = std::min(yHigh, std::max(low, wy));
