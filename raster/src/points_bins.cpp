@@ -16,20 +16,13 @@ void forEachTile(const TileGrid& grid, const SquareSplat& splat, Visit&& visit) 
     for (std::uint32_t tx = tx0; tx <= tx1; ++tx) visit(ty * grid.columns + tx);
 }
 
-std::vector<SquareSplat>& binsOf(ChunkBins& bins, const SquareSplat*) {
+ScalableVector<SquareSplat>& binsOf(ChunkBins& bins, const SquareSplat*) {
   bins.kind = BinKind::squares;
   return bins.squares;
 }
-std::vector<DiscSplat>& binsOf(ChunkBins& bins, const DiscSplat*) {
+ScalableVector<DiscSplat>& binsOf(ChunkBins& bins, const DiscSplat*) {
   bins.kind = BinKind::discs;
   return bins.discs;
-}
-
-// Grows without shrinking, so a vector reused across batches is zero-filled at most once per element.
-template <class T>
-T* sized(std::vector<T>& v, std::size_t n) {
-  if (v.size() < n) v.resize(n);
-  return v.data();
 }
 
 }  // namespace
@@ -38,8 +31,10 @@ template <class Splat>
 void ChunkSorter<Splat>::start(const TileGrid& grid, std::size_t points) {
   grid_ = &grid;
   sized(splats_, points);
-  sized(pixels_, points);
-  counts_.assign(grid.count(), 0);
+  sized(keys_, points);
+  sized(depths_, points);
+  sized(payloads_, points);
+  counts_.assign(grid.count() + 1, 0);
   size_ = 0;
   pixelCount_ = 0;
   single_ = true;
@@ -61,17 +56,10 @@ void ChunkSorter<Splat>::add(std::size_t count) {
 }
 
 template <class Splat>
-void ChunkSorter<Splat>::addPixels(const PixelBlock& pixels, const std::uint32_t* payloads, std::size_t count) {
-  // Locals, so the compiler need not reload the members after every store.
-  std::uint32_t* counts = counts_.data();
-  PixelSplat* out = pixels_.data() + pixelCount_;
-  for (std::size_t i = 0; i < count; ++i) {
-    if (pixels.key[i] < 0) continue;
-    const auto key = static_cast<std::uint32_t>(pixels.key[i]);
-    ++counts[key >> 16];
-    *out++ = PixelSplat{key, pixels.depth[i], payloads[i]};
-  }
-  pixelCount_ = static_cast<std::size_t>(out - pixels_.data());
+void ChunkSorter<Splat>::addPixels(std::size_t count) {
+  std::uint32_t* counts = counts_.data();  // a local, so the compiler need not reload it after every store
+  for (const std::uint32_t key : std::span(keys_).subspan(pixelCount_, count)) ++counts[key >> 16];
+  pixelCount_ += count;
 }
 
 template <class Splat>
@@ -90,15 +78,20 @@ void ChunkSorter<Splat>::sort(ChunkBins& bins) {
     cursor[tile] = offsets[tile];
   }
   offsets[tiles] = total;
+  const std::uint32_t dropped = cursor[tiles];  // the fast path's, into the tile after the last
+  cursor[tiles] = total;
 
   // Scattered into memory that stays in this core's cache, then copied to the bins in one sequential sweep:
   // scattered writes straight to the bins would each wait for a line last touched a batch ago.
   if (single_) {
     bins.kind = BinKind::pixels;
-    PixelSplat* sorted = sized(sortedPixels_, total);
+    PixelSplat* sorted = sized(sortedPixels_, total + dropped);
     const std::uint32_t mask = grid.tileSize() - 1;
-    for (const PixelSplat& pixel : std::span(pixels_.data(), pixelCount_))
-      sorted[cursor[pixel.pixel >> 16]++] = PixelSplat{pixel.pixel & 0xffffu, pixel.depth, pixel.payload};
+    const std::uint32_t* keys = keys_.data();
+    const float* depths = depths_.data();
+    const std::uint32_t* payloads = payloads_.data();
+    for (std::size_t i = 0; i < pixelCount_; ++i)
+      sorted[cursor[keys[i] >> 16]++] = PixelSplat{keys[i] & 0xffffu, depths[i], payloads[i]};
     for (const Splat& splat : splats) {
       const std::uint32_t pixel = ((splat.y0 & mask) << grid.shift) | (splat.x0 & mask);
       sorted[cursor[grid.tileOf(splat.x0, splat.y0)]++] = PixelSplat{pixel, splat.depth, splat.payload};

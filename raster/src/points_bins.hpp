@@ -2,12 +2,12 @@
 // reads its splats in submission order, chunk after chunk, without a global sort or any shared counter.
 #pragma once
 
+#include "points_buffer.hpp"
 #include "points_grid.hpp"
 #include "points_splat.hpp"
 
 #include <cstdint>
 #include <span>
-#include <vector>
 
 namespace pbs::points {
 
@@ -24,10 +24,10 @@ enum class BinKind { pixels, squares, discs };
 // A chunk whose splats all cover one pixel stores the compact PixelSplat: the 1-pixel fast path.
 struct ChunkBins {
   BinKind kind = BinKind::pixels;
-  std::vector<std::uint32_t> offsets;
-  std::vector<PixelSplat> pixels;
-  std::vector<SquareSplat> squares;
-  std::vector<DiscSplat> discs;
+  ScalableVector<std::uint32_t> offsets;
+  ScalableVector<PixelSplat> pixels;
+  ScalableVector<SquareSplat> squares;
+  ScalableVector<DiscSplat> discs;
 
   // Calls f with the span of this chunk's splats binned to `tile`, of the type `kind` names.
   template <class F>
@@ -43,26 +43,38 @@ struct ChunkBins {
 
 // Sorts one chunk's splats by tile: the projector writes them block by block at next(), add() counts their
 // tiles while they are still in L1, and sort() moves them into the chunk's bins. A chunk whose points all
-// have drawn size 1 takes the fast path instead: addPixels() keeps each as a PixelSplat keyed by its tile. A
-// chunk uses one or the other, so its splats stay in submission order. Reused from chunk to chunk, its memory
-// only grows.
+// have drawn size 1 takes the fast path instead: the projector writes their keys, depths and payloads as
+// columns at pixels() and addPixels() counts their tiles. A chunk uses one or the other, so its splats stay in
+// submission order. Reused from chunk to chunk, its memory only grows.
 template <class Splat>
 class ChunkSorter {
  public:
+  // The fast path's columns for the chunk's next points: PixelKeys' key and depth, and the payloads.
+  struct PixelColumns {
+    PixelKeys keys;
+    std::uint32_t* payloads;
+  };
+
   // Starts a chunk of at most `points` points.
   void start(const TileGrid& grid, std::size_t points);
   Splat* next() { return splats_.data() + size_; }
   void add(std::size_t count);
-  void addPixels(const PixelBlock& pixels, const std::uint32_t* payloads, std::size_t count);
+  PixelColumns pixels() {
+    return {{keys_.data() + pixelCount_, depths_.data() + pixelCount_}, payloads_.data() + pixelCount_};
+  }
+  void addPixels(std::size_t count);
   void sort(ChunkBins& bins);
 
  private:
   const TileGrid* grid_ = nullptr;
-  std::vector<Splat> splats_;
-  std::vector<PixelSplat> pixels_;  // from addPixels, with PixelBlock's key as `pixel`
-  std::vector<PixelSplat> sortedPixels_;
-  std::vector<Splat> sortedSplats_;
-  std::vector<std::uint32_t> counts_;
+  ScalableVector<Splat> splats_;
+  // The fast path's columns, in submission order.
+  ScalableVector<std::uint32_t> keys_;
+  ScalableVector<float> depths_;
+  ScalableVector<std::uint32_t> payloads_;
+  ScalableVector<PixelSplat> sortedPixels_;
+  ScalableVector<Splat> sortedSplats_;
+  ScalableVector<std::uint32_t> counts_;  // per tile, and for the fast path's dropped points past the last
   std::size_t size_ = 0;
   std::size_t pixelCount_ = 0;
   bool single_ = true;  // every splat from add() so far covers one pixel

@@ -4,7 +4,7 @@
 namespace pbs::points {
 
 TileGrid makeTileGrid(std::uint32_t width, std::uint32_t height) {
-  constexpr int kMinShift = 4, kMaxShift = 8;
+  constexpr int kMinShift = 4, kMaxShift = kMaxTileShift;
   constexpr std::uint32_t kMinTiles = 64, kMaxTiles = 4096;
   TileGrid grid;
   grid.width = width;

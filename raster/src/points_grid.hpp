@@ -5,6 +5,10 @@
 
 namespace pbs::points {
 
+// The largest tile side makeTileGrid chooses.
+inline constexpr int kMaxTileShift = 8;
+inline constexpr std::uint32_t kMaxTileSize = 1u << kMaxTileShift;
+
 // Square tiles of 2^shift pixels covering the framebuffer, numbered row-major.
 struct TileGrid {
   std::uint32_t width = 0;  // framebuffer

@@ -6,9 +6,10 @@ namespace pbs::points {
 
 namespace {
 
-// The block loops are also compiled for AVX2 (simd_clones.hpp): the portable x86-64 build has only SSE2, for
-// which GCC does not vectorise the double ↔ int conversions.
-#define PBS_BLOCK_CLONES PBS_AVX2_CLONES
+// The block loops are also compiled for AVX2 and AVX-512 (simd_clones.hpp): the portable x86-64 build has only
+// SSE2, for which GCC does not vectorise the double ↔ int conversions; AVX-512's wider vectors and 32 registers
+// (the block loops spill with 16) take about 6 % off a 1-pixel draw where the CPU has them.
+#define PBS_BLOCK_CLONES PBS_AVX512_CLONES
 
 // ceil and floor of a double well inside the int range, written so the block loops vectorise (baseline
 // x86-64 has no rounding instruction and a libm call per point would dominate).
@@ -33,31 +34,53 @@ struct Window {
   alignas(64) float depth[kBlockPoints];
 };
 
-// Where the matrix's w row is (0, 0, 0, 1) (orthographic), w is exactly 1 for a finite position and NaN
-// otherwise, and 1/w is w itself, bit for bit (1/1 = 1; a division by a NaN returns that NaN): kAffine skips
-// the division, the slowest step of the loop.
+// One point's window position, clamped to kReach around the viewport, its depth, and whether it may draw.
+struct WindowPoint {
+  double x, y;
+  float depth;
+  bool keep;
+};
+
+// Where the matrix's w row is (0, 0, 0, 1) (orthographic), w is exactly 1 for a finite position, so kAffine
+// skips w and the division, the slowest step of the loop. A position that is not finite is dropped all the same:
+// each of x, y and z sums a multiple of every coordinate, so z is NaN or infinite and fails the depth test.
+template <bool kAffine>
+PBS_CLONE_INLINE WindowPoint windowPoint(const glm::dmat4& m, const glm::vec3& position, float size, double xHigh,
+                                         double yHigh) {
+  const double low = -kReach;
+  const double px = position.x, py = position.y, pz = position.z;
+  double wx = m[0][0] * px + m[1][0] * py + m[2][0] * pz + m[3][0];
+  double wy = m[0][1] * px + m[1][1] * py + m[2][1] * pz + m[3][1];
+  double depth = m[0][2] * px + m[1][2] * py + m[2][2] * pz + m[3][2];
+  bool front = true;
+  if constexpr (!kAffine) {
+    const double w = m[0][3] * px + m[1][3] * py + m[2][3] * pz + m[3][3];
+    const double inverse = 1.0 / w;
+    wx *= inverse;
+    wy *= inverse;
+    depth *= inverse;
+    front = w > 0.0;
+  }
+  // Comparisons that fail for NaN, so NaN and infinite positions are dropped too.
+  const bool keep = front & (depth >= 0.0) & (depth <= 1.0) & (size > 0.0f);
+  // Clamped so that NaN becomes low (std::max(low, NaN) is low), written as min and max for GCC to vectorise.
+  const double cx = std::min(xHigh, std::max(low, wx));
+  const double cy = std::min(yHigh, std::max(low, wy));
+  return {cx, cy, static_cast<float>(depth), keep};
+}
+
 template <bool kAffine>
 PBS_CLONE_INLINE void windowBlockWith(const glm::dmat4& windowFromObject, const glm::vec3* __restrict positions,
                                       const float* __restrict sizes, std::size_t n, int width, int height,
                                       Window& __restrict window) {
   const glm::dmat4 m = windowFromObject;
-  const double low = -kReach, xHigh = width + kReach, yHigh = height + kReach;
+  const double xHigh = width + kReach, yHigh = height + kReach;
   for (std::size_t i = 0; i < n; ++i) {
-    const double px = positions[i].x, py = positions[i].y, pz = positions[i].z;
-    const double x = m[0][0] * px + m[1][0] * py + m[2][0] * pz + m[3][0];
-    const double y = m[0][1] * px + m[1][1] * py + m[2][1] * pz + m[3][1];
-    const double z = m[0][2] * px + m[1][2] * py + m[2][2] * pz + m[3][2];
-    const double w = m[0][3] * px + m[1][3] * py + m[2][3] * pz + m[3][3];
-    const double inverse = kAffine ? w : 1.0 / w;
-    const double wx = x * inverse, wy = y * inverse, depth = z * inverse;
-    // Comparisons that fail for NaN, so NaN and infinite positions are dropped too.
-    const bool keep = (w > 0.0) & (depth >= 0.0) & (depth <= 1.0) & (sizes[i] > 0.0f);
-    const double cx = wx > low ? (wx < xHigh ? wx : xHigh) : low;
-    const double cy = wy > low ? (wy < yHigh ? wy : yHigh) : low;
-    window.x[i] = keep ? cx : low;
-    window.y[i] = cy;
+    const WindowPoint point = windowPoint<kAffine>(m, positions[i], sizes[i], xHigh, yHigh);
+    window.x[i] = point.keep ? point.x : -kReach;
+    window.y[i] = point.y;
     window.half[i] = static_cast<double>(sizes[i]) * 0.5;
-    window.depth[i] = static_cast<float>(depth);
+    window.depth[i] = point.depth;
   }
 }
 
@@ -74,10 +97,12 @@ void windowBlockProjective(const glm::dmat4& windowFromObject, const glm::vec3* 
   windowBlockWith<false>(windowFromObject, positions, sizes, n, width, height, window);
 }
 
+// Whether windowPoint<true> applies.
+bool isAffine(const glm::dmat4& m) { return m[0][3] == 0.0 && m[1][3] == 0.0 && m[2][3] == 0.0 && m[3][3] == 1.0; }
+
 void windowBlock(const glm::dmat4& windowFromObject, const glm::vec3* positions, const float* sizes, std::size_t n,
                  int width, int height, Window& window) {
-  const glm::dmat4& m = windowFromObject;
-  if (m[0][3] == 0.0 && m[1][3] == 0.0 && m[2][3] == 0.0 && m[3][3] == 1.0)
+  if (isAffine(windowFromObject))
     windowBlockAffine(windowFromObject, positions, sizes, n, width, height, window);
   else
     windowBlockProjective(windowFromObject, positions, sizes, n, width, height, window);
@@ -106,34 +131,68 @@ void squareRects(const Window& __restrict window, std::size_t n, int width, int 
   }
 }
 
-// PixelBlock's key of pixel (x, y), or −1 when `inside` is false.
-inline std::int32_t pixelKey(const TileGrid& grid, int x, int y, bool inside) {
+// PixelKeys' key of pixel (x, y), or of the tile past the last when `inside` is false.
+PBS_CLONE_INLINE std::uint32_t pixelKey(const TileGrid& grid, int x, int y, bool inside) {
   const int mask = int(grid.tileSize()) - 1;
   const int tile = (y >> grid.shift) * int(grid.columns) + (x >> grid.shift);
-  return inside ? tile << 16 | (y & mask) << grid.shift | (x & mask) : -1;
+  return static_cast<std::uint32_t>(inside ? tile << 16 | (y & mask) << grid.shift | (x & mask)
+                                           : int(grid.count()) << 16);
 }
 
-// With s = 1 the clipped span has one pixel or none; the arithmetic is squareAxis's, so the paths agree.
-PBS_BLOCK_CLONES
-void squarePixels(const Window& __restrict window, std::size_t n, const TileGrid& grid,
-                  PixelBlock& __restrict pixels) {
+// The key of a 1-pixel square at window position (x, y). With s = 1 the clipped span has one pixel or none;
+// the arithmetic is squareAxis's, so the paths agree.
+PBS_CLONE_INLINE std::uint32_t squarePixel(const TileGrid& grid, const WindowPoint& point) {
+  int x0, x1, y0, y1;
+  squareAxis(point.x, 0.5, int(grid.width), x0, x1);
+  squareAxis(point.y, 0.5, int(grid.height), y0, y1);
+  return pixelKey(grid, x0, y0, point.keep & (x0 < x1) & (y0 < y1));
+}
+
+// The key of a 1-pixel disc: no pixel centre is strictly within ½ of (x, y) but the holding pixel's, so it
+// covers just that.
+PBS_CLONE_INLINE std::uint32_t discPixel(const TileGrid& grid, const WindowPoint& point) {
+  const int x = floorToInt(point.x), y = floorToInt(point.y);
+  return pixelKey(grid, x, y, point.keep & (x >= 0) & (x < int(grid.width)) & (y >= 0) & (y < int(grid.height)));
+}
+
+// Window position and pixel in one pass, the block never leaving registers. A dropped point's key says so
+// directly (the keep flag is not folded into x as for Window: GCC then fails to vectorise the loop). The grid is
+// a copy: the stored keys could otherwise alias its fields, which would stop vectorisation.
+template <bool kAffine, bool kRound>
+PBS_CLONE_INLINE void pixelLoop(const glm::dmat4& windowFromObject, const glm::vec3* __restrict positions,
+                                const float* __restrict sizes, std::size_t n, const TileGrid grid,
+                                std::uint32_t* __restrict key, float* __restrict depth) {
+  const glm::dmat4 m = windowFromObject;
+  const double xHigh = grid.width + kReach, yHigh = grid.height + kReach;
   for (std::size_t i = 0; i < n; ++i) {
-    int x0, x1, y0, y1;
-    squareAxis(window.x[i], 0.5, int(grid.width), x0, x1);
-    squareAxis(window.y[i], 0.5, int(grid.height), y0, y1);
-    pixels.key[i] = pixelKey(grid, x0, y0, (x0 < x1) & (y0 < y1));
-    pixels.depth[i] = window.depth[i];
+    const WindowPoint point = windowPoint<kAffine>(m, positions[i], sizes[i], xHigh, yHigh);
+    key[i] = kRound ? discPixel(grid, point) : squarePixel(grid, point);
+    depth[i] = point.depth;
   }
 }
 
-// No pixel centre is strictly within ½ of (x, y) but the holding pixel's, so a 1-pixel disc covers just that.
+template <bool kAffine>
+PBS_CLONE_INLINE void pixelBlockWith(const glm::dmat4& windowFromObject, const glm::vec3* __restrict positions,
+                                     const float* __restrict sizes, std::size_t n, const TileGrid& grid, bool round,
+                                     std::uint32_t* __restrict key, float* __restrict depth) {
+  if (round)
+    pixelLoop<kAffine, true>(windowFromObject, positions, sizes, n, grid, key, depth);
+  else
+    pixelLoop<kAffine, false>(windowFromObject, positions, sizes, n, grid, key, depth);
+}
+
 PBS_BLOCK_CLONES
-void discPixels(const Window& __restrict window, std::size_t n, const TileGrid& grid, PixelBlock& __restrict pixels) {
-  for (std::size_t i = 0; i < n; ++i) {
-    const int x = floorToInt(window.x[i]), y = floorToInt(window.y[i]);
-    pixels.key[i] = pixelKey(grid, x, y, (x >= 0) & (x < int(grid.width)) & (y >= 0) & (y < int(grid.height)));
-    pixels.depth[i] = window.depth[i];
-  }
+void pixelBlockAffine(const glm::dmat4& windowFromObject, const glm::vec3* __restrict positions,
+                      const float* __restrict sizes, std::size_t n, const TileGrid& grid, bool round,
+                      std::uint32_t* __restrict key, float* __restrict depth) {
+  pixelBlockWith<true>(windowFromObject, positions, sizes, n, grid, round, key, depth);
+}
+
+PBS_BLOCK_CLONES
+void pixelBlockProjective(const glm::dmat4& windowFromObject, const glm::vec3* __restrict positions,
+                          const float* __restrict sizes, std::size_t n, const TileGrid& grid, bool round,
+                          std::uint32_t* __restrict key, float* __restrict depth) {
+  pixelBlockWith<false>(windowFromObject, positions, sizes, n, grid, round, key, depth);
 }
 
 // Along one axis: the pixels whose centre lies strictly within `radius` of c, with the one holding c when
@@ -235,13 +294,13 @@ std::size_t SplatProjector::project(std::span<const glm::vec3> positions, const 
 }
 
 void SplatProjector::projectPixels(std::span<const glm::vec3> positions, const float* sizes, bool round,
-                                   const TileGrid& grid, PixelBlock& pixels) const {
-  Window window;
-  windowBlock(windowFromObject_, positions.data(), sizes, positions.size(), width_, height_, window);
-  if (round)
-    discPixels(window, positions.size(), grid, pixels);
+                                   const TileGrid& grid, PixelKeys pixels) const {
+  if (isAffine(windowFromObject_))
+    pixelBlockAffine(windowFromObject_, positions.data(), sizes, positions.size(), grid, round, pixels.key,
+                     pixels.depth);
   else
-    squarePixels(window, positions.size(), grid, pixels);
+    pixelBlockProjective(windowFromObject_, positions.data(), sizes, positions.size(), grid, round, pixels.key,
+                         pixels.depth);
 }
 
 }  // namespace pbs::points

@@ -48,13 +48,14 @@ struct DiscSplat : SquareSplat {
   }
 };
 
-// The pixel each point of a block covers when its drawn size is 1, as both shapes then cover exactly one: the
-// square the pixel whose centre lies in [x − ½, x + ½) × [y − ½, y + ½), the disc the pixel holding (x, y).
-// The key is tile << 16 | pixel in the tile (tiles number at most 4096 and hold at most 2^16 pixels, see
-// makeTileGrid), or −1 for a point that draws nothing.
-struct PixelBlock {
-  alignas(64) std::int32_t key[kBlockPoints];
-  alignas(64) float depth[kBlockPoints];
+// Where the 1-pixel fast path writes a block's points: for each the pixel it covers when its drawn size is 1,
+// as both shapes then cover exactly one (the square the pixel whose centre lies in [x − ½, x + ½) × [y − ½,
+// y + ½), the disc the pixel holding (x, y)), and its depth. The key is tile << 16 | pixel in the tile (tiles
+// number at most 4096 and hold at most 2^16 pixels, see makeTileGrid); a point that draws nothing keys tile
+// grid.count(), one past the last, so that sorting by tile drops it without a test.
+struct PixelKeys {
+  std::uint32_t* key;
+  float* depth;
 };
 
 // Projects the points of one set. camera.hpp's viewport mapping is folded into the matrix, so a point costs one
@@ -75,7 +76,7 @@ class SplatProjector {
 
   // The 1-pixel fast path, for points whose drawn size is 1 or 0; the same pixels as project() for them.
   void projectPixels(std::span<const glm::vec3> positions, const float* sizes, bool round, const TileGrid& grid,
-                     PixelBlock& pixels) const;
+                     PixelKeys pixels) const;
 
  private:
   glm::dmat4 windowFromObject_;

@@ -2,42 +2,72 @@
 #include "points_tile.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstddef>
+#include <cstring>
+#include <type_traits>
 
 namespace pbs::points {
 
 namespace {
 
-// The tile's pixel rectangle in the framebuffer, and the tile-local copy of its depth and of the payloads of
-// the splats that won its pixels. A depth-only framebuffer needs no payloads, which halves the tile's footprint
-// in L1.
+// The tile's pixel rectangle in the framebuffer, and the tile-local copy of its pixels. With payloads, a pixel is
+// one 64-bit word: its depth's bits in the low half, the payload of the splat that won it in the high half, so
+// that a test is one load, one compare and one store. A depth-only framebuffer needs the depth alone, which
+// halves the tile's footprint in L1.
 template <bool kPayloads>
 struct TileView {
+  using Pixel = std::conditional_t<kPayloads, std::uint64_t, float>;
+
   std::uint32_t x0, y0, x1, y1;
   int shift;
-  float* depth;
-  std::uint32_t* payload;
+  Pixel* pixels;
+
+  static Pixel pack(float depth, std::uint32_t payload) {
+    if constexpr (kPayloads)
+      return std::uint64_t{payload} << 32 | std::bit_cast<std::uint32_t>(depth);
+    else
+      return depth;
+  }
+  static float depthOf(Pixel pixel) {
+    if constexpr (kPayloads)
+      return std::bit_cast<float>(static_cast<std::uint32_t>(pixel));
+    else
+      return pixel;
+  }
 
   // Strict less: on equal depth the earlier point, already tested, keeps the pixel. Branch-free, since in a
   // dense draw about every other test changes the pixel's owner and a branch would mispredict.
-  void test(std::uint32_t local, float depth, std::uint32_t payload) const {
-    const float old = this->depth[local];
-    this->depth[local] = depth < old ? depth : old;
+  void test(std::uint32_t local, float depth, Pixel packed) const {
+    const Pixel old = pixels[local];
     if constexpr (kPayloads) {
-      // A mask, not a conditional: GCC turns the conditional back into a branch.
-      const std::uint32_t take = 0u - static_cast<std::uint32_t>(depth < old);
-      this->payload[local] = (payload & take) | (this->payload[local] & ~take);
+      // A mask, not a conditional: GCC turns the conditional into a branch.
+      const std::uint64_t take = 0u - static_cast<std::uint64_t>(depth < depthOf(old));
+      pixels[local] = (packed & take) | (old & ~take);
+    } else {
+      pixels[local] = depth < old ? depth : old;
     }
   }
+  void test(std::uint32_t local, float depth, std::uint32_t payload) const {
+    test(local, depth, pack(depth, payload));
+  }
 
-  // test() over `count` consecutive pixels: a loop the compiler vectorises.
+  // test() over `count` consecutive pixels.
   void testRow(std::uint32_t local, std::uint32_t count, float depth, std::uint32_t payload) const {
     for (std::uint32_t i = local; i < local + count; ++i) test(i, depth, payload);
   }
 };
 
+// A PixelSplat's depth and payload lie side by side as View::pack puts them, so one load reads the packed pixel.
+static_assert(offsetof(PixelSplat, payload) == offsetof(PixelSplat, depth) + 4 && std::endian::native == std::endian::little);
+
 template <class View>
 void drawSplats(const View& view, std::span<const PixelSplat> splats) {
-  for (const PixelSplat& splat : splats) view.test(splat.pixel, splat.depth, splat.payload);
+  for (const PixelSplat& splat : splats) {
+    typename View::Pixel packed;
+    std::memcpy(&packed, &splat.depth, sizeof packed);
+    view.test(splat.pixel, splat.depth, packed);
+  }
 }
 
 // The splat's rectangle clipped to the tile, row by row; `span` narrows a row to the pixels covered.
@@ -97,32 +127,46 @@ template <bool kPayloads>
 void drawTileWith(Framebuffer& framebuffer, const TileGrid& grid, std::uint32_t tile,
                   std::span<const ChunkBins> chunks, const PointSets& sets, std::uint64_t batchStart,
                   TileScratch& scratch) {
+  using View = TileView<kPayloads>;
   const std::uint32_t size = grid.tileSize();
-  scratch.depth.resize(std::size_t(size) * size);
-  if constexpr (kPayloads) scratch.payload.resize(std::size_t(size) * size);
-  TileView<kPayloads> view;
+  View view;
   view.x0 = (tile % grid.columns) << grid.shift;
   view.y0 = (tile / grid.columns) << grid.shift;
   view.x1 = std::min(view.x0 + size, grid.width);
   view.y1 = std::min(view.y0 + size, grid.height);
   view.shift = grid.shift;
-  view.depth = scratch.depth.data();
-  view.payload = scratch.payload.data();
+  if constexpr (kPayloads)
+    view.pixels = sized(scratch.packed, std::size_t(size) * size);
+  else
+    view.pixels = sized(scratch.depth, std::size_t(size) * size);
 
   const std::uint32_t width = view.x1 - view.x0;
   const auto rowStart = [&](std::uint32_t y) { return std::size_t(y) * grid.width + view.x0; };
   const auto localStart = [&](std::uint32_t y) { return std::size_t(y - view.y0) << grid.shift; };
-  for (std::uint32_t y = view.y0; y < view.y1; ++y)
-    std::copy_n(framebuffer.depth.begin() + rowStart(y), width, view.depth + localStart(y));
+  for (std::uint32_t y = view.y0; y < view.y1; ++y) {
+    const float* depth = framebuffer.depth.data() + rowStart(y);
+    typename View::Pixel* row = view.pixels + localStart(y);
+    for (std::uint32_t x = 0; x < width; ++x) row[x] = View::pack(depth[x], 0);
+  }
 
   drawChunks(view, chunks, tile);
 
   // Depth only goes down, so the whole row is copied back; the other channels change where it did.
   for (std::uint32_t y = view.y0; y < view.y1; ++y) {
-    if constexpr (kPayloads)
-      sets.writeChannels(framebuffer, rowStart(y), width, view.depth + localStart(y), view.payload + localStart(y),
-                         batchStart);
-    std::copy_n(view.depth + localStart(y), width, framebuffer.depth.begin() + rowStart(y));
+    const typename View::Pixel* row = view.pixels + localStart(y);
+    float* depth = framebuffer.depth.data() + rowStart(y);
+    if constexpr (kPayloads) {
+      alignas(64) float depths[kMaxTileSize];
+      alignas(64) std::uint32_t payloads[kMaxTileSize];
+      for (std::uint32_t x = 0; x < width; ++x) {
+        depths[x] = View::depthOf(row[x]);
+        payloads[x] = static_cast<std::uint32_t>(row[x] >> 32);
+      }
+      sets.writeChannels(framebuffer, rowStart(y), width, depths, payloads, batchStart);
+      std::copy_n(depths, width, depth);
+    } else {
+      std::copy_n(row, width, depth);
+    }
   }
 }
 

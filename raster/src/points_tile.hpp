@@ -7,14 +7,14 @@
 
 #include <cstdint>
 #include <span>
-#include <vector>
 
 namespace pbs::points {
 
-// One thread's copy of a tile: depth and the winning splat's payload per pixel (stride tileSize).
+// One thread's copy of a tile (stride tileSize): depth alone for a depth-only framebuffer, else depth packed
+// with the winning splat's payload (points_tile.cpp).
 struct TileScratch {
-  std::vector<float> depth;
-  std::vector<std::uint32_t> payload;
+  ScalableVector<float> depth;
+  ScalableVector<std::uint64_t> packed;
 };
 
 // Draws the splats binned to `tile` by every chunk of the batch starting at ordinal `batchStart`. Only this

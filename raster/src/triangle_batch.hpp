@@ -84,9 +84,9 @@ struct TriangleBatch {
   std::vector<TriangleChunk> chunks;
   // Bins: one per tile, then one of the triangles spanning more than kMaxBinnedTiles tiles, which
   // every tile scans. Bin b is bins[binStart[b] … binStart[b + 1]), in submission order.
-  BatchVector<std::uint32_t> tileCounts;  // per chunk, per bin: counts, then write offsets
-  BatchVector<std::uint32_t> binStart;
-  BatchVector<std::uint32_t> bins;  // packed ids
+  ScalableVector<std::uint32_t> tileCounts;  // per chunk, per bin: counts, then write offsets
+  ScalableVector<std::uint32_t> binStart;
+  ScalableVector<std::uint32_t> bins;  // packed ids
 
   int tileCount() const { return tilesX * tilesY; }
 };

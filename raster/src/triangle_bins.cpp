@@ -30,11 +30,11 @@ void forEachBinIndex(std::size_t count, Body body) {
 
 void binTriangles(TriangleBatch& batch) {
   const std::size_t bins = binCount(batch);
-  BatchVector<std::uint32_t>& counts = batch.tileCounts;  // [chunk][bin], counted by setup
+  ScalableVector<std::uint32_t>& counts = batch.tileCounts;  // [chunk][bin], counted by setup
 
   // Bin b holds chunk 0's triangles, then chunk 1's, …; counts become each chunk's write offsets.
   const std::size_t chunkCount = batch.chunks.size();
-  BatchVector<std::uint32_t>& start = batch.binStart;
+  ScalableVector<std::uint32_t>& start = batch.binStart;
   start.assign(bins + 1, 0);
   forEachBinIndex(bins, [&](std::size_t b) {
     for (std::size_t c = 0; c < chunkCount; ++c) start[b + 1] += counts[c * bins + b];

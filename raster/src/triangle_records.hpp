@@ -1,44 +1,16 @@
 // The compact per-triangle records that triangle setup writes and the tile rasterizer reads.
 #pragma once
 
+#include "scalable_vectors.hpp"
+
 #include <glm/glm.hpp>
-#include <tbb/scalable_allocator.h>
 
 #include <bit>
 #include <cstddef>
 #include <cstdint>
-#include <new>
-#include <utility>
 #include <vector>
 
 namespace pbs::triangles {
-
-// Batch buffers come from TBB's scalable allocator, which keeps freed large blocks for reuse:
-// with the default one every draw call page-faults its buffers in afresh, about a fifth of the
-// time of a bunny view.
-template <class T>
-using BatchVector = std::vector<T, tbb::scalable_allocator<T>>;
-
-// The same allocator, but growing a vector leaves the new elements default-initialised: floats
-// are then left unwritten, for setup to fill in place, instead of zeroed first.
-template <class T>
-struct UninitializedAllocator : tbb::scalable_allocator<T> {
-  using tbb::scalable_allocator<T>::scalable_allocator;
-  template <class U>
-  struct rebind {
-    using other = UninitializedAllocator<U>;
-  };
-  template <class U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-template <class T>
-using UninitializedVector = std::vector<T, UninitializedAllocator<T>>;
 
 inline constexpr int kSubpixelBits = 8;
 inline constexpr std::int64_t kSubpixelScale = std::int64_t(1) << kSubpixelBits;
@@ -130,7 +102,7 @@ template <int N>
 
 // What one setup task produced, in submission order: raster[i] and shading record i belong together.
 struct TriangleChunk {
-  BatchVector<RasterTriangle> raster;
+  ScalableVector<RasterTriangle> raster;
   // raster.size() records of ShadingLayout::stride floats, each written in place when it is added.
   UninitializedVector<float> shading;
 
