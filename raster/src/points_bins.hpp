@@ -2,9 +2,9 @@
 // reads its splats in submission order, chunk after chunk, without a global sort or any shared counter.
 #pragma once
 
-#include "points_buffer.hpp"
 #include "points_grid.hpp"
 #include "points_splat.hpp"
+#include "scalable_vectors.hpp"
 
 #include <cstdint>
 #include <span>

@@ -97,12 +97,10 @@ void windowBlockProjective(const glm::dmat4& windowFromObject, const glm::vec3* 
   windowBlockWith<false>(windowFromObject, positions, sizes, n, width, height, window);
 }
 
-// Whether windowPoint<true> applies.
-bool isAffine(const glm::dmat4& m) { return m[0][3] == 0.0 && m[1][3] == 0.0 && m[2][3] == 0.0 && m[3][3] == 1.0; }
-
-void windowBlock(const glm::dmat4& windowFromObject, const glm::vec3* positions, const float* sizes, std::size_t n,
-                 int width, int height, Window& window) {
-  if (isAffine(windowFromObject))
+// `affine`: windowFromObject keeps w ≡ 1, so windowPoint<true> applies.
+void windowBlock(const glm::dmat4& windowFromObject, bool affine, const glm::vec3* positions, const float* sizes,
+                 std::size_t n, int width, int height, Window& window) {
+  if (affine)
     windowBlockAffine(windowFromObject, positions, sizes, n, width, height, window);
   else
     windowBlockProjective(windowFromObject, positions, sizes, n, width, height, window);
@@ -252,12 +250,13 @@ SplatProjector::SplatProjector(const Camera& camera, const glm::dmat4& clipFromO
   windowFromClip[2][2] = 0.5;
   windowFromClip[3] = glm::dvec4(camera.width / 2.0, camera.height / 2.0, 0.5, 1.0);
   windowFromObject_ = windowFromClip * clipFromObject;
+  affine_ = keepsUnitW(windowFromObject_);
 }
 
 std::size_t SplatProjector::project(std::span<const glm::vec3> positions, const float* sizes,
                                     const std::uint32_t* payloads, SquareSplat* out) const {
   Window window;
-  windowBlock(windowFromObject_, positions.data(), sizes, positions.size(), width_, height_, window);
+  windowBlock(windowFromObject_, affine_, positions.data(), sizes, positions.size(), width_, height_, window);
   Rects rects;
   squareRects(window, positions.size(), width_, height_, rects);
   std::size_t count = 0;
@@ -271,7 +270,7 @@ std::size_t SplatProjector::project(std::span<const glm::vec3> positions, const 
 std::size_t SplatProjector::project(std::span<const glm::vec3> positions, const float* sizes,
                                     const std::uint32_t* payloads, DiscSplat* out) const {
   Window window;
-  windowBlock(windowFromObject_, positions.data(), sizes, positions.size(), width_, height_, window);
+  windowBlock(windowFromObject_, affine_, positions.data(), sizes, positions.size(), width_, height_, window);
   Rects rects;
   discRects(window, positions.size(), width_, height_, !subPixel_, rects);
   std::size_t count = 0;
@@ -295,7 +294,7 @@ std::size_t SplatProjector::project(std::span<const glm::vec3> positions, const 
 
 void SplatProjector::projectPixels(std::span<const glm::vec3> positions, const float* sizes, bool round,
                                    const TileGrid& grid, PixelKeys pixels) const {
-  if (isAffine(windowFromObject_))
+  if (affine_)
     pixelBlockAffine(windowFromObject_, positions.data(), sizes, positions.size(), grid, round, pixels.key,
                      pixels.depth);
   else

@@ -80,6 +80,7 @@ class SplatProjector {
 
  private:
   glm::dmat4 windowFromObject_;
+  bool affine_;  // w ≡ 1 (keepsUnitW): the division by w is skipped
   int width_;
   int height_;
   bool subPixel_;

@@ -4,6 +4,7 @@
 
 #include "points_bins.hpp"
 #include "points_sets.hpp"
+#include "scalable_vectors.hpp"
 
 #include <cstdint>
 #include <span>

@@ -3,6 +3,7 @@
 
 #include <tbb/scalable_allocator.h>
 
+#include <cstddef>
 #include <new>
 #include <utility>
 #include <vector>
@@ -35,5 +36,13 @@ struct UninitializedAllocator : tbb::scalable_allocator<T> {
 };
 template <class T>
 using UninitializedVector = std::vector<T, UninitializedAllocator<T>>;
+
+// At least n elements, growing without shrinking: a buffer reused from chunk to chunk and batch to
+// batch is zero-filled at most once per element.
+template <class T>
+T* sized(ScalableVector<T>& buffer, std::size_t n) {
+  if (buffer.size() < n) buffer.resize(n);
+  return buffer.data();
+}
 
 }  // namespace pbs

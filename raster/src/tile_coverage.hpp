@@ -1,5 +1,6 @@
 // Coverage and depth of one triangle within one tile: exact integer edge functions evaluated on
-// 8×8 blocks anchored at the triangle's box (trivial accept and reject per block), with an
+// 8×8 blocks anchored at the triangle's box (trivial accept and reject per block), or row by row
+// for a triangle of at most 8 rows and two blocks in the tile (the common small one), with an
 // 8-lane kernel in GCC vector extensions that compiles to branch-free AVX2 in the clone picked at
 // load time (simd_clones.hpp) and to SSE pairs in the baseline one. Inlined into the tile loop,
 // which is cloned, so that a triangle of a few pixels pays no call and reloads no constants.

@@ -76,8 +76,7 @@ TriangleSpan partSpan(const TriangleBatch& batch, const TriangleDraw& draw, cons
   if (batch.framebuffer.has(kChannelColor) && material.texture && isSampleable(*material.texture))
     span.texture = material.texture;
   span.clipFromObject = batch.camera.clipFromWorld() * draw.worldFromObject;
-  const glm::dmat4& m = span.clipFromObject;
-  span.affine = m[0][3] == 0.0 && m[1][3] == 0.0 && m[2][3] == 0.0 && m[3][3] == 1.0;
+  span.affine = keepsUnitW(span.clipFromObject);
   span.worldFromObject = draw.worldFromObject;
   const glm::dmat3 linear(draw.worldFromObject);
   span.normalFromObject = glm::transpose(glm::inverse(linear));

@@ -164,8 +164,6 @@ void addRunAttributes(TriangleBatch& batch, const TriangleSpan& span, std::uint3
     addAttributes(batch, span, span.firstVertex + v, batch.vertices[span.cacheOffset + v]);
 }
 
-// Whether the span's cached vertices, all inside, fall on few pixel centres: their box within the
-// viewport, counted as emit counts a triangle's.
 // The box of a span's cached window positions, and whether any vertex lies outside.
 struct WindowExtent {
   Extent<std::int32_t> x, y;
@@ -176,6 +174,8 @@ struct WindowExtent {
   }
 };
 
+// Whether the span's cached vertices, all inside, fall on few pixel centres: their box within the
+// viewport, counted as emit counts a triangle's.
 bool shouldDefer(const TriangleBatch& batch, const TriangleSpan& span) {
   if (span.vertexCount == 0) return false;
   const ProjectedVertex* vertices = batch.vertices.data() + span.cacheOffset;

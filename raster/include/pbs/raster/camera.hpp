@@ -32,6 +32,12 @@ Camera orthographicCamera(const glm::dmat4& view, double left, double right, dou
 Camera perspectiveCamera(const glm::dmat4& view, double fovY, double near, double far, std::uint32_t width,
                          std::uint32_t height);
 
+// Whether a matrix into clip space keeps w ≡ 1 (its w row is (0, 0, 0, 1): an orthographic
+// projection of affine transforms), so that the division by w can be skipped exactly.
+inline bool keepsUnitW(const glm::dmat4& m) {
+  return m[0][3] == 0.0 && m[1][3] == 0.0 && m[2][3] == 0.0 && m[3][3] == 1.0;
+}
+
 // Window position (x_w, y_w) and depth of a clip-space point (w ≠ 0).
 glm::dvec3 windowFromClip(const Camera& camera, const glm::dvec4& clip);
 
