@@ -8,13 +8,25 @@
 namespace pbs::triangles {
 namespace {
 
-// The interpolated vertex normal, or where it has no direction (opposed or missing vertex
+// The triangle that won the pixels to the left in this row, kept while its run lasts (about half
+// of all covered pixels continue their left neighbour's triangle): its record, and the row part
+// of each plane, which every pixel of the run shares.
+struct RunWinner {
+  std::uint32_t id = kNoTriangle;
+  const float* record = nullptr;
+  ShadingHeader header{};
+  const TriangleSpan* span = nullptr;
+  glm::vec1 inverseW{1.0f};
+  glm::vec3 position{}, normal{};
+  glm::vec2 uv{};
+};
+
+// The interpolated vertex normal n, or where it has no direction (opposed or missing vertex
 // normals) the face normal; interpolated n/w has the direction of n (w > 0), so no division.
-PBS_CLONE_INLINE glm::vec3 unitNormal(const float* normalPart, float dx, float dy) {
-  const glm::vec3 n = evaluatePlane<3>(normalPart, dx, dy);
+PBS_CLONE_INLINE glm::vec3 unitNormal(const glm::vec3& n, const float* facePart) {
   const float length2 = glm::dot(n, n);
   if (length2 > 1e-24f && length2 < 1e30f) return n * (1.0f / std::sqrt(length2));
-  const glm::vec3 face = loadVector<3>(normalPart + 9);
+  const glm::vec3 face = loadVector<3>(facePart);
   const float face2 = glm::dot(face, face);
   return face2 > 0.0f && face2 < 1e30f ? face * (1.0f / std::sqrt(face2)) : glm::vec3(0.0f);
 }
@@ -50,36 +62,48 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
   glm::vec3* const normals = layout.normal != kAbsent ? framebuffer.normal.data() : nullptr;
   glm::u8vec4* const colors = framebuffer.has(kChannelColor) ? framebuffer.color.data() : nullptr;
   PixelIds* const ids = framebuffer.has(kChannelIds) ? framebuffer.ids.data() : nullptr;
+  // An affine span's plane of 1/w is exactly (1, 0, 0): its w is exactly 1, as where no span has
+  // perspective and the plane is absent.
+  const bool perspective = layout.inverseW != kAbsent;
   const TriangleChunk* const chunks = batch.chunks.data();
   const TriangleSpan* const spans = batch.spans.data();
   const std::size_t width = framebuffer.width;
   for (int row = 0; row < tile.height; ++row) {
     const int y = tile.y0 + row;
     if (row + 1 < tile.height) prefetchRow(framebuffer, tile.x0, y + 1, tile.width);
+    RunWinner run;
     for (int column = 0; column < tile.width; ++column) {
       const std::uint32_t id = tile.ids[row * kTileStride + column];
       if (id == kNoTriangle) continue;
+      if (id != run.id) {
+        run.id = id;
+        run.record = chunks[idChunk(id)].shading.data() + std::size_t(idLocal(id)) * layout.stride;
+        run.header = loadHeader(run.record);
+        run.span = &spans[run.header.span];
+        const float dy = float(y - run.header.minY);
+        if (perspective) run.inverseW = planeRow<1>(run.record + layout.inverseW, dy);
+        if (positions) run.position = planeRow<3>(run.record + layout.position, dy);
+        if (normals) run.normal = planeRow<3>(run.record + layout.normal, dy);
+        if (colors && run.span->texture) run.uv = planeRow<2>(run.record + layout.uv, dy);
+      }
+      const float* record = run.record;
       const int x = tile.x0 + column;
       const std::size_t pixel = std::size_t(y) * width + std::size_t(x);
-      const float* record = chunks[idChunk(id)].shading.data() + std::size_t(idLocal(id)) * layout.stride;
-      const ShadingHeader header = loadHeader(record);
-      const TriangleSpan& span = spans[header.span];
-      const float dx = float(x - header.minX), dy = float(y - header.minY);
-      // w at the pixel, for the attributes interpolated over w; exactly 1 for affine spans.
-      const float w = span.affine || layout.inverseW == kAbsent
-                          ? 1.0f
-                          : 1.0f / evaluatePlane<1>(record + layout.inverseW, dx, dy).x;
-      if (positions) positions[pixel] = evaluatePlane<3>(record + layout.position, dx, dy) * w;
-      if (normals) normals[pixel] = unitNormal(record + layout.normal, dx, dy);
+      const float dx = float(x - run.header.minX);
+      // w at the pixel, for the attributes interpolated over w.
+      const float w = perspective ? 1.0f / planeAt<1>(run.inverseW, record + layout.inverseW, dx).x : 1.0f;
+      if (positions) positions[pixel] = planeAt<3>(run.position, record + layout.position, dx) * w;
+      if (normals)
+        normals[pixel] = unitNormal(planeAt<3>(run.normal, record + layout.normal, dx), record + layout.normal + 9);
       if (colors) {
-        if (span.texture) {
-          const glm::vec2 uv = evaluatePlane<2>(record + layout.uv, dx, dy) * w;
-          colors[pixel] = toUnorm8(span.baseColor * sampleTexture(*span.texture, uv));
+        if (run.span->texture) {
+          const glm::vec2 uv = planeAt<2>(run.uv, record + layout.uv, dx) * w;
+          colors[pixel] = toUnorm8(run.span->baseColor * sampleTexture(*run.span->texture, uv));
         } else {
-          colors[pixel] = header.flatColor;
+          colors[pixel] = run.header.flatColor;
         }
       }
-      if (ids) ids[pixel] = {span.draw->nodeId, span.draw->instanceId, header.primitive};
+      if (ids) ids[pixel] = {run.span->draw->nodeId, run.span->draw->instanceId, run.header.primitive};
     }
   }
 }

@@ -34,7 +34,7 @@ struct RasterTriangle {
 };
 
 // An attribute as a plane over pixel offsets dx = px − minX, dy = py − minY from the triangle's
-// first pixel: value = (c + y·dy) + x·dx (evaluatePlane). For perspective-correct interpolation
+// first pixel: value = (c + y·dy) + x·dx (planeRow, planeAt). For perspective-correct interpolation
 // the planes hold attribute/w, and the value is divided by the plane of 1/w.
 template <class Value>
 struct AttributePlane {
@@ -86,11 +86,19 @@ void storeVector(float* p, const glm::vec<N, float>& v) {
   for (int i = 0; i < N; ++i) p[i] = v[i];
 }
 
-// The value of a stored plane at a pixel, component by component in registers.
+// The value of a stored plane at a pixel, (c + y·dy) + x·dx, in two steps: the row part
+// c + y·dy, shared by the pixels of a row, then the column part. Component by component in
+// registers.
 template <int N>
-glm::vec<N, float> evaluatePlane(const float* plane, float dx, float dy) {
+glm::vec<N, float> planeRow(const float* plane, float dy) {
   glm::vec<N, float> v;
-  for (int i = 0; i < N; ++i) v[i] = (plane[i] + plane[2 * N + i] * dy) + plane[N + i] * dx;
+  for (int i = 0; i < N; ++i) v[i] = plane[i] + plane[2 * N + i] * dy;
+  return v;
+}
+template <int N>
+glm::vec<N, float> planeAt(const glm::vec<N, float>& row, const float* plane, float dx) {
+  glm::vec<N, float> v;
+  for (int i = 0; i < N; ++i) v[i] = row[i] + plane[N + i] * dx;
   return v;
 }
 template <int N>
