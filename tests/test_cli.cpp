@@ -113,7 +113,8 @@ TEST(Cli, OctreeOptionGivesAFlatMeshAHierarchy) {
 }
 
 // The benchmark must time real work: every timed renderer reports how many pixels it covered, and
-// pbs, llvmpipe and Embree draw the same views, so their coverage agrees.
+// pbs, llvmpipe and Embree draw the same views, so their coverage agrees; llvmpipe fills the same
+// G-buffer, so its positions agree with pbs's where both cover a pixel.
 TEST(Cli, RasterBenchDrawsTheSameViewsAsItsPeers) {
   PBS_SHARED_SCENE(suzanne, "suzanne.glb");
   const CommandResult result =
@@ -129,6 +130,7 @@ TEST(Cli, RasterBenchDrawsTheSameViewsAsItsPeers) {
   EXPECT_NEAR(capture["embree"]["covered_pixels"].get<double>(), covered, 0.005 * covered);
   if (!capture["llvmpipe"].contains("missing")) {
     EXPECT_NEAR(capture["llvmpipe"]["covered_pixels"].get<double>(), covered, 0.005 * covered);
+    EXPECT_GT(capture["llvmpipe"]["position_agreement"].get<double>(), 0.99);
   }
   for (const char* key : {"pbs_mpoints_per_s", "llvmpipe_mpoints_per_s", "vs_llvmpipe"})
     EXPECT_TRUE(json["points"].contains(key)) << key;

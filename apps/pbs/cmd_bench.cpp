@@ -32,8 +32,12 @@ void printRasterReport(const nlohmann::json& r) {
   std::printf("  pbs, 1 thread     %s\n", seconds(c["pbs_1_thread"]).c_str());
   std::printf("  pbs, %d threads    %s  (%.2fx one thread)\n", r["threads"].get<int>(), seconds(c["pbs"]).c_str(),
               c["thread_scaling"].get<double>());
-  std::printf("  llvmpipe          %s  (pbs %.1fx faster; depth + colour only)\n", seconds(c["llvmpipe"]).c_str(),
-              c["vs_llvmpipe"].get<double>());
+  if (c["llvmpipe"].contains("missing"))
+    std::printf("  llvmpipe          %s\n", seconds(c["llvmpipe"]).c_str());
+  else
+    std::printf("  llvmpipe          %s  (pbs %.1fx faster; same channels, positions agree on %.2f%% of pixels)\n",
+                seconds(c["llvmpipe"]).c_str(), c["vs_llvmpipe"].get<double>(),
+                100.0 * c["llvmpipe"]["position_agreement"].get<double>());
   std::printf("  embree packets    %s  (pbs %.1fx faster; BVH build %.4f s apart)\n", seconds(c["embree"]).c_str(),
               c["vs_embree"].get<double>(), c["embree"]["bvh_seconds"].get<double>());
   for (const char* size : {"1px", "4px"}) {

@@ -1,10 +1,13 @@
-// The llvmpipe peer: OSMesa and legacy OpenGL entry points resolved at run time, fixed-function
-// vertex arrays (the least driver overhead llvmpipe offers for plain coloured geometry).
+// The llvmpipe peer: OSMesa and OpenGL entry points resolved at run time. Points use fixed-function
+// vertex arrays (the least driver overhead llvmpipe offers for plain coloured geometry); capture
+// triangles go through a small shader program into a G-buffer of the channels pbs fills, so both
+// do the same work.
 #include "llvmpipe_peer.hpp"
 
 #include <dlfcn.h>
 
 #include <cstdlib>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -16,12 +19,47 @@ using GLint = int;
 using GLsizei = int;
 using GLbitfield = unsigned int;
 using GLfloat = float;
+using GLuint = unsigned int;
+using GLchar = char;
+using GLboolean = unsigned char;
 
 constexpr GLenum kRgba = 0x1908, kUnsignedByte = 0x1401, kUnsignedInt = 0x1405, kFloat = 0x1406;
 constexpr GLenum kDepthTest = 0x0B71, kVertexArray = 0x8074, kColorArray = 0x8076;
 constexpr GLenum kProjection = 0x1701, kModelview = 0x1700, kTriangles = 0x0004, kPoints = 0x0000;
 constexpr GLenum kLess = 0x0201, kDepthComponent = 0x1902;
 constexpr GLbitfield kColorBit = 0x4000, kDepthBit = 0x0100;
+constexpr GLenum kFramebuffer = 0x8D40, kRenderbuffer = 0x8D41, kColorAttachment0 = 0x8CE0, kDepthAttachment = 0x8D00;
+constexpr GLenum kFramebufferComplete = 0x8CD5, kRgba8 = 0x8058, kRgb32f = 0x8815, kDepth32f = 0x8CAC, kRgb = 0x1907;
+constexpr GLenum kVertexShader = 0x8B31, kFragmentShader = 0x8B30, kCompileStatus = 0x8B81, kLinkStatus = 0x8B82;
+
+// World position and normal per vertex into the colour, position and normal attachments.
+constexpr const char* kCaptureVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 objectPosition;
+layout(location = 1) in vec3 objectNormal;
+uniform mat4 clipFromObject;
+uniform mat4 positionFromObject;
+uniform mat3 normalFromObject;
+out vec3 position;
+out vec3 normal;
+void main() {
+  position = (positionFromObject * vec4(objectPosition, 1.0)).xyz;
+  normal = normalFromObject * objectNormal;
+  gl_Position = clipFromObject * vec4(objectPosition, 1.0);
+}
+)";
+constexpr const char* kCaptureFragmentShader = R"(#version 330 core
+uniform vec4 baseColor;
+in vec3 position;
+in vec3 normal;
+layout(location = 0) out vec4 outColor;
+layout(location = 1) out vec3 outPosition;
+layout(location = 2) out vec3 outNormal;
+void main() {
+  outColor = baseColor;
+  outPosition = position;
+  outNormal = normalize(normal);
+}
+)";
 
 template <typename F>
 F resolve(void* (*getProc)(const char*), const char* name) {
@@ -47,6 +85,31 @@ struct LlvmpipePeer::Gl {
   void (*pointSize)(GLfloat);
   void (*finish)();
   void (*readPixels)(GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, void*);
+  void (*disableClientState)(GLenum);
+  void (*genFramebuffers)(GLsizei, GLuint*);
+  void (*bindFramebuffer)(GLenum, GLuint);
+  void (*genRenderbuffers)(GLsizei, GLuint*);
+  void (*bindRenderbuffer)(GLenum, GLuint);
+  void (*renderbufferStorage)(GLenum, GLenum, GLsizei, GLsizei);
+  void (*framebufferRenderbuffer)(GLenum, GLenum, GLenum, GLuint);
+  GLenum (*checkFramebufferStatus)(GLenum);
+  void (*drawBuffers)(GLsizei, const GLenum*);
+  void (*readBuffer)(GLenum);
+  GLuint (*createShader)(GLenum);
+  void (*shaderSource)(GLuint, GLsizei, const GLchar* const*, const GLint*);
+  void (*compileShader)(GLuint);
+  void (*getShaderiv)(GLuint, GLenum, GLint*);
+  GLuint (*createProgram)();
+  void (*attachShader)(GLuint, GLuint);
+  void (*linkProgram)(GLuint);
+  void (*getProgramiv)(GLuint, GLenum, GLint*);
+  void (*useProgram)(GLuint);
+  GLint (*getUniformLocation)(GLuint, const GLchar*);
+  void (*uniformMatrix4fv)(GLint, GLsizei, GLboolean, const GLfloat*);
+  void (*uniformMatrix3fv)(GLint, GLsizei, GLboolean, const GLfloat*);
+  void (*uniform4fv)(GLint, GLsizei, const GLfloat*);
+  void (*enableVertexAttribArray)(GLuint);
+  void (*vertexAttribPointer)(GLuint, GLint, GLenum, GLboolean, GLsizei, const void*);
   void (*destroyContext)(void*);
 };
 
@@ -92,6 +155,31 @@ LlvmpipePeer::LlvmpipePeer(std::uint32_t width, std::uint32_t height, int thread
       resolve<decltype(Gl::pointSize)>(getProc, "glPointSize"),
       resolve<decltype(Gl::finish)>(getProc, "glFinish"),
       resolve<decltype(Gl::readPixels)>(getProc, "glReadPixels"),
+      resolve<decltype(Gl::disableClientState)>(getProc, "glDisableClientState"),
+      resolve<decltype(Gl::genFramebuffers)>(getProc, "glGenFramebuffers"),
+      resolve<decltype(Gl::bindFramebuffer)>(getProc, "glBindFramebuffer"),
+      resolve<decltype(Gl::genRenderbuffers)>(getProc, "glGenRenderbuffers"),
+      resolve<decltype(Gl::bindRenderbuffer)>(getProc, "glBindRenderbuffer"),
+      resolve<decltype(Gl::renderbufferStorage)>(getProc, "glRenderbufferStorage"),
+      resolve<decltype(Gl::framebufferRenderbuffer)>(getProc, "glFramebufferRenderbuffer"),
+      resolve<decltype(Gl::checkFramebufferStatus)>(getProc, "glCheckFramebufferStatus"),
+      resolve<decltype(Gl::drawBuffers)>(getProc, "glDrawBuffers"),
+      resolve<decltype(Gl::readBuffer)>(getProc, "glReadBuffer"),
+      resolve<decltype(Gl::createShader)>(getProc, "glCreateShader"),
+      resolve<decltype(Gl::shaderSource)>(getProc, "glShaderSource"),
+      resolve<decltype(Gl::compileShader)>(getProc, "glCompileShader"),
+      resolve<decltype(Gl::getShaderiv)>(getProc, "glGetShaderiv"),
+      resolve<decltype(Gl::createProgram)>(getProc, "glCreateProgram"),
+      resolve<decltype(Gl::attachShader)>(getProc, "glAttachShader"),
+      resolve<decltype(Gl::linkProgram)>(getProc, "glLinkProgram"),
+      resolve<decltype(Gl::getProgramiv)>(getProc, "glGetProgramiv"),
+      resolve<decltype(Gl::useProgram)>(getProc, "glUseProgram"),
+      resolve<decltype(Gl::getUniformLocation)>(getProc, "glGetUniformLocation"),
+      resolve<decltype(Gl::uniformMatrix4fv)>(getProc, "glUniformMatrix4fv"),
+      resolve<decltype(Gl::uniformMatrix3fv)>(getProc, "glUniformMatrix3fv"),
+      resolve<decltype(Gl::uniform4fv)>(getProc, "glUniform4fv"),
+      resolve<decltype(Gl::enableVertexAttribArray)>(getProc, "glEnableVertexAttribArray"),
+      resolve<decltype(Gl::vertexAttribPointer)>(getProc, "glVertexAttribPointer"),
       destroy,
   });
   gl->viewport(0, 0, GLsizei(width), GLsizei(height));
@@ -111,21 +199,87 @@ LlvmpipePeer::~LlvmpipePeer() {
 }
 
 void LlvmpipePeer::setViewport(std::uint32_t width, std::uint32_t height) {
+  viewportWidth_ = width;
+  viewportHeight_ = height;
   gl_->viewport(0, 0, GLsizei(width), GLsizei(height));
+}
+
+bool LlvmpipePeer::useCaptureGBuffer() {
+  const Gl& gl = *gl_;
+  const auto fail = [&](const char* why) {
+    missing_ = why;
+    return false;
+  };
+  GLuint framebuffer = 0;
+  gl.genFramebuffers(1, &framebuffer);
+  gl.bindFramebuffer(kFramebuffer, framebuffer);
+  const GLenum formats[3] = {kRgba8, kRgb32f, kRgb32f};  // colour, position, normal
+  GLenum drawBuffers[3];
+  for (int i = 0; i < 3; ++i) {
+    GLuint renderbuffer = 0;
+    gl.genRenderbuffers(1, &renderbuffer);
+    gl.bindRenderbuffer(kRenderbuffer, renderbuffer);
+    gl.renderbufferStorage(kRenderbuffer, formats[i], GLsizei(width_), GLsizei(height_));
+    drawBuffers[i] = kColorAttachment0 + GLenum(i);
+    gl.framebufferRenderbuffer(kFramebuffer, drawBuffers[i], kRenderbuffer, renderbuffer);
+  }
+  GLuint depth = 0;
+  gl.genRenderbuffers(1, &depth);
+  gl.bindRenderbuffer(kRenderbuffer, depth);
+  gl.renderbufferStorage(kRenderbuffer, kDepth32f, GLsizei(width_), GLsizei(height_));
+  gl.framebufferRenderbuffer(kFramebuffer, kDepthAttachment, kRenderbuffer, depth);
+  gl.drawBuffers(3, drawBuffers);
+  if (gl.checkFramebufferStatus(kFramebuffer) != kFramebufferComplete)
+    return fail("llvmpipe cannot render to an RGBA8 + RGB32F + RGB32F + DEPTH32F framebuffer");
+
+  const auto compile = [&](GLenum kind, const char* source) {
+    const GLuint shader = gl.createShader(kind);
+    gl.shaderSource(shader, 1, &source, nullptr);
+    gl.compileShader(shader);
+    GLint compiled = 0;
+    gl.getShaderiv(shader, kCompileStatus, &compiled);
+    return compiled ? shader : 0u;
+  };
+  const GLuint vertex = compile(kVertexShader, kCaptureVertexShader);
+  const GLuint fragment = compile(kFragmentShader, kCaptureFragmentShader);
+  if (!vertex || !fragment) return fail("llvmpipe could not compile the G-buffer shaders");
+  captureProgram_ = gl.createProgram();
+  gl.attachShader(captureProgram_, vertex);
+  gl.attachShader(captureProgram_, fragment);
+  gl.linkProgram(captureProgram_);
+  GLint linked = 0;
+  gl.getProgramiv(captureProgram_, kLinkStatus, &linked);
+  if (!linked) return fail("llvmpipe could not link the G-buffer shaders");
+  gl.useProgram(captureProgram_);
+  clipFromObjectAt_ = gl.getUniformLocation(captureProgram_, "clipFromObject");
+  positionFromObjectAt_ = gl.getUniformLocation(captureProgram_, "positionFromObject");
+  normalFromObjectAt_ = gl.getUniformLocation(captureProgram_, "normalFromObject");
+  baseColorAt_ = gl.getUniformLocation(captureProgram_, "baseColor");
+  // The program reads generic attributes 0 and 1; the fixed-function arrays stay off.
+  gl.disableClientState(kVertexArray);
+  gl.disableClientState(kColorArray);
+  gl.enableVertexAttribArray(0);
+  gl.enableVertexAttribArray(1);
+  return true;
+}
+
+void LlvmpipePeer::drawCaptureTriangles(const glm::mat4& clipFromObject, const glm::mat4& positionFromObject,
+                                        const glm::mat3& normalFromObject, const glm::vec4& baseColor,
+                                        std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                                        std::span<const std::uint32_t> indices) {
+  const Gl& gl = *gl_;
+  gl.uniformMatrix4fv(clipFromObjectAt_, 1, 0, &clipFromObject[0][0]);
+  gl.uniformMatrix4fv(positionFromObjectAt_, 1, 0, &positionFromObject[0][0]);
+  gl.uniformMatrix3fv(normalFromObjectAt_, 1, 0, &normalFromObject[0][0]);
+  gl.uniform4fv(baseColorAt_, 1, &baseColor[0]);
+  gl.vertexAttribPointer(0, 3, kFloat, 0, 0, positions.data());
+  gl.vertexAttribPointer(1, 3, kFloat, 0, 0, normals.data());
+  gl.drawElements(kTriangles, GLsizei(indices.size()), kUnsignedInt, indices.data());
 }
 
 void LlvmpipePeer::clear() { gl_->clear(kColorBit | kDepthBit); }
 
 void LlvmpipePeer::finish() { gl_->finish(); }
-
-void LlvmpipePeer::drawTriangles(const glm::mat4& clipFromObject, std::span<const glm::vec3> positions,
-                                 std::span<const glm::u8vec4> colors, std::span<const std::uint32_t> indices) {
-  gl_->matrixMode(kProjection);
-  gl_->loadMatrixf(&clipFromObject[0][0]);
-  gl_->vertexPointer(3, kFloat, 0, positions.data());
-  gl_->colorPointer(4, kUnsignedByte, 0, colors.data());
-  gl_->drawElements(kTriangles, GLsizei(indices.size()), kUnsignedInt, indices.data());
-}
 
 void LlvmpipePeer::drawPoints(const glm::mat4& clipFromObject, std::span<const glm::vec3> positions,
                               std::span<const glm::u8vec4> colors, float size) {
@@ -143,6 +297,23 @@ std::uint64_t LlvmpipePeer::coveredPixels() {
   std::uint64_t covered = 0;
   for (float d : depth) covered += d < 1.0f;
   return covered;
+}
+
+std::vector<glm::vec3> LlvmpipePeer::capturePositions() {
+  const std::size_t width = viewportWidth_, height = viewportHeight_;
+  std::vector<float> depth(width * height);
+  std::vector<glm::vec3> position(width * height);
+  gl_->readPixels(0, 0, GLsizei(width), GLsizei(height), kDepthComponent, kFloat, depth.data());
+  gl_->readBuffer(kColorAttachment0 + 1);
+  gl_->readPixels(0, 0, GLsizei(width), GLsizei(height), kRgb, kFloat, position.data());
+  gl_->readBuffer(kColorAttachment0);
+  std::vector<glm::vec3> topDown(width * height, glm::vec3(std::numeric_limits<float>::quiet_NaN()));
+  for (std::size_t row = 0; row < height; ++row)
+    for (std::size_t column = 0; column < width; ++column) {
+      const std::size_t from = (height - 1 - row) * width + column;
+      if (depth[from] < 1.0f) topDown[row * width + column] = position[from];
+    }
+  return topDown;
 }
 
 }  // namespace pbs::bench

@@ -8,6 +8,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace pbs::bench {
 
@@ -27,17 +28,29 @@ class LlvmpipePeer {
   // Draws into the lower-left width×height pixels (at most the context's size) from now on.
   void setViewport(std::uint32_t width, std::uint32_t height);
   void clear();
-  // Indexed triangles with per-vertex colours under `clipFromObject`, depth test on.
-  void drawTriangles(const glm::mat4& clipFromObject, std::span<const glm::vec3> positions,
-                     std::span<const glm::u8vec4> colors, std::span<const std::uint32_t> indices);
   // GL_POINTS of `size` pixels with per-point colours, depth test on.
   void drawPoints(const glm::mat4& clipFromObject, std::span<const glm::vec3> positions,
                   std::span<const glm::u8vec4> colors, float size);
+  // Switches triangle drawing to the capture G-buffer pbs fills: RGBA8 base colour plus world
+  // position and unit normal in 32-bit float attachments, over a 32-bit float depth buffer, all of
+  // the context's size, written by a shader program. False, with missingReason() set, where the
+  // driver lacks something it needs.
+  bool useCaptureGBuffer();
+  // Indexed triangles into the G-buffer: clip position from `clipFromObject`, the position channel
+  // from `positionFromObject` (world minus the framebuffer's origin), the normal channel from
+  // `normalFromObject` (normalised per pixel), and `baseColor` as the colour channel.
+  void drawCaptureTriangles(const glm::mat4& clipFromObject, const glm::mat4& positionFromObject,
+                            const glm::mat3& normalFromObject, const glm::vec4& baseColor,
+                            std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+                            std::span<const std::uint32_t> indices);
   // Waits until everything drawn is in the buffers (glFinish), so timings include the work.
   void finish();
 
   // Number of pixels whose depth is not the cleared value (a sanity check that it drew).
   std::uint64_t coveredPixels();
+  // The G-buffer's position channel over the viewport, rows from the top as pbs stores them; NaN
+  // where nothing was drawn.
+  std::vector<glm::vec3> capturePositions();
 
  private:
   struct Gl;
@@ -46,6 +59,9 @@ class LlvmpipePeer {
   std::unique_ptr<Gl> gl_;
   std::string missing_;
   std::uint32_t width_ = 0, height_ = 0;
+  std::uint32_t viewportWidth_ = 0, viewportHeight_ = 0;
+  unsigned captureProgram_ = 0;
+  int clipFromObjectAt_ = -1, positionFromObjectAt_ = -1, normalFromObjectAt_ = -1, baseColorAt_ = -1;
   std::unique_ptr<std::uint8_t[]> colorBuffer_;
 };
 

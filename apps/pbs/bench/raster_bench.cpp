@@ -14,6 +14,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -60,46 +61,64 @@ nlohmann::json timePbsCapture(const Scene& scene, const Hierarchy& hierarchy, Ca
   return {{"seconds", seconds}, {"threads", resolveThreadCount(threads)}, {"covered_pixels", covered}};
 }
 
-// Per-vertex colours for llvmpipe (the normal as a colour), made once per mesh outside the timing.
-std::vector<std::vector<glm::u8vec4>> normalColors(const Scene& scene) {
-  std::vector<std::vector<glm::u8vec4>> colors;
-  for (const Mesh& mesh : scene.meshes) {
-    auto& out = colors.emplace_back();
-    for (const glm::vec3& n : mesh.normals) out.push_back(glm::u8vec4(glm::vec3(n * 127.5f + 127.5f), 255));
+// The share of pixels covered by both pbs and llvmpipe whose positions agree within 1e-4 of the
+// box's diagonal: evidence that llvmpipe fills the same position channel, not just covers the
+// same pixels. Pixels on silhouettes and shared edges may go to different triangles.
+double positionAgreement(const Framebuffer& pbs, const std::vector<glm::vec3>& llvmpipe, const Bounds& box) {
+  const float tolerance = float(1e-4 * glm::length(box.max - box.min));
+  std::uint64_t both = 0, agree = 0;
+  for (std::size_t i = 0; i < pbs.pixelCount(); ++i) {
+    if (!pbs.covered(i) || std::isnan(llvmpipe[i].x)) continue;
+    ++both;
+    agree += glm::length(pbs.position[i] - llvmpipe[i]) <= tolerance;
   }
-  return colors;
+  return both > 0 ? double(agree) / double(both) : 0.0;
 }
 
+// llvmpipe fills the same channels as pbs's capture: depth, base colour, world position and
+// normal (untextured: a textured material gets its base colour only, which spares llvmpipe work).
 nlohmann::json timeLlvmpipeCapture(const Scene& scene, const Hierarchy& hierarchy, const CaptureViews& views,
-                                   int threads, int repeats) {
+                                   const Bounds& box, int threads, int repeats) {
   std::uint32_t width = 0, height = 0;
   for (const Camera& camera : views.cameras) {
     width = std::max(width, camera.width);
     height = std::max(height, camera.height);
   }
   LlvmpipePeer peer(width, height, resolveThreadCount(threads));
-  if (!peer.available()) return {{"missing", peer.missingReason()}};
-  const auto colors = normalColors(scene);
+  if (!peer.available() || !peer.useCaptureGBuffer()) return {{"missing", peer.missingReason()}};
   std::uint64_t covered = 0;
   const double seconds = medianSeconds(repeats, [&] {
     covered = 0;
-    for (const Camera& camera : views.cameras) {
+    for (std::size_t v = 0; v < views.cameras.size(); ++v) {
+      const Camera& camera = views.cameras[v];
       // One context as large as the largest view; each view draws into its own viewport size.
       peer.setViewport(camera.width, camera.height);
       peer.clear();
       const glm::dmat4 clipFromWorld = camera.clipFromWorld();
+      const glm::dmat4 positionFromWorld = glm::translate(glm::dmat4(1.0), -views.framebuffers[v].positionOrigin);
       for (std::uint32_t n : hierarchy.preorder) {
         const Node& node = scene.nodes[n];
         if (node.mesh < 0) continue;
         const Mesh& mesh = scene.meshes[std::size_t(node.mesh)];
-        peer.drawTriangles(glm::mat4(clipFromWorld * hierarchy.world[n]), mesh.positions, colors[std::size_t(node.mesh)],
-                           mesh.indices);
+        const glm::dmat4& world = hierarchy.world[n];
+        const glm::mat3 normalFromObject(glm::transpose(glm::inverse(glm::dmat3(world))));
+        for (const MeshPart& part : mesh.parts) {
+          const glm::vec4 color =
+              part.material < scene.materials.size() ? scene.materials[part.material].baseColorFactor : glm::vec4(1.0f);
+          peer.drawCaptureTriangles(glm::mat4(clipFromWorld * world), glm::mat4(positionFromWorld * world),
+                                    normalFromObject, color, mesh.positions, mesh.normals,
+                                    std::span(mesh.indices).subspan(part.firstIndex, part.indexCount));
+        }
       }
       peer.finish();
       covered += peer.coveredPixels();
     }
   });
-  return {{"seconds", seconds}, {"threads", resolveThreadCount(threads)}, {"covered_pixels", covered}};
+  return {{"seconds", seconds},
+          {"threads", resolveThreadCount(threads)},
+          {"covered_pixels", covered},
+          {"channels", "depth, colour, position, normal"},
+          {"position_agreement", positionAgreement(views.framebuffers.back(), peer.capturePositions(), box)}};
 }
 
 nlohmann::json timeEmbreeCapture(const Scene& scene, const Hierarchy& hierarchy, CaptureViews& views, int threads,
@@ -199,7 +218,7 @@ nlohmann::json benchRaster(const Scene& scene, const Hierarchy& hierarchy, const
   nlohmann::json capture;
   capture["pbs_1_thread"] = timePbsCapture(scene, hierarchy, views, 1, options.repeats);
   capture["pbs"] = timePbsCapture(scene, hierarchy, views, all, options.repeats);
-  capture["llvmpipe"] = timeLlvmpipeCapture(scene, hierarchy, views, all, options.repeats);
+  capture["llvmpipe"] = timeLlvmpipeCapture(scene, hierarchy, views, box, all, options.repeats);
   capture["embree"] = timeEmbreeCapture(scene, hierarchy, views, all, options.repeats);
   capture["pbs_s"] = capture["pbs"]["seconds"];
   capture["llvmpipe_s"] = capture["llvmpipe"].value("seconds", nlohmann::json());
