@@ -11,6 +11,11 @@ template <class Visit>
 [[gnu::always_inline]] inline void forEachBin(const TriangleBatch& batch, const RasterTriangle& t, Visit visit) {
   const int x0 = t.minX / kTileSize, x1 = t.maxX / kTileSize;
   const int y0 = t.minY / kTileSize, y1 = t.maxY / kTileSize;
+  // Most triangles lie within one tile: no loops for them.
+  if (x0 == x1 && y0 == y1) {
+    visit(y0 * batch.tilesX + x0);
+    return;
+  }
   if ((x1 - x0 + 1) * (y1 - y0 + 1) > kMaxBinnedTiles) {
     visit(batch.tileCount());
     return;
