@@ -130,9 +130,10 @@ PBS_CLONE_INLINE EdgeGrid<std::int32_t>::EdgeGrid(const RasterTriangle& t, int a
   typedef std::int32_t Ints __attribute__((vector_size(4 * sizeof(std::int32_t))));
   const Words x = {std::uint32_t(t.x[0]), std::uint32_t(t.x[1]), std::uint32_t(t.x[2]), 0};
   const Words y = {std::uint32_t(t.y[0]), std::uint32_t(t.y[1]), std::uint32_t(t.y[2]), 0};
-  const Words next = {1, 2, 0, 3};
-  const Words a = y - __builtin_shuffle(y, next);  // coefficients of x
-  const Words c = __builtin_shuffle(x, next) - x;  // coefficients of y
+  const Words xNext = {std::uint32_t(t.x[1]), std::uint32_t(t.x[2]), std::uint32_t(t.x[0]), 0};
+  const Words yNext = {std::uint32_t(t.y[1]), std::uint32_t(t.y[2]), std::uint32_t(t.y[0]), 0};
+  const Words a = y - yNext;  // coefficients of x
+  const Words c = xNext - x;  // coefficients of y
   const Ints signedA = Ints(a), signedC = Ints(c);
   const Ints topLeft = (signedA > 0) | ((signedA == 0) & (signedC > 0));  // all ones where true
   const std::uint32_t sx = std::uint32_t(ax) * kSubpixelScale + kSubpixelScale / 2;
