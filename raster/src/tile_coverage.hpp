@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 namespace pbs::triangles {
 namespace coverage {
@@ -95,59 +96,52 @@ PBS_CLONE_INLINE void laneSteps(Edge s1, Lanes<Edge>& steps) {
   }
 }
 
+// Four lanes of T, for the three edges of a triangle at once (the fourth lane unused).
+template <class T>
+struct EdgeLaneVector {
+  typedef T type __attribute__((vector_size(4 * sizeof(T))));
+};
+
 // The edge functions of a triangle on the pixel grid, from the centre of pixel (ax, y0). Edge k runs
 // from vertex k to k + 1; with the positive area set up, the inside is where its function is
 // positive. Samples exactly on it belong to the triangle for top-left edges only, so the others
 // get a bias of −1 and every test becomes "≥ 0".
+//
+// The three edges are set up together, one lane each, in unsigned lanes of Edge's width: for the
+// 32-bit grid of a small triangle that is, modulo 2^32, exactly the 64-bit value truncated to 32
+// bits; for the 64-bit grid it is exact. The coefficients a and c are exact either way (snapped
+// coordinates lie within ±2^29), so the top-left test is too.
 template <class Edge>
 struct EdgeGrid {
   Edge origin[3], stepX[3], stepY[3];
   Lanes<Edge> laneStep[3];  // {0, 1, …, 7} · stepX
 
   PBS_CLONE_INLINE EdgeGrid(const RasterTriangle& t, int ax, int y0) {
-    const std::int64_t sx = std::int64_t(ax) * kSubpixelScale + kSubpixelScale / 2;
-    const std::int64_t sy = std::int64_t(y0) * kSubpixelScale + kSubpixelScale / 2;
+    using Word = std::make_unsigned_t<Edge>;
+    using Words = typename EdgeLaneVector<Word>::type;
+    using Signed = typename EdgeLaneVector<Edge>::type;
+    const auto word = [&](std::int32_t coordinate) { return Word(Edge(coordinate)); };
+    const Words x = {word(t.x[0]), word(t.x[1]), word(t.x[2]), 0};
+    const Words y = {word(t.y[0]), word(t.y[1]), word(t.y[2]), 0};
+    const Words xNext = {word(t.x[1]), word(t.x[2]), word(t.x[0]), 0};
+    const Words yNext = {word(t.y[1]), word(t.y[2]), word(t.y[0]), 0};
+    const Words a = y - yNext;  // coefficients of x
+    const Words c = xNext - x;  // coefficients of y
+    const Signed signedA = Signed(a), signedC = Signed(c);
+    const Signed topLeft = (signedA > 0) | ((signedA == 0) & (signedC > 0));  // all ones where true
+    const Word sx = Word(ax) * Word(kSubpixelScale) + Word(kSubpixelScale / 2);
+    const Word sy = Word(y0) * Word(kSubpixelScale) + Word(kSubpixelScale / 2);
+    // + ~topLeft: adds 0 on top-left edges and all ones, that is −1, on the others.
+    const Words originWords = a * (sx - x) + c * (sy - y) + Words(~topLeft);
+    const Words stepXWords = a * Word(kSubpixelScale), stepYWords = c * Word(kSubpixelScale);
     for (int k = 0; k < 3; ++k) {
-      const int b = (k + 1) % 3;
-      const std::int64_t a = std::int64_t(t.y[k]) - t.y[b];  // coefficient of x
-      const std::int64_t c = std::int64_t(t.x[b]) - t.x[k];  // coefficient of y
-      const bool topLeft = a > 0 || (a == 0 && c > 0);
-      origin[k] = Edge(a * (sx - t.x[k]) + c * (sy - t.y[k]) - (topLeft ? 0 : 1));
-      stepX[k] = Edge(a * kSubpixelScale);
-      stepY[k] = Edge(c * kSubpixelScale);
+      origin[k] = Edge(originWords[k]);
+      stepX[k] = Edge(stepXWords[k]);
+      stepY[k] = Edge(stepYWords[k]);
       laneSteps(stepX[k], laneStep[k]);
     }
   }
 };
-
-// The 32-bit grid of a small triangle: the three edges at once, one lane each (the fourth unused),
-// one SSE operation instead of three scalar ones. Unsigned lanes compute modulo 2^32 what the
-// general constructor computes in 64 bits and truncates to 32, so the values are the same; a and
-// c themselves are exact (snapped coordinates lie within ±2^29), so the top-left test is too.
-template <>
-PBS_CLONE_INLINE EdgeGrid<std::int32_t>::EdgeGrid(const RasterTriangle& t, int ax, int y0) {
-  typedef std::uint32_t Words __attribute__((vector_size(4 * sizeof(std::uint32_t))));
-  typedef std::int32_t Ints __attribute__((vector_size(4 * sizeof(std::int32_t))));
-  const Words x = {std::uint32_t(t.x[0]), std::uint32_t(t.x[1]), std::uint32_t(t.x[2]), 0};
-  const Words y = {std::uint32_t(t.y[0]), std::uint32_t(t.y[1]), std::uint32_t(t.y[2]), 0};
-  const Words xNext = {std::uint32_t(t.x[1]), std::uint32_t(t.x[2]), std::uint32_t(t.x[0]), 0};
-  const Words yNext = {std::uint32_t(t.y[1]), std::uint32_t(t.y[2]), std::uint32_t(t.y[0]), 0};
-  const Words a = y - yNext;  // coefficients of x
-  const Words c = xNext - x;  // coefficients of y
-  const Ints signedA = Ints(a), signedC = Ints(c);
-  const Ints topLeft = (signedA > 0) | ((signedA == 0) & (signedC > 0));  // all ones where true
-  const std::uint32_t sx = std::uint32_t(ax) * kSubpixelScale + kSubpixelScale / 2;
-  const std::uint32_t sy = std::uint32_t(y0) * kSubpixelScale + kSubpixelScale / 2;
-  // + ~topLeft: adds 0 on top-left edges and all ones, that is −1, on the others.
-  const Words originWords = a * (sx - x) + c * (sy - y) + Words(~topLeft);
-  const Words stepXWords = a * std::uint32_t(kSubpixelScale), stepYWords = c * std::uint32_t(kSubpixelScale);
-  for (int k = 0; k < 3; ++k) {
-    origin[k] = std::int32_t(originWords[k]);
-    stepX[k] = std::int32_t(stepXWords[k]);
-    stepY[k] = std::int32_t(stepYWords[k]);
-    laneSteps(stepX[k], laneStep[k]);
-  }
-}
 
 // Which lanes of the block row starting at column bx lie in columns x0 … x1.
 PBS_CLONE_INLINE void columnLanes(int bx, int x0, int x1, MaskLanes& lanes) {

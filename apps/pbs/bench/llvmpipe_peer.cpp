@@ -252,18 +252,18 @@ bool LlvmpipePeer::useCaptureGBuffer() {
   const GLuint vertex = compile(kVertexShader, kCaptureVertexShader);
   const GLuint fragment = compile(kFragmentShader, kCaptureFragmentShader);
   if (!vertex || !fragment) return fail("llvmpipe could not compile the G-buffer shaders");
-  captureProgram_ = gl.createProgram();
-  gl.attachShader(captureProgram_, vertex);
-  gl.attachShader(captureProgram_, fragment);
-  gl.linkProgram(captureProgram_);
+  const GLuint program = gl.createProgram();
+  gl.attachShader(program, vertex);
+  gl.attachShader(program, fragment);
+  gl.linkProgram(program);
   GLint linked = 0;
-  gl.getProgramiv(captureProgram_, kLinkStatus, &linked);
+  gl.getProgramiv(program, kLinkStatus, &linked);
   if (!linked) return fail("llvmpipe could not link the G-buffer shaders");
-  gl.useProgram(captureProgram_);
-  clipFromObjectAt_ = gl.getUniformLocation(captureProgram_, "clipFromObject");
-  positionFromObjectAt_ = gl.getUniformLocation(captureProgram_, "positionFromObject");
-  normalFromObjectAt_ = gl.getUniformLocation(captureProgram_, "normalFromObject");
-  baseColorAt_ = gl.getUniformLocation(captureProgram_, "baseColor");
+  gl.useProgram(program);
+  clipFromObjectAt_ = gl.getUniformLocation(program, "clipFromObject");
+  positionFromObjectAt_ = gl.getUniformLocation(program, "positionFromObject");
+  normalFromObjectAt_ = gl.getUniformLocation(program, "normalFromObject");
+  baseColorAt_ = gl.getUniformLocation(program, "baseColor");
   // The program reads generic attributes 0 and 1; the fixed-function arrays stay off.
   gl.disableClientState(kVertexArray);
   gl.disableClientState(kColorArray);

@@ -60,7 +60,6 @@ class LlvmpipePeer {
   std::string missing_;
   std::uint32_t width_ = 0, height_ = 0;
   std::uint32_t viewportWidth_ = 0, viewportHeight_ = 0;
-  unsigned captureProgram_ = 0;
   int clipFromObjectAt_ = -1, positionFromObjectAt_ = -1, normalFromObjectAt_ = -1, baseColorAt_ = -1;
   std::unique_ptr<std::uint8_t[]> colorBuffer_;
 };
