@@ -50,9 +50,11 @@ PBS_CLONE_INLINE Float4 toLanes(const glm::vec<N, float>& v) {
   return lanes;
 }
 
+// Lane by lane: a memcpy of three lanes goes through the stack, and the reload of the third waits
+// on store forwarding.
 template <int N>
 PBS_CLONE_INLINE void storeLanes(float* out, const Float4& lanes) {
-  std::memcpy(out, &lanes, N * sizeof(float));
+  for (int i = 0; i < N; ++i) out[i] = lanes[i];
 }
 
 // The plane of a/w from the vertices' attributes a and their 1/w. Attributes travel in float:

@@ -1,5 +1,6 @@
-// The raster benchmark: medians of repeated runs, peers measured in the same process and run, and
-// a coverage count next to every timing so a peer that drew nothing cannot look fast.
+// The raster benchmark: pbs and its peers timed in interleaved rounds of the same run (medians, and
+// ratios round by round), with a coverage count next to every timing so a peer that drew nothing
+// cannot look fast.
 #include "raster_bench.hpp"
 
 #include "llvmpipe_peer.hpp"
@@ -13,9 +14,11 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <vector>
 
 namespace pbs::bench {
@@ -45,20 +48,17 @@ CaptureViews makeCaptureViews(const Bounds& box, std::uint32_t resolution) {
 }
 
 // pbs: the eight views into depth + colour + position + normal, the framebuffers cleared each time.
-nlohmann::json timePbsCapture(const Scene& scene, const Hierarchy& hierarchy, CaptureViews& views, int threads,
-                              int repeats) {
-  double seconds = 0;
-  runWithThreads(threads, [&] {
-    seconds = medianSeconds(repeats, [&] {
-      for (std::size_t v = 0; v < views.cameras.size(); ++v) {
-        clearFramebuffer(views.framebuffers[v]);
-        drawSceneTriangles(scene, hierarchy, views.cameras[v], views.framebuffers[v]);
-      }
-    });
-  });
+void drawPbsViews(const Scene& scene, const Hierarchy& hierarchy, CaptureViews& views) {
+  for (std::size_t v = 0; v < views.cameras.size(); ++v) {
+    clearFramebuffer(views.framebuffers[v]);
+    drawSceneTriangles(scene, hierarchy, views.cameras[v], views.framebuffers[v]);
+  }
+}
+
+std::uint64_t coveredPixels(const CaptureViews& views) {
   std::uint64_t covered = 0;
   for (const Framebuffer& framebuffer : views.framebuffers) covered += coveredPixels(framebuffer);
-  return {{"seconds", seconds}, {"threads", resolveThreadCount(threads)}, {"covered_pixels", covered}};
+  return covered;
 }
 
 // The share of pixels covered by both pbs and llvmpipe whose positions agree within 1e-4 of the
@@ -75,69 +75,133 @@ double positionAgreement(const Framebuffer& pbs, const std::vector<glm::vec3>& l
   return both > 0 ? double(agree) / double(both) : 0.0;
 }
 
-// llvmpipe fills the same channels as pbs's capture: depth, base colour, world position and
+// llvmpipe filling the same channels as pbs's capture: depth, base colour, world position and
 // normal (untextured: a textured material gets its base colour only, which spares llvmpipe work).
-nlohmann::json timeLlvmpipeCapture(const Scene& scene, const Hierarchy& hierarchy, const CaptureViews& views,
-                                   const Bounds& box, int threads, int repeats) {
-  std::uint32_t width = 0, height = 0;
-  for (const Camera& camera : views.cameras) {
-    width = std::max(width, camera.width);
-    height = std::max(height, camera.height);
+class LlvmpipeCapture {
+ public:
+  LlvmpipeCapture(const CaptureViews& views, int threads)
+      : views_(views), peer_(largestWidth(views), largestHeight(views), threads) {
+    available_ = peer_.available() && peer_.useCaptureGBuffer();
   }
-  LlvmpipePeer peer(width, height, resolveThreadCount(threads));
-  if (!peer.available() || !peer.useCaptureGBuffer()) return {{"missing", peer.missingReason()}};
-  std::uint64_t covered = 0;
-  const double seconds = medianSeconds(repeats, [&] {
-    covered = 0;
-    for (std::size_t v = 0; v < views.cameras.size(); ++v) {
-      const Camera& camera = views.cameras[v];
-      // One context as large as the largest view; each view draws into its own viewport size.
-      peer.setViewport(camera.width, camera.height);
-      peer.clear();
-      const glm::dmat4 clipFromWorld = camera.clipFromWorld();
-      const glm::dmat4 positionFromWorld = glm::translate(glm::dmat4(1.0), -views.framebuffers[v].positionOrigin);
-      for (std::uint32_t n : hierarchy.preorder) {
-        const Node& node = scene.nodes[n];
-        if (node.mesh < 0) continue;
-        const Mesh& mesh = scene.meshes[std::size_t(node.mesh)];
-        const glm::dmat4& world = hierarchy.world[n];
-        const glm::mat3 normalFromObject(glm::transpose(glm::inverse(glm::dmat3(world))));
-        for (const MeshPart& part : mesh.parts) {
-          const glm::vec4 color =
-              part.material < scene.materials.size() ? scene.materials[part.material].baseColorFactor : glm::vec4(1.0f);
-          peer.drawCaptureTriangles(glm::mat4(clipFromWorld * world), glm::mat4(positionFromWorld * world),
-                                    normalFromObject, color, mesh.positions, mesh.normals,
-                                    std::span(mesh.indices).subspan(part.firstIndex, part.indexCount));
-        }
-      }
-      peer.finish();
-      covered += peer.coveredPixels();
+  bool available() const { return available_; }
+  const std::string& missingReason() const { return peer_.missingReason(); }
+
+  // Draws the eight views; each is timed up to glFinish, and reading its depth back to count its
+  // coverage is left out of the time, as pbs's count is.
+  double run(const Scene& scene, const Hierarchy& hierarchy) {
+    covered_ = 0;
+    double drawing = 0.0;
+    for (std::size_t v = 0; v < views_.cameras.size(); ++v) {
+      drawing += timedRun([&] { drawView(scene, hierarchy, v); });
+      covered_ += peer_.coveredPixels();
     }
-  });
-  return {{"seconds", seconds},
-          {"threads", resolveThreadCount(threads)},
-          {"covered_pixels", covered},
-          {"channels", "depth, colour, position, normal"},
-          {"position_agreement", positionAgreement(views.framebuffers.back(), peer.capturePositions(), box)}};
+    return drawing;
+  }
+  std::uint64_t covered() const { return covered_; }
+  // The position channel of the view drawn last.
+  std::vector<glm::vec3> positions() { return peer_.capturePositions(); }
+
+ private:
+  static std::uint32_t largestWidth(const CaptureViews& views) {
+    std::uint32_t width = 0;
+    for (const Camera& camera : views.cameras) width = std::max(width, camera.width);
+    return width;
+  }
+  static std::uint32_t largestHeight(const CaptureViews& views) {
+    std::uint32_t height = 0;
+    for (const Camera& camera : views.cameras) height = std::max(height, camera.height);
+    return height;
+  }
+
+  void drawView(const Scene& scene, const Hierarchy& hierarchy, std::size_t v) {
+    const Camera& camera = views_.cameras[v];
+    // One context as large as the largest view; each view draws into its own viewport size.
+    peer_.setViewport(camera.width, camera.height);
+    peer_.clear();
+    const glm::dmat4 clipFromWorld = camera.clipFromWorld();
+    const glm::dmat4 positionFromWorld = glm::translate(glm::dmat4(1.0), -views_.framebuffers[v].positionOrigin);
+    for (std::uint32_t n : hierarchy.preorder) {
+      const Node& node = scene.nodes[n];
+      if (node.mesh < 0) continue;
+      const Mesh& mesh = scene.meshes[std::size_t(node.mesh)];
+      const glm::dmat4& world = hierarchy.world[n];
+      const glm::mat3 normalFromObject(glm::transpose(glm::inverse(glm::dmat3(world))));
+      for (const MeshPart& part : mesh.parts) {
+        const glm::vec4 color =
+            part.material < scene.materials.size() ? scene.materials[part.material].baseColorFactor : glm::vec4(1.0f);
+        peer_.drawCaptureTriangles(glm::mat4(clipFromWorld * world), glm::mat4(positionFromWorld * world),
+                                   normalFromObject, color, mesh.positions, mesh.normals,
+                                   std::span(mesh.indices).subspan(part.firstIndex, part.indexCount));
+      }
+    }
+    peer_.finish();
+  }
+
+  const CaptureViews& views_;
+  LlvmpipePeer peer_;
+  bool available_ = false;
+  std::uint64_t covered_ = 0;
+};
+
+nlohmann::json timingEntry(const std::vector<double>& rounds, int threads, std::uint64_t covered) {
+  return {{"seconds", median(rounds)}, {"threads", threads}, {"covered_pixels", covered}};
 }
 
-nlohmann::json timeEmbreeCapture(const Scene& scene, const Hierarchy& hierarchy, CaptureViews& views, int threads,
-                                 int repeats) {
-  nlohmann::json result;
-  runWithThreads(threads, [&] {
-    const auto start = std::chrono::steady_clock::now();
-    const EmbreeScene embree(scene, hierarchy);
-    result["bvh_seconds"] = cli::secondsSince(start);
-    // render overwrites every pixel (a miss with the cleared values): no separate clear to time.
-    result["seconds"] = medianSeconds(repeats, [&] {
-      for (std::size_t v = 0; v < views.cameras.size(); ++v) embree.render(views.cameras[v], views.framebuffers[v]);
+// The capture views by pbs on one thread and on all, Embree packets and llvmpipe, in interleaved
+// rounds. pbs and Embree share the framebuffers: coverage is counted from one more, untimed run of
+// each after the rounds.
+nlohmann::json benchCapture(const Scene& scene, const Hierarchy& hierarchy, const Bounds& box,
+                            const RasterBenchOptions& options) {
+  const int all = resolveThreadCount(options.threads);
+  CaptureViews views = makeCaptureViews(box, options.resolution);
+  const auto pbsRun = [&](int threads) {
+    return [&, threads] {
+      double seconds = 0.0;
+      runWithThreads(threads, [&] { seconds = timedRun([&] { drawPbsViews(scene, hierarchy, views); }); });
+      return seconds;
+    };
+  };
+  std::optional<EmbreeScene> embree;
+  double bvhSeconds = 0.0;
+  runWithThreads(all, [&] { bvhSeconds = timedRun([&] { embree.emplace(scene, hierarchy); }); });
+  // render overwrites every pixel (a miss with the cleared values): no separate clear to time.
+  const auto embreeRun = [&] {
+    double seconds = 0.0;
+    runWithThreads(all, [&] {
+      seconds = timedRun([&] {
+        for (std::size_t v = 0; v < views.cameras.size(); ++v) embree->render(views.cameras[v], views.framebuffers[v]);
+      });
     });
-  });
-  std::uint64_t covered = 0;
-  for (const Framebuffer& framebuffer : views.framebuffers) covered += coveredPixels(framebuffer);
-  result["covered_pixels"] = covered;
-  result["threads"] = resolveThreadCount(threads);
-  return result;
+    return seconds;
+  };
+  LlvmpipeCapture llvmpipe(views, all);
+  std::vector<std::function<double()>> runs = {pbsRun(1), pbsRun(all), embreeRun};
+  if (llvmpipe.available()) runs.push_back([&] { return llvmpipe.run(scene, hierarchy); });
+  const auto rounds = interleavedRounds(runs, options.repeats);
+
+  nlohmann::json capture;
+  embreeRun();
+  capture["embree"] = timingEntry(rounds[2], all, coveredPixels(views));
+  capture["embree"]["bvh_seconds"] = bvhSeconds;
+  pbsRun(1)();
+  capture["pbs_1_thread"] = timingEntry(rounds[0], 1, coveredPixels(views));
+  pbsRun(all)();
+  capture["pbs"] = timingEntry(rounds[1], all, coveredPixels(views));
+  if (llvmpipe.available()) {
+    capture["llvmpipe"] = timingEntry(rounds[3], all, llvmpipe.covered());
+    capture["llvmpipe"]["channels"] = "depth, colour, position, normal";
+    capture["llvmpipe"]["position_agreement"] = positionAgreement(views.framebuffers.back(), llvmpipe.positions(), box);
+    capture["vs_llvmpipe"] = medianRatio(rounds[3], rounds[1]);
+  } else {
+    capture["llvmpipe"] = {{"missing", llvmpipe.missingReason()}};
+    capture["vs_llvmpipe"] = nullptr;
+  }
+  capture["pbs_s"] = capture["pbs"]["seconds"];
+  capture["llvmpipe_s"] = capture["llvmpipe"].value("seconds", nlohmann::json());
+  capture["embree_s"] = capture["embree"]["seconds"];
+  capture["vs_embree"] = medianRatio(rounds[2], rounds[1]);
+  capture["thread_scaling"] = medianRatio(rounds[0], rounds[1]);
+  return capture;
 }
 
 struct RandomPoints {
@@ -168,87 +232,84 @@ Camera pointsCamera(std::uint32_t resolution) {
   return orthographicCamera(view, -1.0, 1.0, -1.0, 1.0, 0.5, 5.0, resolution, resolution);
 }
 
-nlohmann::json timePoints(const RandomPoints& points, std::uint32_t resolution, float size, int threads, int repeats) {
+// `points` random points of one size by pbs on one thread and on all, and by llvmpipe's GL_POINTS,
+// in interleaved rounds; pbs draws into a framebuffer of its own per thread count.
+nlohmann::json benchPoints(const RandomPoints& points, const RasterBenchOptions& options, float size) {
+  const int all = resolveThreadCount(options.threads);
+  const std::uint32_t resolution = options.resolution;
   const Camera camera = pointsCamera(resolution);
-  Framebuffer framebuffer = makeFramebuffer(resolution, resolution, kChannelColor);
   PointSet set;
   set.positions = points.positions;
   set.colors = points.colors;
   set.pointSize = size;
-  double seconds = 0;
-  runWithThreads(threads, [&] {
-    seconds = medianSeconds(repeats, [&] {
-      clearFramebuffer(framebuffer);
-      drawPoints(framebuffer, camera, std::span(&set, 1));
+  Framebuffer single = makeFramebuffer(resolution, resolution, kChannelColor);
+  Framebuffer multi = makeFramebuffer(resolution, resolution, kChannelColor);
+  const auto pbsRun = [&](Framebuffer& framebuffer, int threads) {
+    return [&, threads] {
+      double seconds = 0.0;
+      runWithThreads(threads, [&] {
+        seconds = timedRun([&] {
+          clearFramebuffer(framebuffer);
+          drawPoints(framebuffer, camera, std::span(&set, 1));
+        });
+      });
+      return seconds;
+    };
+  };
+  LlvmpipePeer llvmpipe(resolution, resolution, all);
+  const glm::mat4 clip(camera.clipFromWorld());
+  std::vector<std::function<double()>> runs = {pbsRun(single, 1), pbsRun(multi, all)};
+  if (llvmpipe.available())
+    runs.push_back([&] {
+      return timedRun([&] {
+        llvmpipe.clear();
+        llvmpipe.drawPoints(clip, points.positions, points.colors, size);
+        llvmpipe.finish();
+      });
     });
-  });
-  const double mpoints = double(points.positions.size()) / seconds / 1e6;
-  return {{"seconds", seconds}, {"mpoints_per_s", mpoints}, {"threads", resolveThreadCount(threads)},
-          {"covered_pixels", coveredPixels(framebuffer)}};
-}
+  const auto rounds = interleavedRounds(runs, options.repeats);
 
-nlohmann::json timeLlvmpipePoints(const RandomPoints& points, std::uint32_t resolution, float size, int threads,
-                                  int repeats) {
-  LlvmpipePeer peer(resolution, resolution, resolveThreadCount(threads));
-  if (!peer.available()) return {{"missing", peer.missingReason()}};
-  const glm::mat4 clip(pointsCamera(resolution).clipFromWorld());
-  const double seconds = medianSeconds(repeats, [&] {
-    peer.clear();
-    peer.drawPoints(clip, points.positions, points.colors, size);
-    peer.finish();
-  });
-  return {{"seconds", seconds}, {"mpoints_per_s", double(points.positions.size()) / seconds / 1e6},
-          {"threads", resolveThreadCount(threads)}, {"covered_pixels", peer.coveredPixels()}};
-}
-
-double ratio(const nlohmann::json& slow, const nlohmann::json& fast, const char* key, bool higherIsBetter) {
-  if (!slow.contains(key) || !fast.contains(key)) return 0.0;
-  const double a = slow[key].get<double>(), b = fast[key].get<double>();
-  return higherIsBetter ? b / a : a / b;
+  const double count = double(points.positions.size());
+  const auto entry = [&](const std::vector<double>& seconds, int threads, std::uint64_t covered) {
+    nlohmann::json json = timingEntry(seconds, threads, covered);
+    json["mpoints_per_s"] = count / json["seconds"].get<double>() / 1e6;
+    return json;
+  };
+  nlohmann::json report;
+  report["pbs_1_thread"] = entry(rounds[0], 1, coveredPixels(single));
+  report["pbs"] = entry(rounds[1], all, coveredPixels(multi));
+  report["thread_scaling"] = medianRatio(rounds[0], rounds[1]);
+  if (llvmpipe.available()) {
+    report["llvmpipe"] = entry(rounds[2], all, llvmpipe.coveredPixels());
+    report["vs_llvmpipe"] = medianRatio(rounds[2], rounds[1]);
+  } else {
+    report["llvmpipe"] = {{"missing", llvmpipe.missingReason()}};
+    report["vs_llvmpipe"] = nullptr;
+  }
+  return report;
 }
 
 }  // namespace
 
 nlohmann::json benchRaster(const Scene& scene, const Hierarchy& hierarchy, const RasterBenchOptions& options) {
-  const int all = resolveThreadCount(options.threads);
   Bounds box;
   for (std::uint32_t root : scene.roots) box.extend(hierarchy.worldBounds[root]);
-
-  CaptureViews views = makeCaptureViews(box, options.resolution);
-  nlohmann::json capture;
-  capture["pbs_1_thread"] = timePbsCapture(scene, hierarchy, views, 1, options.repeats);
-  capture["pbs"] = timePbsCapture(scene, hierarchy, views, all, options.repeats);
-  capture["llvmpipe"] = timeLlvmpipeCapture(scene, hierarchy, views, box, all, options.repeats);
-  capture["embree"] = timeEmbreeCapture(scene, hierarchy, views, all, options.repeats);
-  capture["pbs_s"] = capture["pbs"]["seconds"];
-  capture["llvmpipe_s"] = capture["llvmpipe"].value("seconds", nlohmann::json());
-  capture["embree_s"] = capture["embree"]["seconds"];
-  capture["vs_llvmpipe"] = ratio(capture["llvmpipe"], capture["pbs"], "seconds", false);
-  capture["vs_embree"] = ratio(capture["embree"], capture["pbs"], "seconds", false);
-  capture["thread_scaling"] = ratio(capture["pbs_1_thread"], capture["pbs"], "seconds", false);
+  const nlohmann::json capture = benchCapture(scene, hierarchy, box, options);
 
   const RandomPoints points = makeRandomPoints(options.points);
   nlohmann::json pointsReport;
-  for (const float size : {1.0f, 4.0f}) {
-    const std::string key = std::to_string(int(size)) + "px";
-    nlohmann::json entry;
-    entry["pbs_1_thread"] = timePoints(points, options.resolution, size, 1, options.repeats);
-    entry["pbs"] = timePoints(points, options.resolution, size, all, options.repeats);
-    entry["llvmpipe"] = timeLlvmpipePoints(points, options.resolution, size, all, options.repeats);
-    entry["vs_llvmpipe"] = ratio(entry["llvmpipe"], entry["pbs"], "mpoints_per_s", true);
-    entry["thread_scaling"] = ratio(entry["pbs_1_thread"], entry["pbs"], "mpoints_per_s", true);
-    pointsReport[key] = entry;
-  }
+  for (const float size : {1.0f, 4.0f}) pointsReport[std::to_string(int(size)) + "px"] = benchPoints(points, options, size);
   pointsReport["pbs_mpoints_per_s"] = pointsReport["1px"]["pbs"]["mpoints_per_s"];
   pointsReport["llvmpipe_mpoints_per_s"] = pointsReport["1px"]["llvmpipe"].value("mpoints_per_s", nlohmann::json());
   pointsReport["vs_llvmpipe"] = pointsReport["1px"]["vs_llvmpipe"];
 
   return {{"capture", capture},
           {"points", pointsReport},
-          {"threads", all},
+          {"threads", resolveThreadCount(options.threads)},
           {"resolution", options.resolution},
           {"point_count", options.points},
-          {"repeats", options.repeats}};
+          {"repeats", options.repeats},
+          {"timing", "interleaved rounds: medians of each contender's seconds, ratios as medians of per-round ratios"}};
 }
 
 }  // namespace pbs::bench
