@@ -134,7 +134,18 @@ TEST(Cli, RasterBenchDrawsTheSameViewsAsItsPeers) {
   }
   for (const char* key : {"pbs_mpoints_per_s", "llvmpipe_mpoints_per_s", "vs_llvmpipe"})
     EXPECT_TRUE(json["points"].contains(key)) << key;
-  EXPECT_GT(json["points"]["1px"]["pbs"]["covered_pixels"].get<double>(), 0.0);
+  for (const char* size : {"1px", "4px"}) {
+    const auto& points = json["points"][size];
+    EXPECT_GT(points["pbs"]["covered_pixels"].get<double>(), 0.0) << size;
+    EXPECT_EQ(points["pbs_1_thread"]["covered_pixels"], points["pbs"]["covered_pixels"]) << size;
+    if (!points["llvmpipe"].contains("missing")) {
+      EXPECT_NEAR(points["llvmpipe"]["covered_pixels"].get<double>(), points["pbs"]["covered_pixels"].get<double>(),
+                  0.01 * points["pbs"]["covered_pixels"].get<double>())
+          << size;
+      EXPECT_GT(points["vs_llvmpipe"].get<double>(), 0.0) << size;
+    }
+  }
+  EXPECT_GT(capture["thread_scaling"].get<double>(), 0.0);
   EXPECT_GT(json["threads"].get<int>(), 0);
 }
 
