@@ -233,9 +233,8 @@ PBS_CLONE_INLINE void rasterizeInTile(TileBuffer& tile, const RasterTriangle& t)
   const int x0 = std::max<int>(t.minX, tile.x0), x1 = std::min<int>(t.maxX, tile.x0 + tile.width - 1);
   const int y0 = std::max<int>(t.minY, tile.y0), y1 = std::min<int>(t.maxY, tile.y0 + tile.height - 1);
   if (x0 > x1 || y0 > y1) return;
-  const auto [minX, maxX] = std::minmax({t.x[0], t.x[1], t.x[2]});
-  const auto [minY, maxY] = std::minmax({t.y[0], t.y[1], t.y[2]});
-  if (std::int64_t(maxX) - minX <= kSmallExtent && std::int64_t(maxY) - minY <= kSmallExtent) {
+  const CoordinateRange x = rangeOf(t.x[0], t.x[1], t.x[2]), y = rangeOf(t.y[0], t.y[1], t.y[2]);
+  if (std::int64_t(x.max) - x.min <= kSmallExtent && std::int64_t(y.max) - y.min <= kSmallExtent) {
     if (y1 - y0 < kBlockSize && x1 - (x0 & ~(kLanes - 1)) < 2 * kBlockSize)
       rasterizeSmallRect<std::int32_t>(tile, t, x0, y0, x1, y1);
     else

@@ -8,19 +8,6 @@
 namespace pbs::triangles {
 namespace {
 
-// The triangle that won the pixels to the left in this row, kept while its run lasts (about half
-// of all covered pixels continue their left neighbour's triangle): its record, and the row part
-// of each plane, which every pixel of the run shares.
-struct RunWinner {
-  std::uint32_t id = kNoTriangle;
-  const float* record = nullptr;
-  ShadingHeader header{};
-  const TriangleSpan* span = nullptr;
-  glm::vec1 inverseW{1.0f};
-  glm::vec3 position{}, normal{};
-  glm::vec2 uv{};
-};
-
 // The interpolated vertex normal n, or where it has no direction (opposed or missing vertex
 // normals) the face normal; interpolated n/w has the direction of n (w > 0), so no division.
 PBS_CLONE_INLINE glm::vec3 unitNormal(const glm::vec3& n, const float* facePart) {
@@ -71,39 +58,31 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
   for (int row = 0; row < tile.height; ++row) {
     const int y = tile.y0 + row;
     if (row + 1 < tile.height) prefetchRow(framebuffer, tile.x0, y + 1, tile.width);
-    RunWinner run;
     for (int column = 0; column < tile.width; ++column) {
       const std::uint32_t id = tile.ids[row * kTileStride + column];
       if (id == kNoTriangle) continue;
-      if (id != run.id) {
-        run.id = id;
-        run.record = chunks[idChunk(id)].shading.data() + std::size_t(idLocal(id)) * layout.stride;
-        run.header = loadHeader(run.record);
-        run.span = &spans[run.header.span];
-        const float dy = float(y - run.header.minY);
-        if (perspective) run.inverseW = planeRow<1>(run.record + layout.inverseW, dy);
-        if (positions) run.position = planeRow<3>(run.record + layout.position, dy);
-        if (normals) run.normal = planeRow<3>(run.record + layout.normal, dy);
-        if (colors && run.span->texture) run.uv = planeRow<2>(run.record + layout.uv, dy);
-      }
-      const float* record = run.record;
+      // Every pixel looks its winner up afresh. About half the pixels continue their left
+      // neighbour's triangle, but a branch to reuse its values mispredicts so often that
+      // recomputing them is faster.
+      const float* record = chunks[idChunk(id)].record(idLocal(id), layout);
+      const ShadingHeader header = loadHeader(record);
+      const TriangleSpan& span = spans[header.span];
       const int x = tile.x0 + column;
       const std::size_t pixel = std::size_t(y) * width + std::size_t(x);
-      const float dx = float(x - run.header.minX);
+      const float dx = float(x - header.minX), dy = float(y - header.minY);
       // w at the pixel, for the attributes interpolated over w.
-      const float w = perspective ? 1.0f / planeAt<1>(run.inverseW, record + layout.inverseW, dx).x : 1.0f;
-      if (positions) positions[pixel] = planeAt<3>(run.position, record + layout.position, dx) * w;
-      if (normals)
-        normals[pixel] = unitNormal(planeAt<3>(run.normal, record + layout.normal, dx), record + layout.normal + 9);
+      const float w = perspective ? 1.0f / planeValue<1>(record + layout.inverseW, dx, dy).x : 1.0f;
+      if (positions) positions[pixel] = planeValue<3>(record + layout.position, dx, dy) * w;
+      if (normals) normals[pixel] = unitNormal(planeValue<3>(record + layout.normal, dx, dy), record + layout.normal + 9);
       if (colors) {
-        if (run.span->texture) {
-          const glm::vec2 uv = planeAt<2>(run.uv, record + layout.uv, dx) * w;
-          colors[pixel] = toUnorm8(run.span->baseColor * sampleTexture(*run.span->texture, uv));
+        if (span.texture) {
+          const glm::vec2 uv = planeValue<2>(record + layout.uv, dx, dy) * w;
+          colors[pixel] = toUnorm8(span.baseColor * sampleTexture(*span.texture, uv));
         } else {
-          colors[pixel] = run.header.flatColor;
+          colors[pixel] = header.flatColor;
         }
       }
-      if (ids) ids[pixel] = {run.span->draw->nodeId, run.span->draw->instanceId, run.header.primitive};
+      if (ids) ids[pixel] = {span.draw->nodeId, span.draw->instanceId, header.primitive};
     }
   }
 }

@@ -23,6 +23,28 @@ inline constexpr int kBlockSize = 8;   // pixels a side; the unit of trivial acc
 // function at any pixel centre of a ≤ 16384² viewport sums two products below 2^60: exact in int64.
 inline constexpr double kGuardBandPixels = double(1 << 21);
 
+// The least and the greatest of three snapped coordinates, without a branch: a branch here
+// mispredicts on about every other triangle, and GCC turns std::min and std::max of the same pair
+// (or std::minmax) into one. The differences stay below 2^30 in magnitude (coordinates lie within
+// ±2^29, see kGuardBandPixels), so they cannot overflow.
+struct CoordinateRange {
+  std::int32_t min, max;
+};
+inline CoordinateRange rangeOf(std::int32_t a, std::int32_t b, std::int32_t c) {
+  const auto order = [](std::int32_t& low, std::int32_t& high) {
+    const std::int32_t difference = high - low;
+    const std::int32_t negative = difference & (difference >> 31);  // the difference where high < low, else 0
+    low += negative;
+    high -= negative;
+  };
+  std::int32_t low = a, high = b;
+  order(low, high);
+  std::int32_t third = c;
+  order(low, third);  // low is now the least
+  order(third, high);  // high is now the greatest
+  return {low, high};
+}
+
 // A triangle as coverage and depth need it: 48 bytes.
 struct RasterTriangle {
   std::int32_t x[3];  // snapped window positions in 1/256 pixel, ordered so that twice the signed
@@ -34,7 +56,7 @@ struct RasterTriangle {
 };
 
 // An attribute as a plane over pixel offsets dx = px − minX, dy = py − minY from the triangle's
-// first pixel: value = (c + y·dy) + x·dx (planeRow, planeAt). For perspective-correct interpolation
+// first pixel: value = (c + y·dy) + x·dx (planeValue). For perspective-correct interpolation
 // the planes hold attribute/w, and the value is divided by the plane of 1/w.
 template <class Value>
 struct AttributePlane {
@@ -86,19 +108,11 @@ void storeVector(float* p, const glm::vec<N, float>& v) {
   for (int i = 0; i < N; ++i) p[i] = v[i];
 }
 
-// The value of a stored plane at a pixel, (c + y·dy) + x·dx, in two steps: the row part
-// c + y·dy, shared by the pixels of a row, then the column part. Component by component in
-// registers.
+// The value of a stored plane at a pixel, (c + y·dy) + x·dx, component by component in registers.
 template <int N>
-glm::vec<N, float> planeRow(const float* plane, float dy) {
+glm::vec<N, float> planeValue(const float* plane, float dx, float dy) {
   glm::vec<N, float> v;
-  for (int i = 0; i < N; ++i) v[i] = plane[i] + plane[2 * N + i] * dy;
-  return v;
-}
-template <int N>
-glm::vec<N, float> planeAt(const glm::vec<N, float>& row, const float* plane, float dx) {
-  glm::vec<N, float> v;
-  for (int i = 0; i < N; ++i) v[i] = row[i] + plane[N + i] * dx;
+  for (int i = 0; i < N; ++i) v[i] = (plane[i] + plane[2 * N + i] * dy) + plane[N + i] * dx;
   return v;
 }
 template <int N>

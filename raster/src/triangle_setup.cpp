@@ -83,9 +83,8 @@ class ChunkWriter {
   // Inlined into setupChunk, so that it is compiled for each of its clones.
   [[gnu::always_inline]] PixelBox trianglePixelBox(const ProjectedVertex& v0, const ProjectedVertex& v1,
                                                    const ProjectedVertex& v2) const {
-    const auto [minX, maxX] = std::minmax({v0.x, v1.x, v2.x});
-    const auto [minY, maxY] = std::minmax({v0.y, v1.y, v2.y});
-    return pixelBox(batch_.framebuffer, minX, minY, maxX, maxY);
+    const CoordinateRange x = rangeOf(v0.x, v1.x, v2.x), y = rangeOf(v0.y, v1.y, v2.y);
+    return pixelBox(batch_.framebuffer, x.min, y.min, x.max, y.max);
   }
 
   [[gnu::always_inline]] void emit(const SourceTriangle& source, const ProjectedVertex* v0, const ProjectedVertex* v1,
