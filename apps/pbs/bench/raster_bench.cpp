@@ -14,7 +14,6 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -45,6 +44,14 @@ CaptureViews makeCaptureViews(const Bounds& box, std::uint32_t resolution) {
     views.framebuffers.push_back(makeFramebuffer(camera.width, camera.height, kCaptureChannels, box.center()));
   }
   return views;
+}
+
+// Seconds of one run of `work` inside an arena of `threads` workers.
+template <typename Work>
+double timedOnThreads(int threads, Work&& work) {
+  double seconds = 0.0;
+  runWithThreads(threads, [&] { seconds = timedRun(work); });
+  return seconds;
 }
 
 // pbs: the eight views into depth + colour + position + normal, the framebuffers cleared each time.
@@ -79,10 +86,7 @@ double positionAgreement(const Framebuffer& pbs, const std::vector<glm::vec3>& l
 // normal (untextured: a textured material gets its base colour only, which spares llvmpipe work).
 class LlvmpipeCapture {
  public:
-  LlvmpipeCapture(const CaptureViews& views, int threads)
-      : views_(views), peer_(largestWidth(views), largestHeight(views), threads) {
-    available_ = peer_.available() && peer_.useCaptureGBuffer();
-  }
+  LlvmpipeCapture(const CaptureViews& views, int threads) : LlvmpipeCapture(views, largestViewport(views), threads) {}
   bool available() const { return available_; }
   const std::string& missingReason() const { return peer_.missingReason(); }
 
@@ -102,20 +106,20 @@ class LlvmpipeCapture {
   std::vector<glm::vec3> positions() { return peer_.capturePositions(); }
 
  private:
-  static std::uint32_t largestWidth(const CaptureViews& views) {
-    std::uint32_t width = 0;
-    for (const Camera& camera : views.cameras) width = std::max(width, camera.width);
-    return width;
+  LlvmpipeCapture(const CaptureViews& views, glm::uvec2 context, int threads)
+      : views_(views), peer_(context.x, context.y, threads) {
+    available_ = peer_.available() && peer_.useCaptureGBuffer();
   }
-  static std::uint32_t largestHeight(const CaptureViews& views) {
-    std::uint32_t height = 0;
-    for (const Camera& camera : views.cameras) height = std::max(height, camera.height);
-    return height;
+
+  // One context as large as the largest view; each view draws into its own viewport size.
+  static glm::uvec2 largestViewport(const CaptureViews& views) {
+    glm::uvec2 largest(0);
+    for (const Camera& camera : views.cameras) largest = glm::max(largest, glm::uvec2(camera.width, camera.height));
+    return largest;
   }
 
   void drawView(const Scene& scene, const Hierarchy& hierarchy, std::size_t v) {
     const Camera& camera = views_.cameras[v];
-    // One context as large as the largest view; each view draws into its own viewport size.
     peer_.setViewport(camera.width, camera.height);
     peer_.clear();
     const glm::dmat4 clipFromWorld = camera.clipFromWorld();
@@ -155,24 +159,16 @@ nlohmann::json benchCapture(const Scene& scene, const Hierarchy& hierarchy, cons
   const int all = resolveThreadCount(options.threads);
   CaptureViews views = makeCaptureViews(box, options.resolution);
   const auto pbsRun = [&](int threads) {
-    return [&, threads] {
-      double seconds = 0.0;
-      runWithThreads(threads, [&] { seconds = timedRun([&] { drawPbsViews(scene, hierarchy, views); }); });
-      return seconds;
-    };
+    return [&, threads] { return timedOnThreads(threads, [&] { drawPbsViews(scene, hierarchy, views); }); };
   };
   std::optional<EmbreeScene> embree;
   double bvhSeconds = 0.0;
   runWithThreads(all, [&] { bvhSeconds = timedRun([&] { embree.emplace(scene, hierarchy); }); });
   // render overwrites every pixel (a miss with the cleared values): no separate clear to time.
   const auto embreeRun = [&] {
-    double seconds = 0.0;
-    runWithThreads(all, [&] {
-      seconds = timedRun([&] {
-        for (std::size_t v = 0; v < views.cameras.size(); ++v) embree->render(views.cameras[v], views.framebuffers[v]);
-      });
+    return timedOnThreads(all, [&] {
+      for (std::size_t v = 0; v < views.cameras.size(); ++v) embree->render(views.cameras[v], views.framebuffers[v]);
     });
-    return seconds;
   };
   LlvmpipeCapture llvmpipe(views, all);
   std::vector<std::function<double()>> runs = {pbsRun(1), pbsRun(all), embreeRun};
@@ -246,14 +242,10 @@ nlohmann::json benchPoints(const RandomPoints& points, const RasterBenchOptions&
   Framebuffer multi = makeFramebuffer(resolution, resolution, kChannelColor);
   const auto pbsRun = [&](Framebuffer& framebuffer, int threads) {
     return [&, threads] {
-      double seconds = 0.0;
-      runWithThreads(threads, [&] {
-        seconds = timedRun([&] {
-          clearFramebuffer(framebuffer);
-          drawPoints(framebuffer, camera, std::span(&set, 1));
-        });
+      return timedOnThreads(threads, [&] {
+        clearFramebuffer(framebuffer);
+        drawPoints(framebuffer, camera, std::span(&set, 1));
       });
-      return seconds;
     };
   };
   LlvmpipePeer llvmpipe(resolution, resolution, all);
@@ -272,7 +264,7 @@ nlohmann::json benchPoints(const RandomPoints& points, const RasterBenchOptions&
   const double count = double(points.positions.size());
   const auto entry = [&](const std::vector<double>& seconds, int threads, std::uint64_t covered) {
     nlohmann::json json = timingEntry(seconds, threads, covered);
-    json["mpoints_per_s"] = count / json["seconds"].get<double>() / 1e6;
+    json["mpoints_per_s"] = count / median(seconds) / 1e6;
     return json;
   };
   nlohmann::json report;
