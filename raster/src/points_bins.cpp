@@ -16,11 +16,11 @@ void forEachTile(const TileGrid& grid, const SquareSplat& splat, Visit&& visit) 
     for (std::uint32_t tx = tx0; tx <= tx1; ++tx) visit(ty * grid.columns + tx);
 }
 
-ScalableVector<SquareSplat>& binsOf(ChunkBins& bins, const SquareSplat*) {
+UninitializedVector<SquareSplat>& binsOf(ChunkBins& bins, const SquareSplat*) {
   bins.kind = BinKind::squares;
   return bins.squares;
 }
-ScalableVector<DiscSplat>& binsOf(ChunkBins& bins, const DiscSplat*) {
+UninitializedVector<DiscSplat>& binsOf(ChunkBins& bins, const DiscSplat*) {
   bins.kind = BinKind::discs;
   return bins.discs;
 }

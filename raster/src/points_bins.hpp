@@ -24,10 +24,10 @@ enum class BinKind { pixels, squares, discs };
 // A chunk whose splats all cover one pixel stores the compact PixelSplat: the 1-pixel fast path.
 struct ChunkBins {
   BinKind kind = BinKind::pixels;
-  ScalableVector<std::uint32_t> offsets;
-  ScalableVector<PixelSplat> pixels;
-  ScalableVector<SquareSplat> squares;
-  ScalableVector<DiscSplat> discs;
+  UninitializedVector<std::uint32_t> offsets;
+  UninitializedVector<PixelSplat> pixels;
+  UninitializedVector<SquareSplat> squares;
+  UninitializedVector<DiscSplat> discs;
 
   // Calls f with the span of this chunk's splats binned to `tile`, of the type `kind` names.
   template <class F>
@@ -67,13 +67,13 @@ class ChunkSorter {
 
  private:
   const TileGrid* grid_ = nullptr;
-  ScalableVector<Splat> splats_;
+  UninitializedVector<Splat> splats_;
   // The fast path's columns, in submission order.
-  ScalableVector<std::uint32_t> keys_;
-  ScalableVector<float> depths_;
-  ScalableVector<std::uint32_t> payloads_;
-  ScalableVector<PixelSplat> sortedPixels_;
-  ScalableVector<Splat> sortedSplats_;
+  UninitializedVector<std::uint32_t> keys_;
+  UninitializedVector<float> depths_;
+  UninitializedVector<std::uint32_t> payloads_;
+  UninitializedVector<PixelSplat> sortedPixels_;
+  UninitializedVector<Splat> sortedSplats_;
   ScalableVector<std::uint32_t> counts_;  // per tile, and for the fast path's dropped points past the last
   std::size_t size_ = 0;
   std::size_t pixelCount_ = 0;

@@ -14,8 +14,8 @@ namespace pbs::points {
 // One thread's copy of a tile (stride tileSize): depth alone for a depth-only framebuffer, else depth packed
 // with the winning splat's payload (points_tile.cpp).
 struct TileScratch {
-  ScalableVector<float> depth;
-  ScalableVector<std::uint64_t> packed;
+  UninitializedVector<float> depth;
+  UninitializedVector<std::uint64_t> packed;
 };
 
 // Draws the splats binned to `tile` by every chunk of the batch starting at ordinal `batchStart`. Only this
