@@ -542,12 +542,16 @@ struct RandomScene {
     textured.materials = {SurfaceMaterial{glm::vec4(1.0f, 0.8f, 0.6f, 1.0f), &texture}};
   }
 
-  Framebuffer draw(const Camera& camera, int threads) {
-    Framebuffer framebuffer =
-        makeFramebuffer(camera.width, camera.height, kChannelColor | kChannelPosition | kChannelNormal | kChannelIds);
+  void drawInto(Framebuffer& framebuffer, const Camera& camera, int threads) {
     TriangleDraw draws[2] = {plain.draw(), textured.draw(glm::translate(glm::dmat4(1.0), glm::dvec3(0.1, 0, 0)))};
     draws[1].nodeId = 1;
     runWithThreads(threads, [&] { drawTriangles(framebuffer, camera, draws); });
+  }
+
+  Framebuffer draw(const Camera& camera, int threads) {
+    Framebuffer framebuffer =
+        makeFramebuffer(camera.width, camera.height, kChannelColor | kChannelPosition | kChannelNormal | kChannelIds);
+    drawInto(framebuffer, camera, threads);
     return framebuffer;
   }
 };
@@ -622,6 +626,79 @@ TEST(TriangleStreaming, OneHugeCallEqualsSmallerCalls) {
   }
   EXPECT_EQ(coveredPixels(whole).size(), 64u * 64u);
   expectIdentical(whole, pieces);
+}
+
+// ---- Clearing --------------------------------------------------------------------------------
+
+TEST(FramebufferClear, ClearsDepthAndTheChannelsAskedFor) {
+  Framebuffer framebuffer = makeFramebuffer(4, 3, kAllChannels);
+  const auto dirty = [&] {
+    std::fill(framebuffer.depth.begin(), framebuffer.depth.end(), 0.25f);
+    std::fill(framebuffer.color.begin(), framebuffer.color.end(), glm::u8vec4(9));
+    std::fill(framebuffer.position.begin(), framebuffer.position.end(), glm::vec3(7.0f));
+    std::fill(framebuffer.normal.begin(), framebuffer.normal.end(), glm::vec3(0.0f, 1.0f, 0.0f));
+    std::fill(framebuffer.ids.begin(), framebuffer.ids.end(), PixelIds{1, 2, 3});
+  };
+  dirty();
+  clearFramebuffer(framebuffer, 0);
+  for (std::size_t pixel = 0; pixel < framebuffer.pixelCount(); ++pixel) {
+    EXPECT_EQ(framebuffer.depth[pixel], kClearDepth);
+    EXPECT_EQ(framebuffer.color[pixel], glm::u8vec4(9));
+    EXPECT_EQ(framebuffer.position[pixel], glm::vec3(7.0f));
+    EXPECT_EQ(framebuffer.ids[pixel], (PixelIds{1, 2, 3}));
+  }
+  dirty();
+  clearFramebuffer(framebuffer, kChannelColor | kChannelIds);
+  EXPECT_EQ(framebuffer.depth[5], kClearDepth);
+  EXPECT_EQ(framebuffer.color[5], glm::u8vec4(0));
+  EXPECT_EQ(framebuffer.ids[5], PixelIds{});
+  EXPECT_EQ(framebuffer.position[5], glm::vec3(7.0f));
+  EXPECT_EQ(framebuffer.normal[5], glm::vec3(0.0f, 1.0f, 0.0f));
+  dirty();
+  clearFramebuffer(framebuffer);
+  EXPECT_EQ(framebuffer.position[11], glm::vec3(0.0f));
+  EXPECT_EQ(framebuffer.normal[11], glm::vec3(0.0f));
+  EXPECT_EQ(framebuffer.color[11], glm::u8vec4(0));
+}
+
+TEST(FramebufferClear, ResizeKeepsTheChannelsAndSizesThem) {
+  Framebuffer framebuffer = makeFramebuffer(0, 0, kChannelColor | kChannelNormal);
+  for (const auto& [width, height] : {std::pair{5u, 7u}, std::pair{3u, 2u}, std::pair{16u, 9u}}) {
+    resizeFramebuffer(framebuffer, width, height);
+    EXPECT_EQ(framebuffer.width, width);
+    EXPECT_EQ(framebuffer.height, height);
+    EXPECT_EQ(framebuffer.depth.size(), std::size_t(width) * height);
+    EXPECT_EQ(framebuffer.color.size(), std::size_t(width) * height);
+    EXPECT_EQ(framebuffer.normal.size(), std::size_t(width) * height);
+    EXPECT_TRUE(framebuffer.position.empty() && framebuffer.ids.empty());
+  }
+}
+
+// The capture clears depth alone between views: over whatever an earlier view left, a draw gives
+// the same depth, and the same channels wherever a pixel is covered, as into a cleared framebuffer.
+TEST(FramebufferClear, DepthAloneGivesTheSameCoveredPixels) {
+  RandomScene scene(4000, 5);
+  const Camera first = lookCamera({0.3, 0.2, 3.0}, false, 300, 200);
+  const Camera second = lookCamera({-5.0, 2.5, 5.0}, true, 300, 200);
+  const Framebuffer cleared = scene.draw(second, 2);
+  Framebuffer reused = scene.draw(first, 2);
+  clearFramebuffer(reused, 0);
+  scene.drawInto(reused, second, 2);
+  EXPECT_TRUE(sameBytes(cleared.depth, reused.depth));
+  std::size_t covered = 0, stale = 0;
+  for (std::size_t pixel = 0; pixel < cleared.pixelCount(); ++pixel) {
+    if (!cleared.covered(pixel)) {
+      stale += reused.position[pixel] != glm::vec3(0.0f);
+      continue;
+    }
+    ++covered;
+    ASSERT_EQ(std::memcmp(&cleared.position[pixel], &reused.position[pixel], sizeof(glm::vec3)), 0);
+    ASSERT_EQ(std::memcmp(&cleared.normal[pixel], &reused.normal[pixel], sizeof(glm::vec3)), 0);
+    ASSERT_EQ(cleared.color[pixel], reused.color[pixel]);
+    ASSERT_EQ(cleared.ids[pixel], reused.ids[pixel]);
+  }
+  EXPECT_GT(covered, 10000u);
+  EXPECT_GT(stale, 0u);  // the first view's values are still there where the second drew nothing
 }
 
 TEST(TriangleInput, MismatchedFramebufferIsRefused) {

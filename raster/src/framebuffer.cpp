@@ -24,20 +24,34 @@ Framebuffer makeFramebuffer(std::uint32_t width, std::uint32_t height, ChannelMa
   return framebuffer;
 }
 
-void clearFramebuffer(Framebuffer& framebuffer) {
+void clearFramebuffer(Framebuffer& framebuffer, ChannelMask channels) {
   // Clearing a full G-buffer is tens of MB of stores, as long as drawing a small mesh into it: it
   // runs on every thread of the arena, in row bands (each byte written once, so no order issue).
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, framebuffer.pixelCount(), 1 << 16), [&](const auto& range) {
-    const auto fill = [&](auto& channel, const auto& value) {
-      if (!channel.empty())
+    const auto fill = [&](auto& channel, bool wanted, const auto& value) {
+      if (wanted && !channel.empty())
         std::fill(channel.begin() + std::ptrdiff_t(range.begin()), channel.begin() + std::ptrdiff_t(range.end()), value);
     };
-    fill(framebuffer.depth, kClearDepth);
-    fill(framebuffer.color, glm::u8vec4(0));
-    fill(framebuffer.position, glm::vec3(0.0f));
-    fill(framebuffer.normal, glm::vec3(0.0f));
-    fill(framebuffer.ids, PixelIds{});
+    fill(framebuffer.depth, true, kClearDepth);
+    fill(framebuffer.color, channels & kChannelColor, glm::u8vec4(0));
+    fill(framebuffer.position, channels & kChannelPosition, glm::vec3(0.0f));
+    fill(framebuffer.normal, channels & kChannelNormal, glm::vec3(0.0f));
+    fill(framebuffer.ids, channels & kChannelIds, PixelIds{});
   });
+}
+
+void resizeFramebuffer(Framebuffer& framebuffer, std::uint32_t width, std::uint32_t height) {
+  framebuffer.width = width;
+  framebuffer.height = height;
+  const std::size_t pixels = framebuffer.pixelCount();
+  const auto resize = [&](auto& channel, bool allocated) {
+    if (allocated) channel.resize(pixels);
+  };
+  resize(framebuffer.depth, true);
+  resize(framebuffer.color, framebuffer.has(kChannelColor));
+  resize(framebuffer.position, framebuffer.has(kChannelPosition));
+  resize(framebuffer.normal, framebuffer.has(kChannelNormal));
+  resize(framebuffer.ids, framebuffer.has(kChannelIds));
 }
 
 }  // namespace pbs

@@ -286,7 +286,7 @@ void LlvmpipePeer::drawCaptureTriangles(const glm::mat4& clipFromObject, const g
   gl.drawElements(kTriangles, GLsizei(indices.size()), kUnsignedInt, indices.data());
 }
 
-void LlvmpipePeer::clear() { gl_->clear(kColorBit | kDepthBit); }
+void LlvmpipePeer::clear(bool colors) { gl_->clear(colors ? kColorBit | kDepthBit : kDepthBit); }
 
 void LlvmpipePeer::finish() { gl_->finish(); }
 

@@ -54,10 +54,11 @@ double timedOnThreads(int threads, Work&& work) {
   return seconds;
 }
 
-// pbs: the eight views into depth + colour + position + normal, the framebuffers cleared each time.
+// pbs: the eight views into depth + colour + position + normal, each time after clearing depth,
+// as the capture does (captureBox): the other channels are read only where a pixel is covered.
 void drawPbsViews(const Scene& scene, const Hierarchy& hierarchy, CaptureViews& views) {
   for (std::size_t v = 0; v < views.cameras.size(); ++v) {
-    clearFramebuffer(views.framebuffers[v]);
+    clearFramebuffer(views.framebuffers[v], 0);
     drawSceneTriangles(scene, hierarchy, views.cameras[v], views.framebuffers[v]);
   }
 }
@@ -121,7 +122,7 @@ class LlvmpipeCapture {
   void drawView(const Scene& scene, const Hierarchy& hierarchy, std::size_t v) {
     const Camera& camera = views_.cameras[v];
     peer_.setViewport(camera.width, camera.height);
-    peer_.clear();
+    peer_.clear(false);
     const glm::dmat4 clipFromWorld = camera.clipFromWorld();
     const glm::dmat4 positionFromWorld = glm::translate(glm::dmat4(1.0), -views_.framebuffers[v].positionOrigin);
     for (std::uint32_t n : hierarchy.preorder) {

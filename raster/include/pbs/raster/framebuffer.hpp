@@ -16,6 +16,7 @@ enum Channel : std::uint32_t {
   kChannelIds = 1u << 3,       // node, instance and primitive ids, 32 bits each
 };
 using ChannelMask = std::uint32_t;
+inline constexpr ChannelMask kAllChannels = kChannelColor | kChannelPosition | kChannelNormal | kChannelIds;
 
 struct PixelIds {
   std::uint32_t node = 0xffffffffu;
@@ -51,7 +52,14 @@ struct Framebuffer {
 Framebuffer makeFramebuffer(std::uint32_t width, std::uint32_t height, ChannelMask channels,
                             const glm::dvec3& positionOrigin = glm::dvec3(0.0));
 
-// Clears depth and every allocated channel.
-void clearFramebuffer(Framebuffer& framebuffer);
+// Clears depth and, of the other allocated channels, those in `channels` (all by default). A channel
+// left out keeps its old values, which then mean something only where depth says a pixel is
+// covered. That is all a capture reads (its surfels and its pictures), so it clears depth alone:
+// the rest of a colour + position + normal G-buffer is 28 of its 32 bytes a pixel.
+void clearFramebuffer(Framebuffer& framebuffer, ChannelMask channels = kAllChannels);
+
+// A new size for the same channels, reusing their memory where it suffices (the views of a capture
+// differ in size); the pixels' values are unspecified until the framebuffer is cleared.
+void resizeFramebuffer(Framebuffer& framebuffer, std::uint32_t width, std::uint32_t height);
 
 }  // namespace pbs
