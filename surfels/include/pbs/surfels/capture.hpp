@@ -24,7 +24,9 @@ struct CaptureOptions {
   std::uint32_t directions = 8;
   enum class Backend { Raster, Embree } backend = Backend::Raster;
   // Called with every view's camera and G-buffer right after it is rendered (for pictures and
-  // debugging: `pbs capture` writes them as images); nothing is kept for it otherwise.
+  // debugging: `pbs capture` writes them as images); nothing is kept for it otherwise. Only depth
+  // is cleared between views: colour, position and normal hold this view's values where depth says
+  // a pixel is covered (Framebuffer::covered), and anything elsewhere.
   std::function<void(std::uint32_t view, const Camera& camera, const Framebuffer& gbuffer)> onView{};
 };
 
