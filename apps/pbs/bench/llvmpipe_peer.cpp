@@ -286,7 +286,9 @@ void LlvmpipePeer::drawCaptureTriangles(const glm::mat4& clipFromObject, const g
   gl.drawElements(kTriangles, GLsizei(indices.size()), kUnsignedInt, indices.data());
 }
 
-void LlvmpipePeer::clear(bool colors) { gl_->clear(colors ? kColorBit | kDepthBit : kDepthBit); }
+void LlvmpipePeer::clear() { gl_->clear(kColorBit | kDepthBit); }
+
+void LlvmpipePeer::clearDepth() { gl_->clear(kDepthBit); }
 
 void LlvmpipePeer::finish() { gl_->finish(); }
 

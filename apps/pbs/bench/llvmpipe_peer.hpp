@@ -27,9 +27,11 @@ class LlvmpipePeer {
 
   // Draws into the lower-left width×height pixels (at most the context's size) from now on.
   void setViewport(std::uint32_t width, std::uint32_t height);
-  // Clears depth and, with `colors`, every colour attachment; the capture clears depth alone, as
-  // pbs's does (its other channels are read only where a pixel is covered).
-  void clear(bool colors = true);
+  // Clears depth and every colour attachment.
+  void clear();
+  // Clears depth alone: the capture's clear, as pbs's (its other channels are read only where a
+  // pixel is covered).
+  void clearDepth();
   // GL_POINTS of `size` pixels with per-point colours, depth test on.
   void drawPoints(const glm::mat4& clipFromObject, std::span<const glm::vec3> positions,
                   std::span<const glm::u8vec4> colors, float size);

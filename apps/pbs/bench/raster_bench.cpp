@@ -122,7 +122,7 @@ class LlvmpipeCapture {
   void drawView(const Scene& scene, const Hierarchy& hierarchy, std::size_t v) {
     const Camera& camera = views_.cameras[v];
     peer_.setViewport(camera.width, camera.height);
-    peer_.clear(false);
+    peer_.clearDepth();
     const glm::dmat4 clipFromWorld = camera.clipFromWorld();
     const glm::dmat4 positionFromWorld = glm::translate(glm::dmat4(1.0), -views_.framebuffers[v].positionOrigin);
     for (std::uint32_t n : hierarchy.preorder) {

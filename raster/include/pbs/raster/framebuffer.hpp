@@ -54,8 +54,8 @@ Framebuffer makeFramebuffer(std::uint32_t width, std::uint32_t height, ChannelMa
 
 // Clears depth and, of the other allocated channels, those in `channels` (all by default). A channel
 // left out keeps its old values, which then mean something only where depth says a pixel is
-// covered. That is all a capture reads (its surfels and its pictures), so it clears depth alone:
-// the rest of a colour + position + normal G-buffer is 28 of its 32 bytes a pixel.
+// covered: a reader that looks only there (as the surfel capture does) can clear depth alone and
+// skip the rest of a colour + position + normal G-buffer, 28 of its 32 bytes a pixel.
 void clearFramebuffer(Framebuffer& framebuffer, ChannelMask channels = kAllChannels);
 
 // A new size for the same channels, reusing their memory where it suffices (the views of a capture
