@@ -7,6 +7,24 @@
 #include <algorithm>
 
 namespace pbs {
+namespace {
+
+// Calls visit(values, channel, clear value) for depth (channel 0: always there) and each optional
+// channel, so that allocating, clearing and resizing name the channels and their clear values once.
+template <class Visit>
+void forEachChannel(Framebuffer& framebuffer, Visit&& visit) {
+  visit(framebuffer.depth, ChannelMask{0}, kClearDepth);
+  visit(framebuffer.color, ChannelMask{kChannelColor}, glm::u8vec4(0));
+  visit(framebuffer.position, ChannelMask{kChannelPosition}, glm::vec3(0.0f));
+  visit(framebuffer.normal, ChannelMask{kChannelNormal}, glm::vec3(0.0f));
+  visit(framebuffer.ids, ChannelMask{kChannelIds}, PixelIds{});
+}
+
+bool allocated(const Framebuffer& framebuffer, ChannelMask channel) {
+  return channel == 0 || (framebuffer.channels & channel) != 0;
+}
+
+}  // namespace
 
 Framebuffer makeFramebuffer(std::uint32_t width, std::uint32_t height, ChannelMask channels,
                             const glm::dvec3& positionOrigin) {
@@ -16,11 +34,9 @@ Framebuffer makeFramebuffer(std::uint32_t width, std::uint32_t height, ChannelMa
   framebuffer.channels = channels;
   framebuffer.positionOrigin = positionOrigin;
   const std::size_t pixels = framebuffer.pixelCount();
-  framebuffer.depth.assign(pixels, kClearDepth);
-  if (framebuffer.has(kChannelColor)) framebuffer.color.assign(pixels, glm::u8vec4(0));
-  if (framebuffer.has(kChannelPosition)) framebuffer.position.assign(pixels, glm::vec3(0.0f));
-  if (framebuffer.has(kChannelNormal)) framebuffer.normal.assign(pixels, glm::vec3(0.0f));
-  if (framebuffer.has(kChannelIds)) framebuffer.ids.assign(pixels, PixelIds{});
+  forEachChannel(framebuffer, [&](auto& values, ChannelMask channel, const auto& clearValue) {
+    if (allocated(framebuffer, channel)) values.assign(pixels, clearValue);
+  });
   return framebuffer;
 }
 
@@ -28,15 +44,12 @@ void clearFramebuffer(Framebuffer& framebuffer, ChannelMask channels) {
   // Clearing a full G-buffer is tens of MB of stores, as long as drawing a small mesh into it: it
   // runs on every thread of the arena, in row bands (each byte written once, so no order issue).
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, framebuffer.pixelCount(), 1 << 16), [&](const auto& range) {
-    const auto fill = [&](auto& channel, bool wanted, const auto& value) {
-      if (wanted && !channel.empty())
-        std::fill(channel.begin() + std::ptrdiff_t(range.begin()), channel.begin() + std::ptrdiff_t(range.end()), value);
-    };
-    fill(framebuffer.depth, true, kClearDepth);
-    fill(framebuffer.color, channels & kChannelColor, glm::u8vec4(0));
-    fill(framebuffer.position, channels & kChannelPosition, glm::vec3(0.0f));
-    fill(framebuffer.normal, channels & kChannelNormal, glm::vec3(0.0f));
-    fill(framebuffer.ids, channels & kChannelIds, PixelIds{});
+    forEachChannel(framebuffer, [&](auto& values, ChannelMask channel, const auto& clearValue) {
+      const bool wanted = channel == 0 || (channels & channel) != 0;
+      if (wanted && !values.empty())
+        std::fill(values.begin() + std::ptrdiff_t(range.begin()), values.begin() + std::ptrdiff_t(range.end()),
+                  clearValue);
+    });
   });
 }
 
@@ -44,14 +57,9 @@ void resizeFramebuffer(Framebuffer& framebuffer, std::uint32_t width, std::uint3
   framebuffer.width = width;
   framebuffer.height = height;
   const std::size_t pixels = framebuffer.pixelCount();
-  const auto resize = [&](auto& channel, bool allocated) {
-    if (allocated) channel.resize(pixels);
-  };
-  resize(framebuffer.depth, true);
-  resize(framebuffer.color, framebuffer.has(kChannelColor));
-  resize(framebuffer.position, framebuffer.has(kChannelPosition));
-  resize(framebuffer.normal, framebuffer.has(kChannelNormal));
-  resize(framebuffer.ids, framebuffer.has(kChannelIds));
+  forEachChannel(framebuffer, [&](auto& values, ChannelMask channel, const auto&) {
+    if (allocated(framebuffer, channel)) values.resize(pixels);
+  });
 }
 
 }  // namespace pbs
