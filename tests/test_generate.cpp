@@ -1,8 +1,15 @@
 // Tests of the procedural scenes: the default plant (valid, within its triangle budget, deep,
-// instanced, closed outward-facing meshes, deterministic) and the city of instances.
+// instanced, closed outward-facing meshes, deterministic) and the city of instances, shared or not.
+#include "test_support.hpp"
+
+#include <pbs/raster/headlight_shading.hpp>
+#include <pbs/raster/orbit_camera.hpp>
 #include <pbs/scene/generate.hpp>
+#include <pbs/scene/gltf_export.hpp>
 #include <pbs/scene/hierarchy.hpp>
 #include <pbs/scene/input_error.hpp>
+#include <pbs/scene/load_scene.hpp>
+#include <pbs/surfels/lod_render.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -12,6 +19,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <set>
 #include <unordered_map>
 
 namespace pbs {
@@ -299,6 +307,158 @@ TEST(City, RejectsWhatItCannotBuild) {
   empty.nodes.push_back({"nothing", glm::dmat4(1.0), {}, -1});
   empty.roots = {0};
   EXPECT_THROW(generateCity({empty}, CityOptions{}), InputError);
+}
+
+// The unique city against the instanced one of the same options.
+struct CityPair {
+  Scene instanced, unique;
+  Hierarchy instancedHierarchy, uniqueHierarchy;
+};
+
+CityPair cityPair(const CityOptions& options) {
+  CityOptions unique = options;
+  unique.unique = true;
+  CityPair pair{generateCity(cityPrototypes(), options), generateCity(cityPrototypes(), unique), {}, {}};
+  pair.instancedHierarchy = analyzeHierarchy(pair.instanced);
+  pair.uniqueHierarchy = analyzeHierarchy(pair.unique);
+  return pair;
+}
+
+TEST(UniqueCity, GivesEveryLeafAMeshOfItsOwnWithItsPlacementBakedIn) {
+  const CityPair city = cityPair(CityOptions{.levels = 2, .fanout = 6, .seed = 9});
+  ASSERT_NO_THROW(validateScene(city.unique, "unique city"));
+  ASSERT_EQ(city.unique.nodes.size(), city.instanced.nodes.size());
+  std::set<std::int32_t> used;
+  std::uint64_t leaves = 0;
+  for (std::size_t n = 0; n < city.unique.nodes.size(); ++n) {
+    const Node& node = city.unique.nodes[n];
+    const Node& original = city.instanced.nodes[n];
+    EXPECT_EQ(node.name, original.name);
+    EXPECT_EQ(node.children, original.children);
+    EXPECT_EQ(node.mesh >= 0, original.mesh >= 0);
+    if (node.mesh < 0) {
+      EXPECT_TRUE(node.local == original.local) << "blocks keep their placement";
+      continue;
+    }
+    ++leaves;
+    EXPECT_TRUE(used.insert(node.mesh).second) << "mesh " << node.mesh << " used twice";
+    EXPECT_TRUE(node.local == glm::dmat4(1.0)) << "the placement is in the vertices";
+    const Mesh& mesh = city.unique.meshes[std::size_t(node.mesh)];
+    const Mesh& prototype = city.instanced.meshes[std::size_t(original.mesh)];
+    EXPECT_EQ(mesh.triangleCount(), prototype.triangleCount());
+    EXPECT_EQ(mesh.positions.size(), prototype.positions.size());
+    EXPECT_EQ(mesh.uvs.size(), prototype.uvs.size());
+    expectUnitFiniteNormals(mesh);
+    // Mirrored placements reverse the winding, so faces still point along their normals.
+    EXPECT_EQ(trianglesAgainstNormals(mesh), 0u) << mesh.name;
+    for (std::size_t v = 0; v < mesh.positions.size(); v += 97) {
+      const glm::dvec3 placed = glm::dvec3(original.local * glm::dvec4(glm::dvec3(prototype.positions[v]), 1.0));
+      EXPECT_LT(glm::length(glm::dvec3(mesh.positions[v]) - placed), 1e-5) << mesh.name;
+    }
+  }
+  EXPECT_EQ(leaves, 36u);
+  EXPECT_EQ(city.unique.meshes.size(), leaves) << "no prototype left over, no mesh shared";
+  EXPECT_EQ(city.unique.materials.size(), city.instanced.materials.size());
+  EXPECT_EQ(city.unique.textures.size(), city.instanced.textures.size());
+
+  const SceneSummary unique = summarizeScene(city.unique, city.uniqueHierarchy);
+  const SceneSummary instanced = summarizeScene(city.instanced, city.instancedHierarchy);
+  EXPECT_EQ(unique.triangles, instanced.triangles);
+  EXPECT_EQ(unique.uniqueTriangles, instanced.triangles) << "every instanced triangle stored once";
+  const double diagonal = glm::length(instanced.bounds.size());
+  EXPECT_LT(glm::length(unique.bounds.min - instanced.bounds.min), 1e-6 * diagonal);
+  EXPECT_LT(glm::length(unique.bounds.max - instanced.bounds.max), 1e-6 * diagonal);
+}
+
+TEST(UniqueCity, IsDeterministicAndLevelsZeroWorks) {
+  CityOptions options{.levels = 2, .fanout = 5, .seed = 3};
+  options.unique = true;
+  expectSameScene(generateCity(cityPrototypes(), options), generateCity(cityPrototypes(), options));
+  options.levels = 0;
+  const Scene single = generateCity(cityPrototypes(), options);
+  ASSERT_EQ(single.meshes.size(), 1u);
+  EXPECT_EQ(single.nodes[0].mesh, 0);
+  EXPECT_TRUE(single.nodes[0].local == glm::dmat4(1.0));
+}
+
+// The shaded picture (headlight_shading.hpp) drawn exactly by the rasterizer.
+std::vector<glm::vec4> exactPicture(const Scene& scene, const Hierarchy& hierarchy, const Camera& camera) {
+  Framebuffer gbuffer = makeFramebuffer(camera.width, camera.height, kChannelColor | kChannelNormal);
+  const SceneSurfels none;  // no arrays: every visible mesh is drawn as triangles
+  renderLod(scene, hierarchy, none, camera, gbuffer, LodOptions{});
+  return shadeHeadlight(gbuffer, camera);
+}
+
+TEST(UniqueCity, DrawsTheSamePicture) {
+  const CityPair city = cityPair(CityOptions{.levels = 2, .fanout = 9, .seed = 4});
+  const Bounds bounds = summarizeScene(city.instanced, city.instancedHierarchy).bounds;
+  for (const Orbit& orbit : {Orbit{30.0, 80.0, 1.0}, Orbit{200.0, 30.0, 0.6}, Orbit{100.0, 10.0, 0.3}}) {
+    const Camera camera = orbitCamera(bounds.center(), 0.5 * glm::length(bounds.size()), orbit, 240, 160);
+    const std::vector<glm::vec4> a = exactPicture(city.instanced, city.instancedHierarchy, camera);
+    const std::vector<glm::vec4> b = exactPicture(city.unique, city.uniqueHierarchy, camera);
+    std::size_t coveredA = 0, coveredB = 0, differentCoverage = 0, differentColour = 0;
+    for (std::size_t p = 0; p < a.size(); ++p) {
+      coveredA += a[p].a > 0.0f ? 1 : 0;
+      coveredB += b[p].a > 0.0f ? 1 : 0;
+      if ((a[p].a > 0.0f) != (b[p].a > 0.0f))
+        ++differentCoverage;
+      else if (glm::length(glm::vec3(a[p]) - glm::vec3(b[p])) > 0.02f)
+        ++differentColour;
+    }
+    EXPECT_GT(coveredA, a.size() / 20) << "the city is in the picture";
+    // Float rounding of the baked vertices moves an edge across a pixel centre now and then.
+    EXPECT_LE(differentCoverage, 8u);
+    EXPECT_LE(differentColour, a.size() / 500) << "pixels whose colour changed (a different triangle won)";
+    RecordProperty("coverage_" + std::to_string(int(orbit.azimuthDegrees)),
+                   std::to_string(coveredA) + " vs " + std::to_string(coveredB));
+  }
+}
+
+TEST(UniqueCity, CommandLineWritesOneMeshPerInstance) {
+  test::ScratchDir scratch;
+  writeGlb(cityPrototypes()[1], scratch / "pump.glb");
+  writeGlb(cityPrototypes()[2], scratch / "gears.glb");
+  const std::string output = (scratch / "city.glb").string();
+  const test::CommandResult made = test::runPbs("generate city --mesh '" + (scratch / "pump.glb").string() +
+                                                "' --mesh '" + (scratch / "gears.glb").string() +
+                                                "' --levels 2 --fanout 4 --unique -o '" + output + "'");
+  ASSERT_EQ(made.status, 0) << made.err;
+  const Scene city = loadScene(output).scene;
+  const SceneSummary summary = summarizeScene(city, analyzeHierarchy(city));
+  EXPECT_EQ(summary.instances, 16u);
+  EXPECT_EQ(summary.meshes, 16u);
+  EXPECT_EQ(summary.uniqueTriangles, summary.triangles);
+  EXPECT_NE(made.out.find("unique"), std::string::npos) << made.out;
+}
+
+TEST(UniqueCity, CommandLineRefusesWhatAGlbCannotHold) {
+  // 22,500 copies of a 1.3 M-triangle mesh: far beyond the 4 GiB of one .glb, refused before any baking.
+  test::ScratchDir scratch;
+  Scene big;
+  big.materials.push_back(Material{"plain", glm::vec4(0.7f), -1});
+  Mesh grid;
+  grid.name = "grid";
+  constexpr std::uint32_t kSide = 800;
+  for (std::uint32_t j = 0; j <= kSide; ++j)
+    for (std::uint32_t i = 0; i <= kSide; ++i) grid.positions.push_back({float(i), std::sin(0.1f * float(i + j)), float(j)});
+  for (std::uint32_t j = 0; j < kSide; ++j)
+    for (std::uint32_t i = 0; i < kSide; ++i) {
+      const std::uint32_t a = j * (kSide + 1) + i, b = a + 1, c = a + kSide + 1, d = c + 1;
+      grid.indices.insert(grid.indices.end(), {a, c, b, b, c, d});
+    }
+  grid.normals = computeVertexNormals(grid.positions, grid.indices);
+  grid.parts.push_back(MeshPart{0, std::uint32_t(grid.indices.size()), 0});
+  updateMeshBounds(grid);
+  big.meshes.push_back(std::move(grid));
+  big.nodes.push_back(Node{"grid", glm::dmat4(1.0), {}, 0});
+  big.roots = {0};
+  writeGlb(big, scratch / "grid.glb");
+  const test::CommandResult refused = test::runPbs("generate city --mesh '" + (scratch / "grid.glb").string() +
+                                                   "' --levels 2 --fanout 150 --unique -o '" +
+                                                   (scratch / "city.glb").string() + "'");
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_NE(refused.err.find("4 GiB"), std::string::npos) << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(scratch / "city.glb"));
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
-// Image-difference metrics (RMSE, PSNR, luminance SSIM, holes) and `pbs compare` over PNG and EXR files.
+// Image-difference metrics (composited RMSE and PSNR over the whole image and the foreground, luminance
+// SSIM, FLIP, holes and bloat, pass/fail limits) and `pbs compare` over PNG and EXR files.
 #include "test_support.hpp"
 
+#include <pbs/raster/flip.hpp>
 #include <pbs/raster/image_metrics.hpp>
 #include <pbs/raster/thread_arena.hpp>
 
@@ -90,10 +92,14 @@ TEST(ImageMetrics, IdenticalImagesDifferByNothing) {
   EXPECT_TRUE(std::isinf(d.psnr) && d.psnr > 0);
   EXPECT_DOUBLE_EQ(d.ssim, 1.0);
   EXPECT_EQ(d.holeFraction, 0.0);
+  EXPECT_EQ(d.bloatFraction, 0.0);
+  EXPECT_EQ(d.flipMean, 0.0);
+  EXPECT_EQ(d.flipMax, 0.0);
   EXPECT_EQ(d.pixels, 64u * 48u);
-  EXPECT_EQ(d.surfaceA, d.pixels);
-  EXPECT_EQ(d.surfaceB, d.pixels);
-  EXPECT_EQ(d.holes, 0u);
+  EXPECT_EQ(d.foregroundPixels, d.pixels);
+  EXPECT_EQ(d.coverageA, double(d.pixels));
+  EXPECT_EQ(d.coverageB, double(d.pixels));
+  EXPECT_TRUE(std::isinf(d.foregroundPsnr));
 }
 
 TEST(ImageMetrics, ConstantOffsetGivesItsRmseAndPsnr) {
@@ -136,8 +142,8 @@ TEST(ImageMetrics, SsimMatchesTheDefinition) {
   EXPECT_DOUBLE_EQ(luminanceSsim(one, one), 1.0);
 }
 
-TEST(ImageMetrics, HoleFractionCountsBackgroundOfAOverSurfaceOfB) {
-  // 4×4: B has surface in the left half (8 pixels); A misses two of them and adds one on the right.
+TEST(ImageMetrics, HolesAndBloatCountCoverageAgainstB) {
+  // 4×4: B covers the left half (8 pixels); A misses two of them, covers one 0.4 and adds 1.5 on the right.
   const std::uint32_t w = 4, h = 4;
   RgbaImage a{w, h, std::vector<glm::vec4>(16, glm::vec4(0.0f))};
   RgbaImage b = a;
@@ -146,22 +152,108 @@ TEST(ImageMetrics, HoleFractionCountsBackgroundOfAOverSurfaceOfB) {
       b.pixels[y * w + x] = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
       a.pixels[y * w + x] = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
     }
-  a.pixels[0 * w + 0] = glm::vec4(0.0f, 0.0f, 0.0f, 0.0f);  // hole
-  a.pixels[3 * w + 1] = glm::vec4(0.0f, 0.0f, 0.0f, 0.4f);  // alpha below 0.5: hole
-  a.pixels[1 * w + 3] = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);  // surface where B has none: no hole
-  a.pixels[2 * w + 3] = glm::vec4(0.0f, 0.0f, 0.0f, 0.5f);  // alpha 0.5 is surface
+  a.pixels[0 * w + 0] = glm::vec4(0.0f);                    // a whole hole
+  a.pixels[1 * w + 0] = glm::vec4(0.0f);                    // another
+  a.pixels[3 * w + 1] = glm::vec4(0.5f, 0.5f, 0.5f, 0.4f);  // 0.6 of a hole
+  a.pixels[1 * w + 3] = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);  // bloat: surface where B has none
+  a.pixels[2 * w + 3] = glm::vec4(0.0f, 0.0f, 0.0f, 0.5f);  // half a pixel of bloat
   const ImageDifference d = compareImages(a, b);
-  EXPECT_EQ(d.surfaceB, 8u);
-  EXPECT_EQ(d.surfaceA, 8u);
-  EXPECT_EQ(d.holes, 2u);
-  EXPECT_DOUBLE_EQ(d.holeFraction, 0.25);
-  // Background colour counts as stored: three pixels differ by 0.5 in R, G and B.
-  EXPECT_NEAR(d.rmse, std::sqrt(3 * 3 * 0.25 / (3.0 * 16)), 1e-12);
+  EXPECT_DOUBLE_EQ(d.coverageB, 8.0);
+  EXPECT_NEAR(d.coverageA, 5.4 + 1.5, 1e-6);
+  EXPECT_NEAR(d.holes, 2.6, 1e-6);
+  EXPECT_NEAR(d.holeFraction, 2.6 / 8.0, 1e-7);
+  EXPECT_NEAR(d.bloat, 1.5, 1e-6);
+  EXPECT_NEAR(d.bloatFraction, 1.5 / 8.0, 1e-7);
+  EXPECT_EQ(d.foregroundPixels, 10u);  // the left half and the two bloated pixels
 
   const RgbaImage empty{w, h, std::vector<glm::vec4>(16, glm::vec4(0.0f))};
   const ImageDifference none = compareImages(a, empty);
-  EXPECT_EQ(none.surfaceB, 0u);
+  EXPECT_EQ(none.coverageB, 0.0);
   EXPECT_EQ(none.holeFraction, 0.0);
+  EXPECT_EQ(none.bloatFraction, 0.0) << "relative to B's coverage, and B covers nothing";
+}
+
+TEST(ImageMetrics, BothImagesAreCompositedOverOneBackground) {
+  // Colour behind alpha 0 is invisible: black and red backgrounds compare equal over any background.
+  const std::uint32_t w = 8, h = 8;
+  RgbaImage a{w, h, std::vector<glm::vec4>(64, glm::vec4(0.0f, 0.0f, 0.0f, 0.0f))};
+  RgbaImage b{w, h, std::vector<glm::vec4>(64, glm::vec4(1.0f, 0.0f, 0.0f, 0.0f))};
+  EXPECT_EQ(compareImages(a, b).rmse, 0.0);
+  // A half-covered grey pixel over white is (0.5·0.2 + 0.5·1) = 0.6 in every channel; B's opaque 0.6
+  // grey is the same picture.
+  a.pixels[9] = glm::vec4(0.2f, 0.2f, 0.2f, 0.5f);
+  b.pixels[9] = glm::vec4(0.6f, 0.6f, 0.6f, 1.0f);
+  const ImageDifference white = compareImages(a, b);
+  EXPECT_NEAR(white.rmse, 0.0, 1e-7);
+  EXPECT_NEAR(white.holeFraction, 0.5, 1e-7);  // coverage still counts apart from colour
+  // Over black the same pair differs by 0.5 in one pixel's three channels.
+  const ImageDifference black = compareImages(a, b, {.background = glm::vec3(0.0f)});
+  EXPECT_NEAR(black.rmse, std::sqrt(3 * 0.25 / (3.0 * 64)), 1e-7);
+}
+
+TEST(ImageMetrics, ForegroundPsnrIsNotDilutedByTheSharedBackground) {
+  // 100×100, background everywhere but a 10×10 square both cover; A's square is 0.1 brighter.
+  const std::uint32_t w = 100, h = 100;
+  RgbaImage a{w, h, std::vector<glm::vec4>(w * h, glm::vec4(0.0f))};
+  RgbaImage b = a;
+  for (std::uint32_t y = 40; y < 50; ++y)
+    for (std::uint32_t x = 40; x < 50; ++x) {
+      a.pixels[y * w + x] = glm::vec4(0.6f, 0.6f, 0.6f, 1.0f);
+      b.pixels[y * w + x] = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+    }
+  const ImageDifference d = compareImages(a, b);
+  EXPECT_EQ(d.foregroundPixels, 100u);
+  EXPECT_NEAR(d.foregroundPsnr, 20.0, 1e-4);  // mse 0.01 over the square
+  EXPECT_NEAR(d.psnr, 40.0, 1e-4);            // the same error over 100 times the pixels
+  EXPECT_GT(d.flipForegroundMean, 10.0 * d.flipMean * 0.9) << "FLIP over the foreground is not diluted either";
+  EXPECT_GT(d.flipMean, 0.0);
+  EXPECT_EQ(d.holeFraction, 0.0);
+  EXPECT_EQ(d.bloatFraction, 0.0);
+}
+
+TEST(ImageMetrics, FlipIsComputedOnTheCompositedPair) {
+  const RgbaImage a = patternImage(64, 48, 1);
+  const RgbaImage b = boxBlur3(patternImage(64, 48, 2));
+  const ImageDifference d = compareImages(a, b, {.keepFlipMap = true});
+  ASSERT_EQ(d.flipMap.size(), a.pixelCount());
+  std::vector<glm::vec3> ra, rb;
+  for (std::size_t i = 0; i < a.pixelCount(); ++i) {
+    ra.push_back(glm::vec3(a.pixels[i]));
+    rb.push_back(glm::vec3(b.pixels[i]));
+  }
+  const FlipResult flip = computeFlip(rb, ra, a.width, a.height);  // opaque: compositing changes nothing
+  EXPECT_EQ(d.flipMean, flip.mean);
+  EXPECT_EQ(d.flipMedian, flip.median);
+  EXPECT_EQ(d.flipMax, flip.max);
+  EXPECT_NEAR(d.flipForegroundMean, flip.mean, 1e-9);  // every pixel is foreground
+  EXPECT_TRUE(compareImages(a, b).flipMap.empty()) << "the map is kept only when asked for";
+  EXPECT_EQ(compareImages(a, b, {.flip = false}).flipMean, 0.0);
+}
+
+TEST(ImageMetrics, ThresholdsReportEveryLimitBroken) {
+  ImageDifference d;
+  d.flipMean = 0.05;
+  d.psnr = 30.0;
+  d.foregroundPsnr = 20.0;
+  d.holeFraction = 0.01;
+  d.bloatFraction = 0.2;
+  EXPECT_TRUE(failedThresholds(d, {}).empty()) << "no limits, nothing fails";
+  const ImageThresholds passing{.maxFlip = 0.05, .minPsnr = 30.0, .minForegroundPsnr = 20.0, .maxHoles = 0.01,
+                                .maxBloat = 0.2};
+  EXPECT_TRUE(failedThresholds(d, passing).empty()) << "a value equal to its limit passes";
+  const ImageThresholds strict{.maxFlip = 0.04, .minPsnr = 31.0, .minForegroundPsnr = 19.0, .maxHoles = 0.02,
+                               .maxBloat = 0.1};
+  const std::vector<ThresholdFailure> failures = failedThresholds(d, strict);
+  ASSERT_EQ(failures.size(), 3u);
+  EXPECT_EQ(failures[0].option, "--max-flip");
+  EXPECT_EQ(failures[0].value, 0.05);
+  EXPECT_EQ(failures[0].limit, 0.04);
+  EXPECT_EQ(failures[1].option, "--min-psnr");
+  EXPECT_EQ(failures[2].option, "--max-bloat");
+  d.flipMean = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(failedThresholds(d, {.maxFlip = 1.0}).size(), 1u) << "NaN breaks its limit";
+  d.psnr = std::numeric_limits<double>::infinity();
+  EXPECT_TRUE(failedThresholds(d, {.minPsnr = 1000.0}).empty()) << "identical images pass any PSNR limit";
 }
 
 TEST(ImageMetrics, SizeMismatchThrows) {
@@ -183,6 +275,8 @@ TEST(ImageMetrics, SameNumbersForAnyThreadCount) {
     EXPECT_EQ(d->rmse, one.rmse);
     EXPECT_EQ(d->psnr, one.psnr);
     EXPECT_EQ(d->ssim, one.ssim);
+    EXPECT_EQ(d->flipMean, one.flipMean);
+    EXPECT_EQ(d->foregroundPsnr, one.foregroundPsnr);
     EXPECT_EQ(d->holes, one.holes);
   }
 }
@@ -241,28 +335,32 @@ void expectJsonMatches(const nlohmann::json& j, const ImageDifference& d, const 
   EXPECT_NEAR(j.at("psnr").get<double>(), d.psnr, tolerance * 1e4);
   EXPECT_NEAR(j.at("ssim").get<double>(), d.ssim, tolerance);
   EXPECT_NEAR(j.at("hole_fraction").get<double>(), d.holeFraction, 1e-15);
+  EXPECT_NEAR(j.at("bloat_fraction").get<double>(), d.bloatFraction, 1e-15);
+  EXPECT_NEAR(j.at("flip_mean").get<double>(), d.flipMean, tolerance);
+  EXPECT_NEAR(j.at("flip_foreground_mean").get<double>(), d.flipForegroundMean, tolerance);
   EXPECT_EQ(j.at("width").get<std::uint32_t>(), a.width);
   EXPECT_EQ(j.at("height").get<std::uint32_t>(), a.height);
-  EXPECT_EQ(j.at("pixels_surface_a").get<std::uint64_t>(), d.surfaceA);
-  EXPECT_EQ(j.at("pixels_surface_b").get<std::uint64_t>(), d.surfaceB);
+  EXPECT_EQ(j.at("coverage_a").get<double>(), d.coverageA);
+  EXPECT_EQ(j.at("coverage_b").get<double>(), d.coverageB);
+  EXPECT_TRUE(j.at("passed").get<bool>());
 }
 
 TEST(CompareCommand, PngNumbersMatchTheLibrary) {
   ScratchDir dir;
   RgbaImage pattern = withHole(patternImage(48, 36, 1), 6.0f);
-  pattern.pixels[3] = glm::vec4(0.8f, 0.6f, 0.4f, 0.0f);  // colour behind alpha 0 counts as stored
+  pattern.pixels[3] = glm::vec4(0.8f, 0.6f, 0.4f, 0.0f);  // colour behind alpha 0 is not seen
   pattern.pixels[4] = glm::vec4(0.8f, 0.6f, 0.4f, 0.6f);  // straight colour, not premultiplied
   const RgbaImage a = writePng(dir / "a.png", pattern);
   const RgbaImage b = writePng(dir / "b.png", boxBlur3(patternImage(48, 36, 1)));
   const ImageDifference d = compareImages(a, b);
-  ASSERT_GT(d.holes, 0u);
+  ASSERT_GT(d.holes, 0.0);
   expectJsonMatches(compareJson(dir / "a.png", dir / "b.png"), d, a, 1e-6);
 
   const CommandResult text = runPbs("compare '" + (dir / "a.png").string() + "' '" + (dir / "b.png").string() + "'");
   EXPECT_EQ(text.status, 0) << text.err;
   EXPECT_EQ(std::count(text.out.begin(), text.out.end(), '\n'), 1) << text.out;
-  EXPECT_EQ(text.out.rfind("rmse ", 0), 0u) << text.out;
-  for (const char* part : {"  psnr ", " dB  ssim ", "  holes ", "(A: 48x36, ", "; B: 48x36, "})
+  EXPECT_EQ(text.out.rfind("flip ", 0), 0u) << text.out;
+  for (const char* part : {"  psnr ", " dB (foreground ", "  ssim ", "  holes ", "  bloat ", "(48x36; coverage A "})
     EXPECT_NE(text.out.find(part), std::string::npos) << part << " in " << text.out;
 }
 
@@ -305,9 +403,48 @@ TEST(CompareCommand, GreyAndAlphaFreeFilesAreSurfaceColour) {
   for (const char* other : {"rgb.png", "rgba.png"}) {
     const nlohmann::json j = compareJson(dir / "grey.png", dir / other);
     EXPECT_EQ(j.at("rmse").get<double>(), 0.0) << other;
-    EXPECT_EQ(j.at("pixels_surface_a").get<std::uint64_t>(), w * h) << other;
-    EXPECT_EQ(j.at("pixels_surface_b").get<std::uint64_t>(), w * h) << other;
+    EXPECT_EQ(j.at("coverage_a").get<double>(), double(w * h)) << other;
+    EXPECT_EQ(j.at("coverage_b").get<double>(), double(w * h)) << other;
   }
+}
+
+TEST(CompareCommand, LimitsMakeAnImageTestWithItsOwnExitStatus) {
+  ScratchDir dir;
+  writePng(dir / "a.png", withHole(patternImage(40, 30, 1), 5.0f));
+  writePng(dir / "b.png", patternImage(40, 30, 1));
+  const std::string pair = "compare '" + (dir / "a.png").string() + "' '" + (dir / "b.png").string() + "'";
+  const nlohmann::json measured = compareJson(dir / "a.png", dir / "b.png");
+  const double flip = measured.at("flip_mean").get<double>();
+  const double holes = measured.at("hole_fraction").get<double>();
+  ASSERT_GT(flip, 0.0);
+  ASSERT_GT(holes, 0.0);
+
+  const CommandResult passes = runPbs(pair + " --max-flip " + std::to_string(flip * 1.01) + " --max-holes 1");
+  EXPECT_EQ(passes.status, 0) << passes.err;
+  EXPECT_TRUE(passes.err.empty()) << passes.err;
+
+  const CommandResult fails = runPbs(pair + " --max-flip " + std::to_string(flip * 0.5) + " --max-holes 1 --json");
+  EXPECT_EQ(fails.status, 3) << "3: a limit broken, distinct from 1 (bad input) and 2 (bad usage)";
+  EXPECT_EQ(fails.err.rfind("fail: --max-flip ", 0), 0u) << fails.err;
+  EXPECT_EQ(std::count(fails.err.begin(), fails.err.end(), '\n'), 1) << fails.err;
+  const nlohmann::json report = nlohmann::json::parse(fails.out);
+  EXPECT_FALSE(report.at("passed").get<bool>());
+  ASSERT_EQ(report.at("failed").size(), 1u);
+  EXPECT_EQ(report.at("failed")[0].at("option"), "--max-flip");
+
+  const CommandResult twoFail = runPbs(pair + " --max-holes 0 --min-foreground-psnr 200");
+  EXPECT_EQ(twoFail.status, 3);
+  EXPECT_EQ(std::count(twoFail.err.begin(), twoFail.err.end(), '\n'), 2) << twoFail.err;
+
+  const std::filesystem::path map = dir / "flip.png";
+  EXPECT_EQ(runPbs(pair + " --flip-map '" + map.string() + "'").status, 0);
+  auto in = OIIO::ImageInput::open(map.string());
+  ASSERT_TRUE(in) << "the FLIP map is written";
+  EXPECT_EQ(in->spec().width, 40);
+  EXPECT_EQ(in->spec().height, 30);
+
+  EXPECT_EQ(runPbs(pair + " --background 2,0,0").status, 2) << "a background outside [0, 1] is bad usage";
+  EXPECT_EQ(runPbs(pair + " --max-flip -1").status, 2);
 }
 
 TEST(CompareCommand, BadInputsGiveOneErrorLine) {

@@ -1,7 +1,6 @@
 // `pbs demo`: the main job on the embedded default scene, end to end: generate and summarise it, make
 // surfels for every complex node, render one view with them and exactly, and compare the two.
 #include "commands.hpp"
-#include "frame_renderer.hpp"
 #include "image_files.hpp"
 #include "progress_meter.hpp"
 #include "report_numbers.hpp"
@@ -11,6 +10,7 @@
 #include <pbs/raster/image_metrics.hpp>
 #include <pbs/raster/orbit_camera.hpp>
 #include <pbs/raster/thread_arena.hpp>
+#include <pbs/surfels/frame_renderer.hpp>
 #include <pbs/surfels/scene_surfels.hpp>
 #include <pbs/surfels/surfelize.hpp>
 
@@ -58,10 +58,9 @@ void run(const DemoOptions& options) {
   const Bounds& bounds = loaded.summary.bounds;
   const Camera camera =
       orbitCamera(bounds.center(), 0.5 * glm::length(bounds.size()), Orbit{}, options.width, options.height);
-  FrameRenderer withSurfels(loaded.scene, loaded.hierarchy, RenderMode::Surfels, &surfels, LodOptions{}, options.width,
-                            options.height);
-  FrameRenderer exactly(loaded.scene, loaded.hierarchy, RenderMode::Exact, nullptr, LodOptions{}, options.width,
-                        options.height);
+  FrameRenderer withSurfels(loaded.scene, loaded.hierarchy, {.mode = RenderMode::Surfels}, options.width,
+                            options.height, {.surfels = &surfels});
+  FrameRenderer exactly(loaded.scene, loaded.hierarchy, {.mode = RenderMode::Exact}, options.width, options.height);
   const FrameResult fast = withSurfels.render(camera);
   const FrameResult exact = exactly.render(camera);
   writeImage8(folder / "surfels.png", options.width, options.height, 4, toRgba8(fast.image));

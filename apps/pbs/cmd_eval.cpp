@@ -1,7 +1,8 @@
-// `pbs eval SCENE --surfels F -o DIR`: error against run time. An orbit rendered exactly once as the
-// reference, then every setting of a sweep over the same views, timed and compared with it; written
-// as DIR/eval.csv, DIR/summary.json, DIR/error_vs_time.svg and DIR/contact_sheet.png. Simplified
-// meshes (simplify=R) are measured the same way, as the alternative to surfels.
+// `pbs eval SCENE --surfels F -o DIR`: error against run time. A camera path rendered once as the
+// converged reference (Embree at many samples per pixel), then the peers (the exact renderers a user
+// already has), the surfels and every setting of a sweep over the same views, timed and compared with
+// it; written as DIR/eval.csv, DIR/summary.json, DIR/error_vs_time.svg and DIR/contact_sheet.png.
+// Simplified meshes (simplify=R) are measured the same way, as the alternative to surfels.
 #include "commands.hpp"
 #include "contact_sheet.hpp"
 #include "eval_outputs.hpp"
@@ -14,11 +15,14 @@
 #include "scene_report.hpp"
 #include "svg_plot.hpp"
 
+#include <pbs/raster/flip.hpp>
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/scene/simplified_meshes.hpp>
 #include <pbs/surfels/surfel_file.hpp>
 #include <pbs/surfels/surfelize.hpp>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -33,6 +37,11 @@ struct EvalOptions {
   std::string surfels;
   std::string output;
   std::vector<std::string> sweeps;
+  std::vector<std::string> peers = defaultPeers();
+  std::string path = "orbit";
+  std::uint32_t referenceSamples = 64;
+  glm::vec3 background{1.0f};
+  double pixelsPerDegree = kDefaultPixelsPerDegree;
   std::uint32_t frames = 24;
   std::string size = "1920x1080";
   std::string orbit = "30,20,2.5";
@@ -132,85 +141,113 @@ class SimplifiedScenes {
   std::map<double, Made> made_;
 };
 
-std::string psnrText(double psnr) {
+std::string dbText(double psnr) {
   if (!std::isfinite(psnr)) return "inf";
   char text[32];
   std::snprintf(text, sizeof text, "%.2f", psnr);
   return text;
 }
 
-void printTable(const std::vector<EvalSummary>& summaries, const EvalSummary& reference) {
-  std::printf("%-18s %9s %8s %12s %12s %13s %15s %9s\n", "setting", "median ms", "speed-up", "surfels", "triangles",
-              "PSNR med/min", "SSIM med/min", "holes");
+void printTable(const std::vector<EvalSummary>& summaries) {
+  std::printf("%-18s %6s %9s %9s %12s %12s %15s %13s %7s %8s %8s\n", "setting", "frames", "median ms", "speed-up",
+              "surfels", "triangles", "FLIP med/worst", "fg PSNR med", "SSIM", "holes", "bloat");
   for (const EvalSummary& s : summaries) {
-    const std::string psnr = psnrText(s.medianPsnr) + "/" + psnrText(s.worstPsnr);
-    std::printf("%-18s %9.2f %7.2fx %12s %12s %13s %7.4f/%.4f %9.2e\n", s.name.c_str(), s.medianSeconds * 1e3,
-                s.medianSeconds > 0 ? reference.medianSeconds / s.medianSeconds : 0.0,
-                withThousands(std::uint64_t(s.medianSurfels)).c_str(),
-                withThousands(std::uint64_t(s.medianTriangles)).c_str(), psnr.c_str(), s.medianSsim, s.worstSsim,
-                s.medianHoleFraction);
+    char flip[32];
+    std::snprintf(flip, sizeof flip, "%.4f/%.4f", s.medianFlip, s.worstFlip);
+    std::printf("%-18s %6zu %9.2f %8.2fx %12s %12s %15s %13s %7.4f %8.4f %8.4f\n", s.name.c_str(), s.frames,
+                s.medianSeconds * 1e3, s.medianSpeedup, withThousands(std::uint64_t(s.medianSurfels)).c_str(),
+                withThousands(std::uint64_t(s.medianTriangles)).c_str(), flip, dbText(s.medianForegroundPsnr).c_str(),
+                s.medianSsim, s.medianHoleFraction, s.medianBloatFraction);
   }
 }
 
 void run(const EvalOptions& options) {
   const Orbit orbit = parseOrbit(options.orbit);
   const auto [width, height] = parseSize(options.size);
+  const auto loadStart = std::chrono::steady_clock::now();
   const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
+  const double loadSeconds = secondsSince(loadStart);
+  const auto surfelsStart = std::chrono::steady_clock::now();
   SurfelSources sources(loaded, options.surfels, options.captureFrom, options.quiet);
+  const double surfelsLoadSeconds = secondsSince(surfelsStart);
   const LodOptions& baseline = options.baseline;
-  const std::vector<EvalSetting> settings = evalSettings(
-      options.sweeps.empty() ? defaultSweep(sources.fileOrdering()) : options.sweeps, baseline);
-  const std::optional<std::size_t> baselineIndex = baselineSetting(settings, baseline);
+  const std::vector<EvalSetting> settings =
+      evalSettings(options.peers, options.sweeps.empty() ? defaultSweep(sources.fileOrdering()) : options.sweeps, baseline);
+  const std::size_t baselineIndex = baselineSetting(settings);
   // Arrays of other orderings and simplified meshes are made before timing starts, so no frame waits on them.
   SimplifiedScenes simplifiedScenes(loaded.scene, options.quiet);
   for (const EvalSetting& setting : settings) {
-    if (!setting.exact) sources.of(setting);
+    if (!setting.isPeer()) sources.of(setting);
     if (setting.simplify) simplifiedScenes.of(setting);
   }
 
-  const std::vector<OrbitView> views = orbitViews(loaded.summary.bounds, orbit, options.frames, width, height);
+  std::vector<Camera> cameras;
+  for (const PathView& view : pathViews(loaded, options.path, orbit, options.frames, width, height))
+    cameras.push_back(view.camera);
+  const auto surfelsOf = [&](const EvalSetting& s) -> const SceneSurfels& { return sources.of(s); };
+  const EvalInputs inputs{.referenceSamples = options.referenceSamples,
+                          .compare = {.background = options.background, .pixelsPerDegree = options.pixelsPerDegree},
+                          .sheetFrame = std::uint32_t(cameras.size() / 2),
+                          .kindSurfels = &surfelsOf(settings[baselineIndex]),
+                          .kindLod = baseline};
   ProgressMeter meter("eval", ProgressMeter::styleFor(options.quiet));
   const EvalResults results = runEval(
-      loaded.scene, loaded.hierarchy, views, settings, [&](const EvalSetting& s) -> const SceneSurfels& { return sources.of(s); },
+      loaded.scene, loaded.hierarchy, cameras, settings, inputs, surfelsOf,
       [&](const EvalSetting& s) -> const Scene& { return simplifiedScenes.of(s); },
       [&](std::size_t done, std::size_t total, const std::string& detail) {
         meter.update(double(done) / double(total), detail);
       });
-  meter.finish(std::to_string(settings.size()) + " settings × " + std::to_string(views.size()) + " frames");
+  meter.finish(std::to_string(settings.size()) + " settings × " + std::to_string(cameras.size()) + " frames");
 
   std::vector<EvalSummary> summaries;
-  for (std::size_t s = 0; s < settings.size(); ++s) summaries.push_back(summarize(settings[s].name, results.settings[s].frames));
-  const EvalSummary reference = summarize("exact reference", results.reference);
+  for (std::size_t s = 0; s < settings.size(); ++s)
+    summaries.push_back(summarize(settings[s].name, results.settings[s], results.views));
 
   const std::filesystem::path folder(options.output);
   std::filesystem::create_directories(folder);
   writeTextFile(folder / "eval.csv", evalCsv(settings, results));
-  nlohmann::json summary =
-      summaryJson(EvalRunInfo{.scene = loaded.name, .surfels = options.surfels, .width = width, .height = height,
-                              .frames = std::uint32_t(views.size()), .orbit = orbit, .baseline = baselineIndex},
-                  summaries, reference);
+  const EvalRunInfo info{.scene = loaded.name,
+                         .surfels = options.surfels,
+                         .path = options.path,
+                         .width = width,
+                         .height = height,
+                         .frames = std::uint32_t(cameras.size()),
+                         .referenceSamples = options.referenceSamples,
+                         .baseline = baselineIndex,
+                         .loadSeconds = loadSeconds,
+                         .surfelsLoadSeconds = surfelsLoadSeconds};
+  nlohmann::json summary = summaryJson(info, settings, results);
   summary["simplification"] = simplifiedScenes.json();
   writeTextFile(folder / "error_vs_time.svg", renderSvg(errorTimePlot(settings, summaries, baselineIndex)));
 
-  // Contact sheet of frame 0: exact | setting | |difference| × kDifferenceGain, one row per setting shown.
+  // Contact sheet of the middle frame: reference | setting | FLIP map, one row per setting shown.
   const std::vector<std::size_t> rows = sheetSettings(settings, summaries, baselineIndex);
   std::vector<std::span<const std::uint8_t>> tiles;
   for (std::size_t s : rows) {
-    tiles.emplace_back(results.referenceFirst);
-    tiles.emplace_back(results.settings[s].firstImage);
-    tiles.emplace_back(results.settings[s].firstDifference);
+    tiles.emplace_back(results.referenceSheet);
+    tiles.emplace_back(results.settings[s].sheetImage);
+    tiles.emplace_back(results.settings[s].sheetFlip);
     summary["contact_sheet"]["rows"].push_back(settings[s].name);
   }
   summary["contact_sheet"]["file"] = "contact_sheet.png";
-  summary["contact_sheet"]["difference_gain"] = kDifferenceGain;
-  const std::uint8_t background[3] = {235, 235, 235};
+  summary["contact_sheet"]["frame"] = inputs.sheetFrame;
+  const std::uint8_t background[3] = {std::uint8_t(std::lround(options.background.r * 255.0f)),
+                                      std::uint8_t(std::lround(options.background.g * 255.0f)),
+                                      std::uint8_t(std::lround(options.background.b * 255.0f))};
   writeImage8(folder / "contact_sheet.png", 3 * width, std::uint32_t(rows.size()) * height, 3,
               contactSheet(width, height, 3, tiles, background));
   writeTextFile(folder / "summary.json", summary.dump(2) + "\n");
 
-  std::printf("%s: %ux%u, %zu frames, exact reference median %.2f ms\n", loaded.name.c_str(), width, height,
-              views.size(), reference.medianSeconds * 1e3);
-  printTable(summaries, reference);
+  std::printf("%s, %s path: %ux%u, %zu frames; reference Embree at %u samples, median %.1f ms; BVH %.2f s, load %.2f s\n",
+              loaded.name.c_str(), options.path.c_str(), width, height, cameras.size(), options.referenceSamples,
+              summary["reference"]["median_seconds"].get<double>() * 1e3, results.buildSeconds, loadSeconds);
+  std::string kinds;
+  for (FrameKind kind : {FrameKind::Near, FrameKind::Mid, FrameKind::Far}) {
+    const auto n = std::count_if(results.views.begin(), results.views.end(), [&](const EvalView& v) { return v.kind == kind; });
+    kinds += std::string(kinds.empty() ? "" : ", ") + std::to_string(n) + " " + frameKindName(kind);
+  }
+  std::printf("frames: %s\n", kinds.c_str());
+  printTable(summaries);
   std::printf("wrote %s/{eval.csv, summary.json, error_vs_time.svg, contact_sheet.png}\n", folder.string().c_str());
 }
 
@@ -219,7 +256,10 @@ void run(const EvalOptions& options) {
 void addEvalCommand(CLI::App& app) {
   auto options = std::make_shared<EvalOptions>();
   CLI::App* command = app.add_subcommand(
-      "eval", "Error against run time: sweep LOD settings over an orbit and compare every frame with exact rendering");
+      "eval",
+      "Error against run time: the peers (Embree rays at 1, 4, 16 samples per pixel, the rasterizer at 1), surfels "
+      "and a sweep of LOD settings over a camera path, every frame compared with a converged reference (Embree at "
+      "--reference-samples): FLIP and PSNR over the foreground, SSIM, holes, bloat, time");
   command->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->required();
   command->add_option("--surfels", options->surfels, "the scene's .surfels file (from pbs surfelize)")->required();
   command->add_option("-o,--output", options->output,
@@ -228,15 +268,25 @@ void addEvalCommand(CLI::App& app) {
   command->add_option("--sweep", options->sweeps,
                       "KEY=V1,V2,… or KEY=V+KEY=V (keys: " + sweepKeys() +
                           "), repeatable; each value one setting over the baseline LOD options (--threshold, --point-size, "
-                          "…). Default: "
-                          "overdraw=1,2,4,8 threshold=64,256 point=1,4, the file's other orderings and "
+                          "…), which is measured as 'surfels'. Default: "
+                          "overdraw=1,2,8 threshold=64,256 point=1,4, the file's other orderings and "
                           "simplify=0.25,0.05,0.01 (meshes simplified to that fraction of their triangles, drawn in "
-                          "place of surfels). 'exact' always comes first");
-  addLodOptions(*command, options->baseline);
-  command->add_option("--frames", options->frames, "views on the orbit")->check(CLI::Range(1u, 100000u))->capture_default_str();
-  command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
-  command->add_option("--orbit", options->orbit, "AZ,EL,DIST: degrees, degrees, distance in bounding radii")
+                          "place of surfels)");
+  command->add_option("--peers", options->peers,
+                      "the exact renderers measured beside the surfels: embree=N,… (rays, N samples per pixel) and "
+                      "exact=N,… (the rasterizer drawing every triangle)")
       ->capture_default_str();
+  addLodOptions(*command, options->baseline);
+  addPathOption(*command, options->path);
+  addSamplesOption(*command, "--reference-samples", options->referenceSamples,
+                   "samples per pixel of the reference every frame is compared with (Embree)");
+  command->add_option("--frames", options->frames, "views on the path")->check(CLI::Range(1u, 100000u))->capture_default_str();
+  command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
+  command->add_option("--orbit", options->orbit,
+                      "AZ,EL,DIST: degrees, degrees, distance in bounding radii (the orbit; the approach's direction "
+                      "and start)")
+      ->capture_default_str();
+  addCompareOptions(*command, options->background, options->pixelsPerDegree);
   addCaptureSourceOption(*command, options->captureFrom,
                          "how arrays of other orderings are made on demand (the .surfels file does not record it: "
                          "give what it was made with)");

@@ -1,6 +1,8 @@
-// `pbs figure scaling|views -o DIR`: the evaluation's figures, each written by one command: frame time
-// against scene size (figure_scaling.hpp), and exact against surfels from near to far (figure_views.hpp).
+// `pbs figure scaling|views|paths -o DIR`: the evaluation's figures, each written by one command: frame
+// time against scene size (figure_scaling.hpp), exact against surfels from near to far (figure_views.hpp),
+// and the camera paths seen from above (figure_paths.hpp).
 #include "commands.hpp"
+#include "figure_paths.hpp"
 #include "figure_scaling.hpp"
 #include "figure_views.hpp"
 #include "orbit_views.hpp"
@@ -30,6 +32,7 @@ std::string defaultMesh() {
 void addScaling(CLI::App& figure) {
   struct Options {
     ScalingOptions scaling;
+    std::string path = "orbit";
     std::string output;
     std::string size = "1920x1080";
     int threads = 0;
@@ -44,16 +47,18 @@ void addScaling(CLI::App& figure) {
   command->add_option("--mesh", scaling.meshes,
                       "a .gltf/.glb file the cities instance (repeat for several; default: bunny.glb of $PBS_SCENES "
                       "or ../shared/scenes)");
-  command->add_option("--frames", scaling.frames, "orbit views per city")->check(CLI::Range(1u, 1000u))->capture_default_str();
+  command->add_option("--frames", scaling.frames, "views per city along the --path")->check(CLI::Range(1u, 1000u))->capture_default_str();
   command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
   command->add_option("--max-triangles", scaling.maxTriangles, "leave out the cities of more triangles")
       ->check(CLI::PositiveNumber);
   addLodOptions(*command, scaling.lod);
+  addPathOption(*command, options->path);
   command->add_flag("-q,--quiet", scaling.quiet, "no progress on stderr");
   addThreadsOption(*command, options->threads);
   command->callback([options] {
     std::tie(options->scaling.width, options->scaling.height) = parseSize(options->size);
     if (options->scaling.meshes.empty()) options->scaling.meshes = {defaultMesh()};
+    options->scaling.path = *cameraPathFromName(options->path);
     runWithThreads(options->threads, [&] { writeScalingFigure(options->scaling, options->output); });
   });
 }
@@ -94,6 +99,36 @@ void addViews(CLI::App& figure) {
   });
 }
 
+void addPaths(CLI::App& figure) {
+  struct Options {
+    PathsFigureOptions paths;
+    std::string output;
+    std::string orbit = "30,20,2.5";
+    std::string size = "1024x1024";
+    int threads = 0;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* command = figure.add_subcommand(
+      "paths", "the camera paths (orbit: blue, approach: red, flythrough: green) drawn from above over the scene "
+               "rendered exactly: every eye (left panel) and the scene close up (right); paths.png, paths.json");
+  command->add_option("scene", options->paths.scene, "a .gltf/.glb file, or 'default'")->capture_default_str();
+  command->add_option("-o,--output", options->output, "folder for paths.png and paths.json (created if missing)")
+      ->required();
+  command->add_option("--frames", options->paths.frames, "cameras per path")
+      ->check(CLI::Range(1u, 100000u))
+      ->capture_default_str();
+  command->add_option("--orbit", options->orbit,
+                      "AZ,EL,DIST: the orbit's start, and the approach's direction and start distance")
+      ->capture_default_str();
+  command->add_option("--size", options->size, "WxH pixels of each of the two panels")->capture_default_str();
+  addThreadsOption(*command, options->threads);
+  command->callback([options] {
+    options->paths.orbit = parseOrbit(options->orbit);
+    std::tie(options->paths.width, options->paths.height) = parseSize(options->size);
+    runWithThreads(options->threads, [&] { writePathsFigure(options->paths, options->output); });
+  });
+}
+
 }  // namespace
 
 void addFigureCommand(CLI::App& app) {
@@ -101,6 +136,7 @@ void addFigureCommand(CLI::App& app) {
   figure->require_subcommand(1);
   addScaling(*figure);
   addViews(*figure);
+  addPaths(*figure);
 }
 
 }  // namespace pbs::cli

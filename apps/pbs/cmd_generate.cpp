@@ -1,5 +1,6 @@
 // `pbs generate default|city -o F.glb`: writes the procedural scenes as glTF binary files.
 #include "commands.hpp"
+#include "memory_limit.hpp"
 #include "scene_report.hpp"
 
 #include <pbs/raster/thread_arena.hpp>
@@ -9,7 +10,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
+#include <stdexcept>
 
 namespace pbs::cli {
 namespace {
@@ -21,6 +24,30 @@ void writeAndReport(const Scene& scene, const std::string& output) {
   std::printf("wrote %s: %s nodes, %s instanced triangles (%s unique), %.1f MB\n", output.c_str(),
               withThousands(summary.nodes).c_str(), withThousands(summary.triangles).c_str(),
               withThousands(summary.uniqueTriangles).c_str(), double(std::filesystem::file_size(output)) / 1e6);
+}
+
+// Before a city with --unique is baked: its size is known exactly from the instanced city (the same
+// draws), so refuse what a .glb cannot hold (one 32-bit chunk) or memory cannot, instead of failing
+// or being killed after minutes of work. Memory: the scene, then while writing the glTF binary twice
+// (the exporter's buffer, growing, and tinygltf's copy of it).
+void requireUniqueCityFits(const std::vector<Scene>& prototypes, const CityOptions& options) {
+  CityOptions instanced = options;
+  instanced.unique = false;
+  const Scene city = generateCity(prototypes, instanced);
+  std::uint64_t triangles = 0, sceneBytes = 0, glbBytes = 0;
+  for (const Node& node : city.nodes) {
+    if (node.mesh < 0) continue;
+    const Mesh& mesh = city.meshes[std::size_t(node.mesh)];
+    const std::uint64_t vertices = mesh.positions.size(), perVertex = mesh.uvs.empty() ? 24 : 32;
+    triangles += mesh.triangleCount();
+    sceneBytes += vertices * perVertex + mesh.indices.size() * 4;
+    glbBytes += vertices * perVertex + mesh.indices.size() * (vertices < 65535 ? 2 : 4);
+  }
+  const std::string what = "a city of " + withThousands(triangles) + " unique triangles";
+  if (glbBytes > std::numeric_limits<std::uint32_t>::max() - (std::uint64_t(1) << 20))
+    throw std::runtime_error(what + " needs " + withThousands(glbBytes >> 20) +
+                             " MiB of binary glTF data, more than the 4 GiB a .glb holds: lower --levels or --fanout");
+  requireMemory(sceneBytes + 3 * glbBytes, what, 0);
 }
 
 }  // namespace
@@ -52,6 +79,9 @@ void addGenerateCommand(CLI::App& app) {
       ->check(CLI::Range(1, 1024))
       ->capture_default_str();
   city->add_option("--seed", options->city.seed, "seed for placement, rotation and scale")->capture_default_str();
+  city->add_flag("--unique", options->city.unique,
+                 "share nothing: every instance gets its own copy of its mesh, its placement baked into the "
+                 "vertices (the same picture, as many meshes as instances)");
   city->add_option("-o,--output", options->output, "output .glb")->required();
   addThreadsOption(*city, options->threads);
   city->callback([options] {
@@ -63,6 +93,7 @@ void addGenerateCommand(CLI::App& app) {
     runWithThreads(options->threads, [&] {
       std::vector<Scene> prototypes;
       for (const std::string& mesh : options->meshes) prototypes.push_back(loadScene(mesh).scene);
+      if (options->city.unique) requireUniqueCityFits(prototypes, options->city);
       writeAndReport(generateCity(prototypes, options->city), options->output);
     });
   });

@@ -1,7 +1,7 @@
-// `pbs render SCENE [--surfels F] [--mode surfels|exact|embree]`: one view (or an orbit of frames) of a
-// scene with surfels for small nodes, or exactly with the rasterizer or the ray caster (paper, Sec. 3).
+// `pbs render SCENE [--surfels F] [--mode surfels|exact|embree]`: one view (or the frames of a camera
+// path) of a scene with surfels for small nodes, or exactly with the rasterizer or the ray caster
+// (paper, Sec. 3), at one or many samples per pixel.
 #include "commands.hpp"
-#include "frame_renderer.hpp"
 #include "image_files.hpp"
 #include "memory_limit.hpp"
 #include "report_numbers.hpp"
@@ -11,6 +11,7 @@
 #include <pbs/raster/headlight_shading.hpp>
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/scene/input_error.hpp>
+#include <pbs/surfels/frame_renderer.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -26,10 +27,12 @@ struct RenderOptions {
   std::string surfels;
   std::string mode;  // empty: surfels when a file is given, else exact
   std::string orbit = "30,20,2.5";
+  std::string path = "orbit";
   std::string size = "1920x1080";
   LodOptions lod;
   std::string output;
   std::uint32_t frames = 0;
+  std::uint32_t samples = 1;
   bool json = false;
   std::uint64_t maxMemory = 0;
   int threads = 0;
@@ -57,14 +60,13 @@ void run(const RenderOptions& options) {
   const Orbit orbit = parseOrbit(options.orbit);
   const auto [width, height] = parseSize(options.size);
   const std::string modeName = !options.mode.empty() ? options.mode : options.surfels.empty() ? "exact" : "surfels";
-  const RenderMode mode = modeName == "surfels" ? RenderMode::Surfels
-                          : modeName == "embree" ? RenderMode::Embree
-                                                 : RenderMode::Exact;
+  const RenderMode mode = *renderModeFromName(modeName);
   if (mode == RenderMode::Surfels && options.surfels.empty())
     throw CLI::ValidationError("--mode surfels", "needs --surfels FILE (make one with pbs surfelize)");
-  // Per pixel: the G-buffer (depth, colour, normal), the shaded image and its 8-bit copy; per stored
+  // Per pixel: the G-buffer (depth, colour, normal), the shaded image and its 8-bit copy, the sums of
+  // a supersampled frame; per stored
   // surfel (16 bytes in the file): the file's bytes, the decoded file and the drawable arrays.
-  std::uint64_t estimate = std::uint64_t(width) * height * (4 + 4 + 12 + 16 + 4);
+  std::uint64_t estimate = std::uint64_t(width) * height * (4 + 4 + 12 + 16 + 4 + (options.samples > 1 ? 16 : 0));
   std::error_code noFile;
   if (mode == RenderMode::Surfels)
     if (const std::uintmax_t bytes = std::filesystem::file_size(options.surfels, noFile); !noFile)
@@ -74,15 +76,16 @@ void run(const RenderOptions& options) {
   const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
   std::optional<SceneSurfels> surfels;
   if (mode == RenderMode::Surfels) surfels = loadSceneSurfels(options.surfels, loaded.scene, loaded.hierarchy);
-  FrameRenderer renderer(loaded.scene, loaded.hierarchy, mode, surfels ? &*surfels : nullptr, options.lod, width,
-                         height);
+  FrameRenderer renderer(loaded.scene, loaded.hierarchy, {.mode = mode, .lod = options.lod, .samples = options.samples},
+                         width, height, {.surfels = surfels ? &*surfels : nullptr});
 
-  const std::vector<OrbitView> views = orbitViews(loaded.summary.bounds, orbit, options.frames, width, height);
+  const std::vector<PathView> views = pathViews(loaded, options.path, orbit, options.frames, width, height);
   const std::uint32_t frames = std::uint32_t(views.size());
   const std::filesystem::path output(options.output);
   if (options.frames > 0 && !output.empty()) std::filesystem::create_directories(output);
 
-  nlohmann::json report = {{"scene", loaded.name}, {"mode", modeName}, {"width", width}, {"height", height}};
+  nlohmann::json report = {{"scene", loaded.name}, {"mode", modeName},         {"width", width},
+                            {"height", height},   {"samples", options.samples}};
   if (mode == RenderMode::Embree) report["build_seconds"] = renderer.buildSeconds();
   std::vector<double> seconds;
   for (std::uint32_t f = 0; f < frames; ++f) {
@@ -127,17 +130,23 @@ void run(const RenderOptions& options) {
 void addRenderCommand(CLI::App& app) {
   auto options = std::make_shared<RenderOptions>();
   CLI::App* command =
-      app.add_subcommand("render", "Render a view (or an orbit) with surfels for small nodes, or exactly");
+      app.add_subcommand(
+          "render", "Render a view (or a camera path) with surfels for small nodes, or exactly (rasterizer or rays)");
   command->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->required();
   command->add_option("--surfels", options->surfels, "the scene's .surfels file (from pbs surfelize)");
   command->add_option("--mode", options->mode, "surfels (default with --surfels), exact (rasterizer) or embree (rays)")
       ->check(CLI::IsMember({"surfels", "exact", "embree"}));
-  command->add_option("--orbit", options->orbit, "AZ,EL,DIST: degrees, degrees, distance in bounding radii")
+  addSamplesOption(*command, "--samples", options->samples,
+                   "samples per pixel, resolved into colour with fractional alpha (coverage)");
+  command->add_option("--orbit", options->orbit,
+                      "AZ,EL,DIST: degrees, degrees, distance in bounding radii (the orbit; the approach's direction "
+                      "and start)")
       ->capture_default_str();
+  addPathOption(*command, options->path);
   command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
   addLodOptions(*command, options->lod);
   command->add_option("-o,--output", options->output, "image (.png or .exr); with --frames a folder of PNGs");
-  command->add_option("--frames", options->frames, "render an orbit of N frames around the azimuth")
+  command->add_option("--frames", options->frames, "render N frames along the --path (default: one view, its first)")
       ->check(CLI::Range(1u, 100000u));
   command->add_flag("--json", options->json, "print JSON (per-frame figures with --frames)");
   addMaxMemoryOption(*command, options->maxMemory);

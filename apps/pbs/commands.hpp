@@ -6,10 +6,20 @@
 #include <pbs/surfels/surfelize.hpp>
 
 #include <CLI/CLI.hpp>
+#include <glm/glm.hpp>
 
 #include <cstdint>
 
 namespace pbs::cli {
+
+// Exit statuses beside 0: 1 bad input (an `error:` line), 2 bad usage, and this one: `pbs compare`'s
+// images differ beyond a limit it was given (an image test failed).
+inline constexpr int kExitThresholdExceeded = 3;
+
+// Thrown by a command that finished its work but must end with another status than 0.
+struct CommandExit {
+  int status = 0;
+};
 
 void addDemoCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
@@ -33,6 +43,15 @@ void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32
 // The LOD options of `pbs render` (and the baseline `pbs eval` sweeps from): --threshold, --band,
 // --overdraw, --point-size, --prefix-rule.
 void addLodOptions(CLI::App& command, LodOptions& lod);
+
+// A samples-per-pixel option (`--samples`, `--reference-samples`): 1, 4, 16, 64 or 256 (supersampling.hpp).
+void addSamplesOption(CLI::App& command, const std::string& name, std::uint32_t& samples, const std::string& help);
+
+// `--path orbit|approach|flythrough`: the camera path of the commands that render frames (camera_paths.hpp).
+void addPathOption(CLI::App& command, std::string& path);
+
+// `--background R,G,B` (each in [0, 1]) and `--ppd` (FLIP's pixels per degree): how images are compared.
+void addCompareOptions(CLI::App& command, glm::vec3& background, double& pixelsPerDegree);
 
 // `--ordering farthest|dart|random`.
 void addOrderingOption(CLI::App& command, SurfelOrdering& ordering);

@@ -1,7 +1,10 @@
 // The options several commands share, defined once so their names, checks and help agree.
 #include "commands.hpp"
 
+#include <pbs/raster/supersampling.hpp>
+
 #include <map>
+#include <sstream>
 #include <string>
 
 namespace pbs::cli {
@@ -38,6 +41,48 @@ void addLodOptions(CLI::App& command, LodOptions& lod) {
   const std::map<std::string, PrefixRule> rules = {{"coverage", PrefixRule::Coverage}, {"packing", PrefixRule::Packing}};
   command.add_option("--prefix-rule", lod.prefixRule, "coverage (paper, default) or packing (authors' later rule)")
       ->transform(CLI::CheckedTransformer(rules));
+}
+
+void addSamplesOption(CLI::App& command, const std::string& name, std::uint32_t& samples, const std::string& help) {
+  command.add_option(name, samples, help + " (1, 4, 16, 64 or 256: a fixed rotated-grid pattern, box-filtered)")
+      ->check(CLI::Validator(
+          [](const std::string& text) {
+            std::uint32_t n = 0;
+            return CLI::detail::lexical_cast(text, n) && isSupportedSampleCount(n) ? std::string()
+                                                                                     : "expected 1, 4, 16, 64 or 256";
+          },
+          "SAMPLES"))
+      ->capture_default_str();
+}
+
+void addPathOption(CLI::App& command, std::string& path) {
+  command
+      .add_option("--path", path,
+                  "camera path: orbit (around the scene), approach (from far outside into its densest part) or "
+                  "flythrough (a closed loop through its box, among the geometry)")
+      ->check(CLI::IsMember({"orbit", "approach", "flythrough"}))
+      ->capture_default_str();
+}
+
+void addCompareOptions(CLI::App& command, glm::vec3& background, double& pixelsPerDegree) {
+  command
+      .add_option_function<std::string>(
+          "--background",
+          [&background](const std::string& text) {
+            glm::vec3 colour(-1.0f);
+            char comma1 = 0, comma2 = 0;
+            std::istringstream in(text);
+            in >> colour.r >> comma1 >> colour.g >> comma2 >> colour.b;
+            const bool inRange = glm::all(glm::greaterThanEqual(colour, glm::vec3(0.0f))) &&
+                                 glm::all(glm::lessThanEqual(colour, glm::vec3(1.0f)));
+            if (!in || comma1 != ',' || comma2 != ',' || !(in >> std::ws).eof() || !inRange)
+              throw CLI::ValidationError("--background", "expected R,G,B with each in [0, 1], got " + text);
+            background = colour;
+          },
+          "R,G,B in [0, 1]: the background both images are composited over (default 1,1,1: white)");
+  command.add_option("--ppd", pixelsPerDegree, "FLIP's observer: pixels per degree of visual angle")
+      ->check(CLI::Range(1.0, 1000.0))
+      ->capture_default_str();
 }
 
 void addOrderingOption(CLI::App& command, SurfelOrdering& ordering) {

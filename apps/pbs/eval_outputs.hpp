@@ -1,15 +1,18 @@
 // What `pbs eval` writes: eval.csv (one row per setting and frame), summary.json (medians and worst
-// cases per setting), error_vs_time.svg (one marker per setting, the Pareto front drawn).
+// frames per setting, over all frames and per frame kind), error_vs_time.svg (FLIP against time, a
+// marker per setting, the Embree curve and the Pareto front drawn).
 #pragma once
 
 #include "eval_run.hpp"
 #include "eval_settings.hpp"
 #include "svg_plot.hpp"
 
-#include <pbs/raster/orbit_camera.hpp>
+#include <pbs/surfels/frame_kind.hpp>
 
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -17,23 +20,34 @@
 
 namespace pbs::cli {
 
-// The CSV header, in column order.
+// The CSV header, in column order. "flip" is FLIP's mean over the foreground (the pixels either image
+// covers), the error every summary and plot reads; flip_mean over the whole image as NVIDIA's tool
+// reports it.
 inline constexpr const char* kEvalCsvHeader =
-    "setting,frame,azimuth,seconds,traverse_seconds,raster_seconds,triangles,surfels,rmse,psnr,ssim,hole_fraction";
+    "setting,frame,kind,geometry_share,seconds,speedup,traverse_seconds,raster_seconds,triangles,surfels,flip,"
+    "flip_mean,flip_median,flip_max,foreground_psnr,psnr,ssim,hole_fraction,bloat_fraction";
 
-// Per setting, over its frames.
+// Medians and worst frames of one setting over a set of frames (all, or those of one kind).
 struct EvalSummary {
   std::string name;
+  std::size_t frames = 0;
   double medianSeconds = 0.0, medianTraverseSeconds = 0.0, medianRasterSeconds = 0.0;
+  double medianSpeedup = 0.0;  // over the fastest exact peer, frame by frame
   double medianTriangles = 0.0, medianSurfels = 0.0;
-  double medianRmse = 0.0, worstRmse = 0.0;  // worst: largest
-  double medianPsnr = 0.0, worstPsnr = 0.0;  // worst: smallest; +inf when identical
-  double medianSsim = 1.0, worstSsim = 1.0;  // worst: smallest
+  double medianFlip = 0.0, worstFlip = 0.0;                      // foreground FLIP; worst: largest
+  std::uint32_t worstFlipFrame = 0;
+  double medianFlipMean = 0.0;                                   // whole-image FLIP
+  double medianForegroundPsnr = 0.0, worstForegroundPsnr = 0.0;  // worst: smallest; +inf when identical
+  std::uint32_t worstForegroundPsnrFrame = 0;
+  double medianPsnr = 0.0;
+  double medianSsim = 1.0, worstSsim = 1.0;
   double medianHoleFraction = 0.0, worstHoleFraction = 0.0;
+  double medianBloatFraction = 0.0, worstBloatFraction = 0.0;
 };
 
-
-EvalSummary summarize(const std::string& name, const std::vector<EvalFrame>& frames);
+// Over `frames` of `result` whose view kind is `kind` (all of them when unset); frames = 0 when none.
+EvalSummary summarize(const std::string& name, const EvalSettingResult& result, const std::vector<EvalView>& views,
+                      std::optional<FrameKind> kind = std::nullopt);
 
 // Indices of the points no other point beats in both coordinates (smaller x and smaller y, at least
 // one strictly), sorted by x: the settings worth choosing when both time and error count.
@@ -45,25 +59,29 @@ std::string evalCsv(const std::vector<EvalSetting>& settings, const EvalResults&
 struct EvalRunInfo {
   std::string scene;
   std::string surfels;  // the .surfels file
+  std::string path;     // the camera path's name
   std::uint32_t width = 0, height = 0, frames = 0;
-  Orbit orbit;
-  std::optional<std::size_t> baseline;  // index into the settings
+  std::uint32_t referenceSamples = 0;
+  std::size_t baseline = 0;  // index into the settings
+  double loadSeconds = 0.0;         // the scene file
+  double surfelsLoadSeconds = 0.0;  // the .surfels file
 };
 
-// summary.json: the run's inputs, exact_median_seconds (the reference pass), and per setting the
-// EvalSummary with speedup = exact_median_seconds / median_seconds; non-finite numbers as null.
-nlohmann::json summaryJson(const EvalRunInfo& info, const std::vector<EvalSummary>& summaries,
-                           const EvalSummary& reference);
+// summary.json: the run's inputs, the reference's and the BVH's times, the frame kinds, and per setting
+// its summary over all frames and per kind; non-finite numbers as null.
+nlohmann::json summaryJson(const EvalRunInfo& info, const std::vector<EvalSetting>& settings,
+                           const EvalResults& results);
 
-// Median RMSE against median milliseconds per frame (log axis), a marker per setting (exact black, the
-// baseline red, other surfel settings blue, simplified meshes orange and joined in order of their ratio),
-// the Pareto front over all settings drawn, so one sees which family wins at which time.
+// Median foreground FLIP against median milliseconds per frame (both log axes), a marker per setting
+// (peers black, the baseline red, other surfel settings blue, simplified meshes orange), Embree's
+// samples joined into its curve, the simplified meshes joined in order of their ratio, and the Pareto
+// front over all settings.
 Plot errorTimePlot(const std::vector<EvalSetting>& settings, const std::vector<EvalSummary>& summaries,
-                   std::optional<std::size_t> baseline);
+                   std::size_t baseline);
 
-// The contact sheet's rows: the baseline between the surfel settings of lowest and highest median
-// PSNR (distinct settings only, in that order); only exact when there is no surfel setting.
+// The contact sheet's rows: the baseline between the surfel or simplified settings of highest and
+// lowest median FLIP, then the 1-sample Embree peer (distinct settings only).
 std::vector<std::size_t> sheetSettings(const std::vector<EvalSetting>& settings,
-                                       const std::vector<EvalSummary>& summaries, std::optional<std::size_t> baseline);
+                                       const std::vector<EvalSummary>& summaries, std::size_t baseline);
 
 }  // namespace pbs::cli

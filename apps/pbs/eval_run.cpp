@@ -1,62 +1,110 @@
-// runEval: one FrameRenderer per setting, reused over the orbit so its timings match `pbs render`.
+// runEval: one Embree BVH for the reference and the Embree peers, one FrameRenderer per setting reused
+// over the path so its timings match `pbs render`.
 #include "eval_run.hpp"
 
-#include "frame_renderer.hpp"
-
+#include <pbs/raster/flip.hpp>
 #include <pbs/raster/headlight_shading.hpp>
+#include <pbs/scene/embree_caster.hpp>
+#include <pbs/surfels/frame_renderer.hpp>
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace pbs::cli {
+namespace {
 
-EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::vector<OrbitView>& views,
-                    const std::vector<EvalSetting>& settings,
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double coveredPixels(const std::vector<glm::vec4>& image) {
+  double covered = 0.0;
+  for (const glm::vec4& p : image) covered += p.a > 0.0f;
+  return covered;
+}
+
+// Per frame, the fastest 1-sample peer's time over each setting's.
+void setSpeedups(const std::vector<EvalSetting>& settings, std::vector<EvalSettingResult>& results) {
+  if (results.empty()) return;
+  const std::size_t frames = results.front().frames.size();
+  for (std::size_t f = 0; f < frames; ++f) {
+    double fastest = std::numeric_limits<double>::infinity();
+    for (std::size_t s = 0; s < settings.size(); ++s)
+      if (settings[s].isPeer() && settings[s].samples == 1) fastest = std::min(fastest, results[s].frames[f].seconds);
+    if (!std::isfinite(fastest)) return;
+    for (EvalSettingResult& result : results)
+      if (result.frames[f].seconds > 0.0) result.frames[f].speedupOverFastestExact = fastest / result.frames[f].seconds;
+  }
+}
+
+}  // namespace
+
+EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::vector<Camera>& cameras,
+                    const std::vector<EvalSetting>& settings, const EvalInputs& inputs,
                     const std::function<const SceneSurfels&(const EvalSetting&)>& surfelsOf,
                     const std::function<const Scene&(const EvalSetting&)>& simplifiedOf,
                     const std::function<void(std::size_t, std::size_t, const std::string&)>& onProgress) {
-  if (views.empty()) throw std::invalid_argument("runEval: no views");
-  const std::uint32_t width = views.front().camera.width, height = views.front().camera.height;
-  const std::size_t total = views.size() * (1 + settings.size());
+  if (cameras.empty()) throw std::invalid_argument("runEval: no views");
+  const std::uint32_t width = cameras.front().width, height = cameras.front().height;
+  const std::size_t total = cameras.size() * (1 + settings.size());
   std::size_t done = 0;
   const auto progress = [&](const std::string& name, std::size_t f) {
     ++done;
-    if (onProgress) onProgress(done, total, name + ", frame " + std::to_string(f + 1) + "/" + std::to_string(views.size()));
+    if (onProgress) onProgress(done, total, name + ", frame " + std::to_string(f + 1) + "/" + std::to_string(cameras.size()));
   };
 
   EvalResults results;
+  const auto build = std::chrono::steady_clock::now();
+  const EmbreeScene rays(scene, hierarchy);
+  results.buildSeconds = secondsSince(build);
+
   std::vector<RgbaImage> reference;
   {
-    FrameRenderer renderer(scene, hierarchy, RenderMode::Exact, nullptr, LodOptions{}, width, height);
-    for (std::size_t f = 0; f < views.size(); ++f) {
-      FrameResult frame = renderer.render(views[f].camera);
-      results.reference.push_back(
-          {.frame = std::uint32_t(f), .azimuthDegrees = views[f].azimuthDegrees, .seconds = frame.seconds,
-           .stats = frame.stats, .error = {}});
-      if (f == 0) results.referenceFirst = toRgba8(frame.image);
+    FrameRenderer renderer(scene, hierarchy, {.mode = RenderMode::Embree, .samples = inputs.referenceSamples}, width,
+                           height, {.rays = &rays});
+    for (std::size_t f = 0; f < cameras.size(); ++f) {
+      FrameResult frame = renderer.render(cameras[f]);
+      EvalView view{.camera = cameras[f], .referenceSeconds = frame.seconds};
+      if (inputs.kindSurfels) {
+        const double covered = coveredPixels(frame.image);
+        const auto geometry = double(geometryPixels(scene, hierarchy, *inputs.kindSurfels, cameras[f], inputs.kindLod));
+        view.geometryShare = covered > 0.0 ? std::min(1.0, geometry / covered) : 0.0;
+        view.kind = frameKindOf(view.geometryShare);
+      }
+      results.views.push_back(view);
+      if (f == inputs.sheetFrame) results.referenceSheet = toRgba8(frame.image);
       reference.push_back(RgbaImage{width, height, std::move(frame.image)});
-      progress("exact reference", f);
+      progress("reference", f);
     }
   }
   for (const EvalSetting& setting : settings) {
-    const SceneSurfels* surfels = setting.exact ? nullptr : &surfelsOf(setting);
-    const Scene* simplified = setting.simplify ? &simplifiedOf(setting) : nullptr;
-    const RenderMode mode = setting.exact ? RenderMode::Exact : simplified ? RenderMode::Simplified : RenderMode::Surfels;
-    FrameRenderer renderer(scene, hierarchy, mode, surfels, setting.lod, width, height, simplified);
+    const FrameSources sources{.surfels = setting.isPeer() ? nullptr : &surfelsOf(setting),
+                               .simplified = setting.simplify ? &simplifiedOf(setting) : nullptr,
+                               .rays = &rays};
+    FrameRenderer renderer(scene, hierarchy, {.mode = setting.mode, .lod = setting.lod, .samples = setting.samples},
+                           width, height, sources);
     EvalSettingResult result;
-    for (std::size_t f = 0; f < views.size(); ++f) {
-      FrameResult frame = renderer.render(views[f].camera);
-      if (f == 0) {
-        result.firstImage = toRgba8(frame.image);
-        result.firstDifference = differenceRgba8(frame.image, reference[f].pixels, kDifferenceGain);
-      }
+    for (std::size_t f = 0; f < cameras.size(); ++f) {
+      FrameResult frame = renderer.render(cameras[f]);
       const RgbaImage image{width, height, std::move(frame.image)};
-      result.frames.push_back({.frame = std::uint32_t(f), .azimuthDegrees = views[f].azimuthDegrees,
-                               .seconds = frame.seconds, .stats = frame.stats,
-                               .error = compareImages(image, reference[f])});
+      CompareOptions compare = inputs.compare;
+      compare.keepFlipMap = f == inputs.sheetFrame;
+      ImageDifference error = compareImages(image, reference[f], compare);
+      if (f == inputs.sheetFrame) {
+        result.sheetImage = toRgba8(image.pixels);
+        result.sheetFlip = flipMapRgba8(error.flipMap);
+        error.flipMap = {};
+      }
+      result.frames.push_back({.frame = std::uint32_t(f), .seconds = frame.seconds, .stats = frame.stats,
+                               .error = std::move(error), .speedupOverFastestExact = 0.0});
       progress(setting.name, f);
     }
     results.settings.push_back(std::move(result));
   }
+  setSpeedups(settings, results.settings);
   return results;
 }
 

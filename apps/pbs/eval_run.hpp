@@ -1,14 +1,15 @@
-// The measuring half of `pbs eval`: an exact reference pass over the orbit, then every setting over
-// the same views, each frame timed and compared with the reference of its view.
+// The measuring half of `pbs eval`: a converged reference (Embree at many samples per pixel) of every
+// view, each view's kind (near, mid, far), then every setting over the same views, each frame timed
+// and compared with the reference of its view.
 #pragma once
 
-#include "contact_sheet.hpp"
 #include "eval_settings.hpp"
-#include "orbit_views.hpp"
 
+#include <pbs/raster/camera.hpp>
 #include <pbs/raster/image_metrics.hpp>
 #include <pbs/scene/hierarchy.hpp>
 #include <pbs/scene/scene.hpp>
+#include <pbs/surfels/frame_kind.hpp>
 #include <pbs/surfels/lod_render.hpp>
 #include <pbs/surfels/scene_surfels.hpp>
 
@@ -19,34 +20,54 @@
 
 namespace pbs::cli {
 
+// One view of the path and what the reference found there.
+struct EvalView {
+  Camera camera;
+  double referenceSeconds = 0.0;  // the reference frame's time
+  double geometryShare = 0.0;     // of the reference's coverage, the share the baseline draws as geometry
+  FrameKind kind = FrameKind::Far;
+};
+
 // One row of eval.csv.
 struct EvalFrame {
   std::uint32_t frame = 0;
-  double azimuthDegrees = 0.0;
   double seconds = 0.0;  // the whole frame (FrameResult::seconds)
   LodStats stats;
-  ImageDifference error;  // this frame (A) against the exact reference of the same view (B)
+  ImageDifference error;  // this frame (A) against the reference of the same view (B), without the map
+  // The fastest peer's time on this frame (the least of the 1-sample peers': Embree and exact) over
+  // this one's: how many times faster than the exact renderer a user has. 0 when no such peer ran.
+  double speedupOverFastestExact = 0.0;
 };
 
 struct EvalSettingResult {
   std::vector<EvalFrame> frames;
-  std::vector<std::uint8_t> firstImage;       // frame 0 as RGBA8, for the contact sheet
-  std::vector<std::uint8_t> firstDifference;  // |frame 0 − reference| × kDifferenceGain as RGBA8
+  std::vector<std::uint8_t> sheetImage;  // the contact sheet's frame as RGBA8
+  std::vector<std::uint8_t> sheetFlip;   // its FLIP map (flipMapRgba8)
 };
 
 struct EvalResults {
-  std::vector<EvalFrame> reference;             // the exact pass (errors all 0 by definition)
-  std::vector<std::uint8_t> referenceFirst;     // its frame 0 as RGBA8
-  std::vector<EvalSettingResult> settings;      // parallel to the settings given
+  std::vector<EvalView> views;
+  std::vector<std::uint8_t> referenceSheet;  // the reference of the contact sheet's frame as RGBA8
+  double buildSeconds = 0.0;                 // Embree's BVH, built once for the reference and the Embree peers
+  std::vector<EvalSettingResult> settings;   // parallel to the settings given
 };
 
-// Renders views × (1 + settings) frames. `surfelsOf` gives the arrays a surfel setting draws (called
-// once per setting, never for exact ones; simplify settings take their traversal's decisions from
-// them), `simplifiedOf` the simplified scene a simplify setting draws (called once per such setting);
-// `onProgress(done, total, detail)` after every frame. Memory:
-// the reference images of all views are kept (16 bytes a pixel each).
-EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::vector<OrbitView>& views,
-                    const std::vector<EvalSetting>& settings,
+struct EvalInputs {
+  std::uint32_t referenceSamples = 64;
+  CompareOptions compare;       // background and observer; the FLIP map is taken for the sheet's frame only
+  std::uint32_t sheetFrame = 0;  // the frame the contact sheet shows
+  // The surfels and LOD options that decide each view's kind (the file's own arrays, the baseline).
+  const SceneSurfels* kindSurfels = nullptr;
+  LodOptions kindLod;
+};
+
+// Renders the reference and views × settings frames. `surfelsOf` gives the arrays a surfel setting
+// draws (called once per setting, never for peers; simplify settings take their traversal's decisions
+// from them), `simplifiedOf` the simplified scene a simplify setting draws (called once per such
+// setting); `onProgress(done, total, detail)` after every frame. Memory: the reference images of all
+// views are kept (16 bytes a pixel each).
+EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::vector<Camera>& cameras,
+                    const std::vector<EvalSetting>& settings, const EvalInputs& inputs,
                     const std::function<const SceneSurfels&(const EvalSetting&)>& surfelsOf,
                     const std::function<const Scene&(const EvalSetting&)>& simplifiedOf,
                     const std::function<void(std::size_t, std::size_t, const std::string&)>& onProgress);

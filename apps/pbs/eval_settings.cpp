@@ -1,100 +1,128 @@
-// Parsing `--sweep KEY=V1,V2,…` into named settings.
+// Parsing `--peers` and `--sweep KEY=V1,V2,…` into named settings.
 #include "eval_settings.hpp"
+
+#include <pbs/raster/supersampling.hpp>
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <set>
 #include <sstream>
+#include <stdexcept>
 
 namespace pbs::cli {
 namespace {
 
-double parseNumber(const std::string& key, const std::string& value, double lo, double hi) {
+double parseNumber(const std::string& option, const std::string& key, const std::string& value, double lo, double hi) {
   char* end = nullptr;
   const double number = std::strtod(value.c_str(), &end);
   if (value.empty() || end != value.c_str() + value.size() || !std::isfinite(number) || number < lo || number > hi) {
     std::ostringstream message;
     message << key << " needs a number in [" << lo << ", " << hi << "], got '" << value << "'";
-    throw CLI::ValidationError("--sweep", message.str());
+    throw CLI::ValidationError(option, message.str());
   }
   return number;
 }
 
-// Changes one option of `setting` (the LOD option, ordering or simplification `key` names).
-void apply(const std::string& key, const std::string& value, EvalSetting& setting) {
-  if (key == "overdraw") {
-    setting.lod.overdraw = parseNumber(key, value, 1e-3, 1e4);
+std::uint32_t parseSamples(const std::string& option, const std::string& key, const std::string& value) {
+  const double samples = parseNumber(option, key, value, 1.0, 256.0);
+  if (samples != std::floor(samples) || !isSupportedSampleCount(std::uint32_t(samples)))
+    throw CLI::ValidationError(option, key + " takes 1, 4, 16, 64 or 256 samples per pixel, got '" + value + "'");
+  return std::uint32_t(samples);
+}
+
+// Changes one option of `setting` (the renderer, LOD option, ordering or simplification `key` names).
+void apply(const std::string& option, const std::string& key, const std::string& value, EvalSetting& setting) {
+  if (key == "embree" || key == "exact") {
+    setting.mode = key == "embree" ? RenderMode::Embree : RenderMode::Exact;
+    setting.samples = parseSamples(option, key, value);
+  } else if (key == "overdraw") {
+    setting.lod.overdraw = parseNumber(option, key, value, 1e-3, 1e4);
   } else if (key == "threshold") {
-    setting.lod.threshold = parseNumber(key, value, 1e-3, 1e6);
+    setting.lod.threshold = parseNumber(option, key, value, 1e-3, 1e6);
   } else if (key == "point") {
-    setting.lod.pointSize = float(parseNumber(key, value, 0.05, 64.0));
+    setting.lod.pointSize = float(parseNumber(option, key, value, 0.05, 64.0));
   } else if (key == "band") {
-    setting.lod.band = parseNumber(key, value, 0.0, 10.0);
+    setting.lod.band = parseNumber(option, key, value, 0.0, 10.0);
   } else if (key == "rule") {
     if (value != "coverage" && value != "packing")
-      throw CLI::ValidationError("--sweep", "rule is coverage or packing, got '" + value + "'");
+      throw CLI::ValidationError(option, "rule is coverage or packing, got '" + value + "'");
     setting.lod.prefixRule = value == "packing" ? PrefixRule::Packing : PrefixRule::Coverage;
   } else if (key == "ordering") {
     setting.ordering = parseOrdering(value);
     if (!setting.ordering)
-      throw CLI::ValidationError("--sweep", "ordering is farthest, dart or random, got '" + value + "'");
+      throw CLI::ValidationError(option, "ordering is farthest, dart or random, got '" + value + "'");
   } else if (key == "simplify") {
-    setting.simplify = parseNumber(key, value, 1e-6, 1.0);
+    setting.mode = RenderMode::Simplified;
+    setting.simplify = parseNumber(option, key, value, 1e-6, 1.0);
   } else {
-    throw CLI::ValidationError("--sweep", "unknown key '" + key + "' (one of " + sweepKeys() + ", or exact)");
+    throw CLI::ValidationError(option, "unknown key '" + key + "' (one of " + sweepKeys() + ", or surfels)");
   }
 }
 
 // "KEY=VALUE" split at its '=', or a ValidationError quoting `whole`.
-std::pair<std::string, std::string> keyAndValue(const std::string& text, const std::string& whole) {
+std::pair<std::string, std::string> keyAndValue(const std::string& option, const std::string& text,
+                                                const std::string& whole) {
   const std::size_t equals = text.find('=');
   if (equals == std::string::npos || equals == 0 || equals + 1 == text.size())
-    throw CLI::ValidationError("--sweep", "expected KEY=V1,V2,…, KEY=V+KEY=V or exact, got '" + whole + "'");
+    throw CLI::ValidationError(option, "expected KEY=V1,V2,…, KEY=V+KEY=V, surfels or exact, got '" + whole + "'");
   return {text.substr(0, equals), text.substr(equals + 1)};
 }
 
 EvalSetting baselineSettingNamed(const std::string& name, const LodOptions& baseline) {
-  return EvalSetting{.name = name, .exact = false, .lod = baseline, .ordering = {}, .simplify = {}};
+  return EvalSetting{.name = name, .mode = RenderMode::Surfels, .samples = 1, .lod = baseline, .ordering = {},
+                     .simplify = {}};
 }
 
 // "KEY=V+KEY=V…": one setting with every change at once.
-EvalSetting combinedSetting(const std::string& text, const LodOptions& baseline) {
+EvalSetting combinedSetting(const std::string& option, const std::string& text, const LodOptions& baseline) {
   EvalSetting setting = baselineSettingNamed(text, baseline);
   std::istringstream parts(text);
   for (std::string part; std::getline(parts, part, '+');) {
-    const auto [key, value] = keyAndValue(part, text);
+    const auto [key, value] = keyAndValue(option, part, text);
     if (value.find(',') != std::string::npos)
-      throw CLI::ValidationError("--sweep", "a combined setting takes one value per key, got '" + text + "'");
-    apply(key, value, setting);
+      throw CLI::ValidationError(option, "a combined setting takes one value per key, got '" + text + "'");
+    apply(option, key, value, setting);
   }
-  if (text.back() == '+') throw CLI::ValidationError("--sweep", "an empty part in '" + text + "'");
+  if (text.back() == '+') throw CLI::ValidationError(option, "an empty part in '" + text + "'");
   return setting;
 }
 
 }  // namespace
 
-std::string sweepKeys() { return "overdraw, threshold, point, band, rule, ordering, simplify"; }
+bool EvalSetting::drawsLike(const EvalSetting& o) const {
+  const bool sameLod = lod.threshold == o.lod.threshold && lod.band == o.lod.band && lod.overdraw == o.lod.overdraw &&
+                       lod.pointSize == o.lod.pointSize && lod.prefixRule == o.lod.prefixRule &&
+                       lod.minSizeFactor == o.lod.minSizeFactor;
+  if (mode != o.mode || samples != o.samples) return false;
+  return isPeer() || (sameLod && ordering == o.ordering && simplify == o.simplify);
+}
 
-std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& baseline) {
-  if (text == "exact") return {EvalSetting{.name = "exact", .exact = true, .lod = baseline, .ordering = {}, .simplify = {}}};
-  if (text.find('+') != std::string::npos) return {combinedSetting(text, baseline)};
-  const auto [key, list] = keyAndValue(text, text);
+std::string sweepKeys() { return "embree, exact, overdraw, threshold, point, band, rule, ordering, simplify"; }
+
+std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& baseline, const std::string& option) {
+  if (text == "surfels") return {baselineSettingNamed("surfels", baseline)};
+  if (text == "exact") return parseSweep("exact=1", baseline, option);
+  if (text.find('+') != std::string::npos) return {combinedSetting(option, text, baseline)};
+  const auto [key, list] = keyAndValue(option, text, text);
   std::vector<EvalSetting> settings;
   std::istringstream values(list);
   for (std::string value; std::getline(values, value, ',');) {
     EvalSetting setting = baselineSettingNamed(key + "=" + value, baseline);
-    apply(key, value, setting);
+    apply(option, key, value, setting);
+    if (setting.isPeer()) setting.name = key + "=" + std::to_string(setting.samples);
     settings.push_back(std::move(setting));
   }
   if (settings.empty() || text.back() == ',')
-    throw CLI::ValidationError("--sweep", "an empty value in '" + text + "'");
+    throw CLI::ValidationError(option, "an empty value in '" + text + "'");
   return settings;
 }
 
+std::vector<std::string> defaultPeers() { return {"embree=1,4,16", "exact=1"}; }
+
 std::vector<std::string> defaultSweep(SurfelOrdering fileOrdering) {
-  std::vector<std::string> sweeps = {"overdraw=1,2,4,8", "threshold=64,256", "point=1,4"};
+  std::vector<std::string> sweeps = {"overdraw=1,2,8", "threshold=64,256", "point=1,4"};
   std::string orderings;
   for (SurfelOrdering o : {SurfelOrdering::Farthest, SurfelOrdering::Dart, SurfelOrdering::Random}) {
     if (o == fileOrdering) continue;
@@ -106,27 +134,28 @@ std::vector<std::string> defaultSweep(SurfelOrdering fileOrdering) {
   return sweeps;
 }
 
-std::vector<EvalSetting> evalSettings(const std::vector<std::string>& sweeps, const LodOptions& baseline) {
-  std::vector<EvalSetting> settings = parseSweep("exact", baseline);
-  std::set<std::string> names = {"exact"};
-  for (const std::string& sweep : sweeps)
-    for (EvalSetting& setting : parseSweep(sweep, baseline))
-      if (names.insert(setting.name).second) settings.push_back(std::move(setting));
+std::vector<EvalSetting> evalSettings(const std::vector<std::string>& peers, const std::vector<std::string>& sweeps,
+                                      const LodOptions& baseline) {
+  std::vector<EvalSetting> settings;
+  const auto add = [&](const std::string& text, const std::string& option) {
+    for (EvalSetting& setting : parseSweep(text, baseline, option)) {
+      if (option == "--peers" && !setting.isPeer())
+        throw CLI::ValidationError("--peers", "takes embree=N,… and exact=N,… only, got '" + text + "'");
+      const bool seen = std::any_of(settings.begin(), settings.end(),
+                                    [&](const EvalSetting& s) { return s.drawsLike(setting) || s.name == setting.name; });
+      if (!seen) settings.push_back(std::move(setting));
+    }
+  };
+  for (const std::string& peer : peers) add(peer, "--peers");
+  add("surfels", "--sweep");
+  for (const std::string& sweep : sweeps) add(sweep, "--sweep");
   return settings;
 }
 
-std::optional<std::size_t> baselineSetting(const std::vector<EvalSetting>& settings, const LodOptions& baseline) {
-  const auto same = [&](const LodOptions& a) {
-    return a.threshold == baseline.threshold && a.band == baseline.band && a.overdraw == baseline.overdraw &&
-           a.pointSize == baseline.pointSize && a.prefixRule == baseline.prefixRule &&
-           a.minSizeFactor == baseline.minSizeFactor;
-  };
-  const auto drawsSurfels = [](const EvalSetting& s) { return !s.exact && !s.simplify; };
+std::size_t baselineSetting(const std::vector<EvalSetting>& settings) {
   for (std::size_t i = 0; i < settings.size(); ++i)
-    if (drawsSurfels(settings[i]) && !settings[i].ordering && same(settings[i].lod)) return i;
-  for (std::size_t i = 0; i < settings.size(); ++i)
-    if (drawsSurfels(settings[i])) return i;
-  return std::nullopt;
+    if (settings[i].name == "surfels") return i;
+  throw std::logic_error("evalSettings always adds the baseline setting \"surfels\"");
 }
 
 }  // namespace pbs::cli

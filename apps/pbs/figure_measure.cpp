@@ -34,8 +34,8 @@ ModeComparison::ModeComparison(const Scene& scene, const Hierarchy& hierarchy, c
                                const LodOptions& lod, std::uint32_t width, std::uint32_t height)
     : width_(width),
       height_(height),
-      exact_(scene, hierarchy, RenderMode::Exact, nullptr, lod, width, height),
-      surfels_(scene, hierarchy, RenderMode::Surfels, &surfels, lod, width, height) {}
+      exact_(scene, hierarchy, {.mode = RenderMode::Exact, .lod = lod}, width, height),
+      surfels_(scene, hierarchy, {.mode = RenderMode::Surfels, .lod = lod}, width, height, {.surfels = &surfels}) {}
 
 std::vector<ModeFrames> ModeComparison::render(std::span<const Camera> cameras,
                                                const std::function<void(std::size_t, std::size_t)>& onFrame) {

@@ -2,7 +2,7 @@
 // exactly and with surfels, timed and compared.
 #pragma once
 
-#include "frame_renderer.hpp"
+#include <pbs/surfels/frame_renderer.hpp>
 
 #include <pbs/raster/camera.hpp>
 #include <pbs/raster/image_metrics.hpp>

@@ -40,12 +40,13 @@ ScalingPoint measureCity(const Scene& city, const Hierarchy& hierarchy, const Sc
   const std::string name = withThousands(summary.triangles) + " triangles";
   const MadeSurfels made = surfelizeInMemory(city, hierarchy, SurfelizeOptions{}, "surfelize " + name, options.quiet);
   ModeComparison modes(city, hierarchy, made.surfels, options.lod, options.width, options.height);
-  const std::vector<OrbitView> views = orbitViews(summary.bounds, Orbit{}, options.frames, options.width, options.height);
+  const std::vector<PathView> views =
+      cameraPath(options.path, hierarchy, city.roots, Orbit{}, options.frames, options.width, options.height);
 
   ProgressMeter meter("render " + name, ProgressMeter::styleFor(options.quiet));
   std::vector<double> exactMs, surfelsMs, surfelsDrawn, trianglesDrawn, exactTriangles, psnr, ssim;
   std::vector<Camera> cameras;
-  for (const OrbitView& view : views) cameras.push_back(view.camera);
+  for (const PathView& view : views) cameras.push_back(view.camera);
   const std::vector<ModeFrames> rendered = modes.render(cameras, [&](std::size_t done, std::size_t total) {
     meter.update(double(done) / double(total), "frame " + std::to_string(done) + "/" + std::to_string(total));
   });

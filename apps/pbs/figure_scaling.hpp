@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <pbs/surfels/camera_paths.hpp>
+
 #include <string>
 #include <vector>
 
@@ -14,7 +16,8 @@ namespace pbs::cli {
 
 struct ScalingOptions {
   std::vector<std::string> meshes;  // the prototypes every city instances
-  std::uint32_t frames = 3;         // orbit views per city
+  std::uint32_t frames = 3;         // views per city along the path
+  CameraPath path = CameraPath::Orbit;
   std::uint32_t width = 1920, height = 1080;
   LodOptions lod;  // of the surfels mode
   std::uint64_t maxTriangles = std::numeric_limits<std::uint64_t>::max();  // cities above are left out

@@ -1,5 +1,5 @@
 // Entry point of the `pbs` command line: dispatches to the subcommands and turns errors into one
-// `error:` line with exit status 1 (2 for bad usage).
+// `error:` line with exit status 1 (2 for bad usage); a command may end with its own status (CommandExit).
 #include "commands.hpp"
 
 #include <exception>
@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
+  } catch (const pbs::cli::CommandExit& e) {
+    return e.status;
   } catch (const CLI::ParseError& e) {
     std::cerr << "error: " << e.what() << " (see pbs --help)\n";
     return 2;

@@ -1,4 +1,4 @@
-// Orbit cameras and the parsing of their option texts.
+// Path cameras for a loaded scene and the parsing of the view option texts.
 #include "orbit_views.hpp"
 
 #include <CLI/CLI.hpp>
@@ -29,18 +29,11 @@ std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text) {
   return {width, height};
 }
 
-std::vector<OrbitView> orbitViews(const Bounds& bounds, const Orbit& orbit, std::uint32_t frames, std::uint32_t width,
-                                  std::uint32_t height) {
-  const double radius = 0.5 * glm::length(bounds.size());
-  frames = std::max(1u, frames);
-  std::vector<OrbitView> views;
-  views.reserve(frames);
-  for (std::uint32_t f = 0; f < frames; ++f) {
-    Orbit view = orbit;
-    view.azimuthDegrees += 360.0 * f / frames;
-    views.push_back({view.azimuthDegrees, orbitCamera(bounds.center(), radius, view, width, height)});
-  }
-  return views;
+std::vector<PathView> pathViews(const LoadedScene& loaded, const std::string& path, const Orbit& orbit,
+                                std::uint32_t frames, std::uint32_t width, std::uint32_t height) {
+  const std::optional<CameraPath> kind = cameraPathFromName(path);
+  if (!kind) throw CLI::ValidationError("--path", "expected orbit, approach or flythrough, got " + path);
+  return cameraPath(*kind, loaded.hierarchy, loaded.scene.roots, orbit, frames, width, height);
 }
 
 }  // namespace pbs::cli

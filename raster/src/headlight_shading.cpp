@@ -9,12 +9,15 @@
 
 namespace pbs {
 
-std::vector<glm::vec4> shadeHeadlight(const Framebuffer& gbuffer, const Camera& camera) {
+namespace {
+
+// Calls `shade(pixel, rgba)` for every covered pixel with its shaded colour, in parallel over rows.
+template <typename Shade>
+void forEachShadedPixel(const Framebuffer& gbuffer, const Camera& camera, const Shade& shade) {
   if (!gbuffer.has(kChannelColor) || !gbuffer.has(kChannelNormal))
     throw std::invalid_argument("shadeHeadlight: the G-buffer needs the colour and normal channels");
   // The viewing direction in world space: eye −Z through the inverse view.
   const glm::vec3 view = glm::normalize(glm::vec3(glm::inverse(camera.view) * glm::dvec4(0.0, 0.0, -1.0, 0.0)));
-  std::vector<glm::vec4> image(gbuffer.pixelCount(), glm::vec4(0.0f));
   tbb::parallel_for(std::uint32_t(0), gbuffer.height, [&](std::uint32_t y) {
     for (std::size_t i = std::size_t(y) * gbuffer.width, end = i + gbuffer.width; i < end; ++i) {
       if (!gbuffer.covered(i)) continue;
@@ -22,10 +25,24 @@ std::vector<glm::vec4> shadeHeadlight(const Framebuffer& gbuffer, const Camera& 
       const float length = glm::length(n);
       const float facing = length > 0.0f ? std::abs(glm::dot(n, view)) / length : 1.0f;
       const glm::vec3 base = glm::vec3(gbuffer.color[i]) / 255.0f;
-      image[i] = glm::vec4(base * (kHeadlightAmbient + (1.0f - kHeadlightAmbient) * facing), 1.0f);
+      shade(i, glm::vec4(base * (kHeadlightAmbient + (1.0f - kHeadlightAmbient) * facing), 1.0f));
     }
   });
+}
+
+}  // namespace
+
+std::vector<glm::vec4> shadeHeadlight(const Framebuffer& gbuffer, const Camera& camera) {
+  std::vector<glm::vec4> image(gbuffer.pixelCount(), glm::vec4(0.0f));
+  forEachShadedPixel(gbuffer, camera, [&](std::size_t i, const glm::vec4& rgba) { image[i] = rgba; });
   return image;
+}
+
+void accumulateHeadlight(const Framebuffer& gbuffer, const Camera& camera, SampleSums& sums) {
+  if (sums.sums.size() != gbuffer.pixelCount())
+    throw std::invalid_argument("accumulateHeadlight: the sums are not the size of the G-buffer");
+  forEachShadedPixel(gbuffer, camera, [&](std::size_t i, const glm::vec4& rgba) { sums.sums[i] += rgba; });
+  ++sums.samples;
 }
 
 std::vector<std::uint8_t> toRgba8(const std::vector<glm::vec4>& image) {

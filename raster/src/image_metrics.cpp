@@ -1,4 +1,5 @@
-// Image-difference metrics over float RGBA pictures: RMSE, PSNR, luminance SSIM and hole fraction.
+// Image-difference metrics over float RGBA pictures: composited PSNR (whole and foreground), luminance
+// SSIM, FLIP, coverage holes and bloat, and the pass/fail check of image tests.
 #include <pbs/raster/image_metrics.hpp>
 
 #include <tbb/blocked_range.h>
@@ -116,32 +117,129 @@ double luminanceSsim(const RgbaImage& a, const RgbaImage& b) {
   return total / (double(outWidth) * double(outHeight));
 }
 
-ImageDifference compareImages(const RgbaImage& a, const RgbaImage& b) {
+namespace {
+
+// Sums of one row of the comparison; rows are added in order afterwards, so the totals do not depend
+// on how the rows were shared out.
+struct RowSums {
+  double squares = 0.0;            // over all pixels, R + G + B
+  double foregroundSquares = 0.0;  // over foreground pixels
+  std::uint64_t foregroundPixels = 0;
+  double coverageA = 0.0, coverageB = 0.0, holes = 0.0, bloat = 0.0;
+  double foregroundFlip = 0.0;
+};
+
+float coverage(float alpha) { return alpha > 0.0f ? std::min(alpha, 1.0f) : 0.0f; }  // NaN counts as 0
+
+glm::vec3 composite(const glm::vec4& pixel, const glm::vec3& background) {
+  const float alpha = coverage(pixel.a);
+  return glm::vec3(pixel) * alpha + background * (1.0f - alpha);
+}
+
+double psnrOf(double squares, double values) {
+  if (!(values > 0.0)) return std::numeric_limits<double>::infinity();
+  const double mse = squares / values;
+  return mse > 0.0 ? -10.0 * std::log10(mse) : std::numeric_limits<double>::infinity();
+}
+
+RgbaImage compositeImage(const RgbaImage& image, const glm::vec3& background) {
+  RgbaImage out{image.width, image.height, std::vector<glm::vec4>(image.pixels.size())};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, image.pixels.size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i)
+                        out.pixels[i] = glm::vec4(composite(image.pixels[i], background), 1.0f);
+                    });
+  return out;
+}
+
+// FLIP's input: the composited colours (it clamps them to its [0, 1] itself).
+std::vector<glm::vec3> flipInput(const RgbaImage& composited) {
+  std::vector<glm::vec3> rgb(composited.pixels.size());
+  for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = glm::vec3(composited.pixels[i]);
+  return rgb;
+}
+
+}  // namespace
+
+ImageDifference compareImages(const RgbaImage& a, const RgbaImage& b, const CompareOptions& options) {
   requireSameSize(a, b);
   ImageDifference d;
   d.pixels = a.pixelCount();
-  double squares = 0.0;
-  for (std::size_t i = 0; i < a.pixels.size(); ++i) {
-    const glm::vec4& pa = a.pixels[i];
-    const glm::vec4& pb = b.pixels[i];
-    for (int c = 0; c < 3; ++c) {
-      const double diff = double(pa[c]) - double(pb[c]);
-      squares += diff * diff;
+  if (d.pixels == 0) return d;
+  const RgbaImage compositeA = compositeImage(a, options.background);
+  const RgbaImage compositeB = compositeImage(b, options.background);
+  if (options.flip) {
+    FlipResult flip = computeFlip(flipInput(compositeB), flipInput(compositeA), a.width, a.height,
+                                        options.pixelsPerDegree, true);
+    d.flipMean = flip.mean;
+    d.flipMedian = flip.median;
+    d.flipMax = flip.max;
+    d.flipMap = std::move(flip.map);
+  }
+
+  const std::uint32_t width = a.width;
+  std::vector<RowSums> rows(a.height);
+  tbb::parallel_for(std::uint32_t(0), a.height, [&](std::uint32_t y) {
+    RowSums& row = rows[y];
+    for (std::size_t i = std::size_t(y) * width, end = i + width; i < end; ++i) {
+      const float alphaA = coverage(a.pixels[i].a), alphaB = coverage(b.pixels[i].a);
+      const glm::vec4 difference = compositeA.pixels[i] - compositeB.pixels[i];
+      double squares = 0.0;
+      for (int c = 0; c < 3; ++c) squares += double(difference[c]) * double(difference[c]);
+      row.squares += squares;
+      row.coverageA += alphaA;
+      row.coverageB += alphaB;
+      row.holes += std::max(0.0f, alphaB - alphaA);
+      row.bloat += std::max(0.0f, alphaA - alphaB);
+      if (alphaA > 0.0f || alphaB > 0.0f) {
+        row.foregroundSquares += squares;
+        ++row.foregroundPixels;
+        if (!d.flipMap.empty()) row.foregroundFlip += d.flipMap[i];
+      }
     }
-    const bool surfaceA = pa.a >= kSurfaceAlpha;
-    const bool surfaceB = pb.a >= kSurfaceAlpha;
-    d.surfaceA += surfaceA;
-    d.surfaceB += surfaceB;
-    d.holes += !surfaceA && surfaceB;
+  });
+  RowSums total;
+  for (const RowSums& row : rows) {
+    total.squares += row.squares;
+    total.foregroundSquares += row.foregroundSquares;
+    total.foregroundPixels += row.foregroundPixels;
+    total.coverageA += row.coverageA;
+    total.coverageB += row.coverageB;
+    total.holes += row.holes;
+    total.bloat += row.bloat;
+    total.foregroundFlip += row.foregroundFlip;
   }
-  if (d.pixels > 0) {
-    const double mse = squares / (3.0 * double(d.pixels));
-    d.rmse = std::sqrt(mse);
-    d.psnr = mse > 0.0 ? -10.0 * std::log10(mse) : std::numeric_limits<double>::infinity();
-  }
-  d.ssim = luminanceSsim(a, b);
-  d.holeFraction = d.surfaceB > 0 ? double(d.holes) / double(d.surfaceB) : 0.0;
+  d.rmse = std::sqrt(total.squares / (3.0 * double(d.pixels)));
+  d.psnr = psnrOf(total.squares, 3.0 * double(d.pixels));
+  d.foregroundPixels = total.foregroundPixels;
+  d.foregroundRmse = total.foregroundPixels > 0 ? std::sqrt(total.foregroundSquares / (3.0 * double(total.foregroundPixels))) : 0.0;
+  d.foregroundPsnr = psnrOf(total.foregroundSquares, 3.0 * double(total.foregroundPixels));
+  d.flipForegroundMean = total.foregroundPixels > 0 ? total.foregroundFlip / double(total.foregroundPixels) : 0.0;
+  d.coverageA = total.coverageA;
+  d.coverageB = total.coverageB;
+  d.holes = total.holes;
+  d.bloat = total.bloat;
+  d.holeFraction = total.coverageB > 0.0 ? total.holes / total.coverageB : 0.0;
+  d.bloatFraction = total.coverageB > 0.0 ? total.bloat / total.coverageB : 0.0;
+  d.ssim = luminanceSsim(compositeA, compositeB);
+  if (!options.keepFlipMap) d.flipMap = {};
   return d;
+}
+
+std::vector<ThresholdFailure> failedThresholds(const ImageDifference& d, const ImageThresholds& t) {
+  std::vector<ThresholdFailure> failures;
+  // `above` limits fail when the value is larger, the others when it is smaller; NaN fails both.
+  const auto check = [&](const char* option, const std::optional<double>& limit, double value, bool maximum) {
+    if (!limit) return;
+    const bool passes = maximum ? value <= *limit : value >= *limit;
+    if (!passes) failures.push_back({option, value, *limit});
+  };
+  check("--max-flip", t.maxFlip, d.flipMean, true);
+  check("--min-psnr", t.minPsnr, d.psnr, false);
+  check("--min-foreground-psnr", t.minForegroundPsnr, d.foregroundPsnr, false);
+  check("--max-holes", t.maxHoles, d.holeFraction, true);
+  check("--max-bloat", t.maxBloat, d.bloatFraction, true);
+  return failures;
 }
 
 }  // namespace pbs

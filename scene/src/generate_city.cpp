@@ -1,5 +1,6 @@
 // A city of instances for scaling tests: each prototype flattened into one unit-size mesh, then
-// placed over a grid hierarchy of blocks with seeded turns, non-uniform and mirroring scales.
+// placed over a grid hierarchy of blocks with seeded turns, non-uniform and mirroring scales; or, with
+// nothing shared, every placement baked into a mesh of its own.
 #include "pbs/scene/generate.hpp"
 
 #include "mesh_merge.hpp"
@@ -7,6 +8,8 @@
 #include "pbs/scene/input_error.hpp"
 #include "pbs/raster/seeded_random.hpp"
 #include "transform_shorthand.hpp"
+
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <limits>
@@ -20,9 +23,9 @@ constexpr double kLeafSpacing = 2.5;  // a unit prototype scaled up to 1.5 and t
 constexpr double kStreetFactor = 1.15;  // room between neighbouring blocks
 constexpr double kBlockTurn = 0.12;     // radians, either way
 
-// Flattens `prototype` into one mesh of the city, with its materials and textures appended:
-// centred over the origin, standing on y = 0, its largest extent 1.
-void addPrototype(Scene& city, const Scene& prototype, std::size_t index) {
+// Flattens `prototype` into one mesh (returned), with its materials and textures appended to the
+// city's: centred over the origin, standing on y = 0, its largest extent 1.
+Mesh flattenPrototype(Scene& city, const Scene& prototype, std::size_t index) {
   const std::string source = "city prototype " + std::to_string(index);
   validateScene(prototype, source);
   const Hierarchy hierarchy = analyzeHierarchy(prototype);
@@ -52,7 +55,7 @@ void addPrototype(Scene& city, const Scene& prototype, std::size_t index) {
                                : "prototype " + std::to_string(index);
   Mesh mesh = mergeMeshes(pieces, name);
   if (mesh.triangleCount() == 0) throw InputError(source, "", "has no triangles to instance");
-  city.meshes.push_back(std::move(mesh));
+  return mesh;
 }
 
 // 1 + fanout + … + fanout^levels, or throws when the nodes would not fit 32-bit indices.
@@ -86,6 +89,24 @@ Node makeInstance(SeededRandom& random, std::uint32_t prototypes, const glm::dma
   return Node{std::move(name), place * turnY(yaw) * scaled(scale.x, scale.y, scale.z), {}, mesh};
 }
 
+// Gives every leaf (a node with a mesh, here always an instance of a prototype) its own copy of
+// `prototypes`[its mesh] with its local transform baked in, and makes that transform the identity.
+// The copies are made in parallel, each into its own slot, so the result does not depend on threads.
+void bakeLeaves(Scene& city, const std::vector<Mesh>& prototypes) {
+  std::vector<std::uint32_t> leaves;
+  for (std::uint32_t n = 0; n < city.nodes.size(); ++n)
+    if (city.nodes[n].mesh >= 0) leaves.push_back(n);
+  city.meshes.resize(leaves.size());
+  tbb::parallel_for(std::size_t(0), leaves.size(), [&](std::size_t i) {
+    Node& node = city.nodes[leaves[i]];
+    const Mesh& prototype = prototypes[std::size_t(node.mesh)];
+    const MeshPiece piece{&prototype, node.local, 0};
+    city.meshes[i] = mergeMeshes(std::span(&piece, 1), prototype.name + ", " + node.name);
+    node.mesh = std::int32_t(i);
+    node.local = glm::dmat4(1.0);
+  });
+}
+
 }  // namespace
 
 Scene generateCity(const std::vector<Scene>& prototypes, const CityOptions& options) {
@@ -94,8 +115,9 @@ Scene generateCity(const std::vector<Scene>& prototypes, const CityOptions& opti
   const std::uint64_t nodeCount = countNodes(options);
 
   Scene city;
-  for (std::size_t p = 0; p < prototypes.size(); ++p) addPrototype(city, prototypes[p], p);
-  const auto prototypeCount = std::uint32_t(city.meshes.size());
+  std::vector<Mesh> flattened;
+  for (std::size_t p = 0; p < prototypes.size(); ++p) flattened.push_back(flattenPrototype(city, prototypes[p], p));
+  const auto prototypeCount = std::uint32_t(flattened.size());
 
   std::uint32_t columns = 1;
   while (columns * columns < options.fanout) ++columns;
@@ -109,29 +131,34 @@ Scene generateCity(const std::vector<Scene>& prototypes, const CityOptions& opti
   city.roots = {0};
   if (options.levels == 0) {
     city.nodes.push_back(makeInstance(random, prototypeCount, glm::dmat4(1.0), "instance 0"));
-    return city;
-  }
-  city.nodes.push_back(Node{"city", glm::dmat4(1.0), {}, -1});
-  // Level by level, so the draws (and so the city) depend only on the seed and the options.
-  std::vector<std::uint32_t> level = {0}, next;
-  for (std::uint32_t depth = 1; depth <= options.levels; ++depth) {
-    next.clear();
-    for (std::uint32_t parent : level) {
-      for (std::uint32_t i = 0; i < options.fanout; ++i) {
-        const auto index = std::uint32_t(city.nodes.size());
-        const glm::dmat4 place = gridPlace(i, columns, rows, spacing[depth - 1]);
-        if (depth == options.levels) {
-          city.nodes.push_back(makeInstance(random, prototypeCount, place, "instance " + std::to_string(index)));
-        } else {
-          const double turn = random.range(-kBlockTurn, kBlockTurn);
-          city.nodes.push_back(Node{"block " + std::to_string(index), place * turnY(turn), {}, -1});
+  } else {
+    city.nodes.push_back(Node{"city", glm::dmat4(1.0), {}, -1});
+    // Level by level, so the draws (and so the city) depend only on the seed and the options.
+    std::vector<std::uint32_t> level = {0}, next;
+    for (std::uint32_t depth = 1; depth <= options.levels; ++depth) {
+      next.clear();
+      for (std::uint32_t parent : level) {
+        for (std::uint32_t i = 0; i < options.fanout; ++i) {
+          const auto index = std::uint32_t(city.nodes.size());
+          const glm::dmat4 place = gridPlace(i, columns, rows, spacing[depth - 1]);
+          if (depth == options.levels) {
+            city.nodes.push_back(makeInstance(random, prototypeCount, place, "instance " + std::to_string(index)));
+          } else {
+            const double turn = random.range(-kBlockTurn, kBlockTurn);
+            city.nodes.push_back(Node{"block " + std::to_string(index), place * turnY(turn), {}, -1});
+          }
+          city.nodes[parent].children.push_back(index);
+          next.push_back(index);
         }
-        city.nodes[parent].children.push_back(index);
-        next.push_back(index);
       }
+      std::swap(level, next);
     }
-    std::swap(level, next);
   }
+  // The draws above are the same either way, so the unique city is the instanced one, baked.
+  if (options.unique)
+    bakeLeaves(city, flattened);
+  else
+    city.meshes = std::move(flattened);
   return city;
 }
 

@@ -4,6 +4,7 @@
 
 #include "pbs/raster/camera.hpp"
 #include "pbs/raster/framebuffer.hpp"
+#include "pbs/raster/supersampling.hpp"
 
 #include <glm/glm.hpp>
 
@@ -18,6 +19,10 @@ inline constexpr float kHeadlightAmbient = 0.3f;
 // caster do not cull back faces either). Needs the colour and normal channels; throws
 // std::invalid_argument otherwise. A zero normal (a degenerate surface) shades as facing the camera.
 std::vector<glm::vec4> shadeHeadlight(const Framebuffer& gbuffer, const Camera& camera);
+
+// Adds the shaded colours of the G-buffer's covered pixels to `sums` (sized to the G-buffer, else
+// std::invalid_argument) and counts one more sample: one supersampling pass (supersampling.hpp).
+void accumulateHeadlight(const Framebuffer& gbuffer, const Camera& camera, SampleSums& sums);
 
 // The same as RGBA8 (rounded to nearest), for PNG output.
 std::vector<std::uint8_t> toRgba8(const std::vector<glm::vec4>& image);

@@ -1,16 +1,21 @@
-// How far one picture is from another: RMSE, PSNR, luminance SSIM and the holes one leaves in the other.
+// How far one picture is from another: PSNR over the whole image and its foreground, luminance SSIM,
+// FLIP, the holes and bloat of one's coverage against the other's, and pass/fail limits on them.
 #pragma once
+
+#include "pbs/raster/flip.hpp"
 
 #include <glm/glm.hpp>
 
 #include <cstdint>
 #include <limits>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace pbs {
 
-// Float RGBA, row-major, row 0 at the top, as renders are stored: colour, and alpha 0 where nothing
-// was drawn (background) and 1 where a surface was. Alpha < 0.5 counts as background.
+// Float RGBA, row-major, row 0 at the top, as renders are stored: straight (not premultiplied) colour,
+// and alpha the pixel's coverage: 0 where nothing was drawn (background), 1 where a surface covers it.
 struct RgbaImage {
   std::uint32_t width = 0;
   std::uint32_t height = 0;
@@ -19,32 +24,75 @@ struct RgbaImage {
   std::size_t pixelCount() const { return std::size_t(width) * height; }
 };
 
-inline constexpr float kSurfaceAlpha = 0.5f;  // alpha at or above this is surface, below it background
+// How the two pictures are seen: both composited over one background, by an observer at a distance.
+struct CompareOptions {
+  glm::vec3 background{1.0f};  // straight colour over it: rgb·α + background·(1 − α)
+  double pixelsPerDegree = kDefaultPixelsPerDegree;  // FLIP's observer (flip.hpp)
+  bool flip = true;               // FLIP is most of a comparison's time; off: its fields stay 0
+  bool keepFlipMap = false;       // keep FLIP's per-pixel values in ImageDifference::flipMap
+};
 
-// Every pixel counts, background included, with the colour it stores (renders store black behind
-// alpha 0): RGB is compared as stored, unpremultiplied, alpha only decides background or surface.
+// A compared with B (the reference). Coverage is alpha (clamped to [0, 1]): 0 or 1 at one sample per
+// pixel, the fraction of samples that hit a surface when supersampled.
 struct ImageDifference {
-  double rmse = 0.0;  // root mean square difference over R, G, B of all pixels, in 0..1 units
-  // 10·log10(1 / mse) with peak 1 (HDR values above 1 are not rescaled); +infinity when rmse is 0.
+  // Over the whole composited image, background included: R, G, B in 0..1 units, peak 1 (HDR values
+  // above 1 are not rescaled); psnr +infinity when rmse is 0.
+  double rmse = 0.0;
   double psnr = std::numeric_limits<double>::infinity();
-  // Mean SSIM (Wang et al. 2004) of the luminance Y = 0.2126 R + 0.7152 G + 0.0722 B: Gaussian
-  // 11×11 window, σ = 1.5, over the windows that lie wholly inside the image (a side shorter than 11
-  // uses the whole side), C1 = 0.01², C2 = 0.03². 1 for identical images.
+  // The same over the foreground: the pixels either image covers (alpha > 0). A frame's background,
+  // most of its pixels, is shared and would dilute the error, so this is the one to read.
+  double foregroundRmse = 0.0;
+  double foregroundPsnr = std::numeric_limits<double>::infinity();
+  std::uint64_t foregroundPixels = 0;
+  // Mean SSIM (Wang et al. 2004) of the composited luminance Y = 0.2126 R + 0.7152 G + 0.0722 B:
+  // Gaussian 11×11 window, σ = 1.5, over the windows that lie wholly inside the image (a side shorter
+  // than 11 uses the whole side), C1 = 0.01², C2 = 0.03². 1 for identical images.
   double ssim = 1.0;
-  // holes / surfaceB: of the pixels where B has surface, the fraction A leaves background; 0 when
-  // B has none.
+  // LDR-FLIP (flip.hpp) of A against B, composited and clamped to [0, 1]: mean, median and largest
+  // per-pixel value over the whole image, and the mean over the foreground (0 when there is none).
+  double flipMean = 0.0;
+  double flipMedian = 0.0;
+  double flipMax = 0.0;
+  double flipForegroundMean = 0.0;
+  std::vector<float> flipMap;  // per pixel, rows top first; only with CompareOptions::keepFlipMap
+  // Coverage in pixels: Σ alpha of A and of B. Holes: what B covers and A does not, Σ max(0, αB − αA);
+  // bloat: what A covers and B does not, Σ max(0, αA − αB); each also as a fraction of B's coverage
+  // (0 when B covers nothing). With alpha 0 or 1 these count pixels; with fractional alpha a pixel
+  // half covered by B and empty in A is half a hole.
+  double coverageA = 0.0;
+  double coverageB = 0.0;
+  double holes = 0.0;
+  double bloat = 0.0;
   double holeFraction = 0.0;
-  std::uint64_t pixels = 0;    // width·height
-  std::uint64_t surfaceA = 0;  // pixels with alpha ≥ 0.5 in A
-  std::uint64_t surfaceB = 0;  // … in B
-  std::uint64_t holes = 0;     // pixels background in A and surface in B
+  double bloatFraction = 0.0;
+  std::uint64_t pixels = 0;  // width·height
 };
 
 // Compares A with B, which must be the same size (else throws std::invalid_argument). Bit-identical
-// results for any thread count: SSIM runs in parallel by rows and sums its rows in order.
-ImageDifference compareImages(const RgbaImage& a, const RgbaImage& b);
+// results for any thread count: every sum runs over rows in parallel and adds the rows in order.
+ImageDifference compareImages(const RgbaImage& a, const RgbaImage& b, const CompareOptions& options = {});
 
-// The luminance SSIM of compareImages on its own.
+// Pass/fail limits for image tests, in the manner of OpenImageIO's idiff: each one set is checked.
+struct ImageThresholds {
+  std::optional<double> maxFlip;              // flipMean
+  std::optional<double> minPsnr;              // psnr (whole image)
+  std::optional<double> minForegroundPsnr;    // foregroundPsnr
+  std::optional<double> maxHoles;             // holeFraction
+  std::optional<double> maxBloat;             // bloatFraction
+};
+
+// One limit a comparison broke: the option's name ("--max-flip", …), the measured value and the limit.
+struct ThresholdFailure {
+  std::string option;
+  double value = 0.0;
+  double limit = 0.0;
+};
+
+// The limits `difference` breaks, in the order of ImageThresholds' fields; empty: the images pass.
+// A NaN value breaks every limit on it.
+std::vector<ThresholdFailure> failedThresholds(const ImageDifference& difference, const ImageThresholds& thresholds);
+
+// The luminance SSIM of compareImages, of the colours as given (compareImages passes composited ones).
 double luminanceSsim(const RgbaImage& a, const RgbaImage& b);
 
 }  // namespace pbs

@@ -17,11 +17,17 @@ struct CityOptions {
   std::uint32_t levels = 4;   // depth of the block hierarchy below the root
   std::uint32_t fanout = 10;  // children per block
   std::uint64_t seed = 1;
+  // Nothing shared: every leaf gets its own copy of its prototype's mesh with the leaf's local
+  // transform baked into the vertices (normals by the inverse transpose, renormalised; winding
+  // reversed where it mirrors) and an identity local transform. The same nodes, draws and picture
+  // as without (up to float rounding of the vertices), but as many meshes as leaves.
+  bool unique = false;
 };
 
 // Instances of `prototypes` (each flattened into one mesh, transforms baked) placed over a
 // hierarchy of `levels` levels with `fanout` children each, with rotations, non-uniform and
-// mirroring scales. Leaves: fanout^levels instances.
+// mirroring scales. Leaves: fanout^levels instances. With options.unique the leaves' meshes are
+// baked in parallel, one per leaf in node order (the prototypes' own meshes are not kept).
 Scene generateCity(const std::vector<Scene>& prototypes, const CityOptions& options);
 
 }  // namespace pbs

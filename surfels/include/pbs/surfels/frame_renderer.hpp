@@ -1,0 +1,80 @@
+// One frame of a scene in any render mode, timed and optionally supersampled: what `pbs render`,
+// `pbs eval` and the figures repeat per view.
+#pragma once
+
+#include "pbs/raster/camera.hpp"
+#include "pbs/raster/framebuffer.hpp"
+#include "pbs/scene/embree_caster.hpp"
+#include "pbs/scene/hierarchy.hpp"
+#include "pbs/surfels/lod_render.hpp"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace pbs {
+
+// Exact: the rasterizer draws every visible mesh. Embree: rays, one per sample. Surfels: the LOD
+// traversal with surfel prefixes for small nodes. Simplified: the same traversal, small nodes drawn
+// from a simplified copy of the scene (simplified_lod.hpp).
+enum class RenderMode { Surfels, Exact, Embree, Simplified };
+
+// "surfels", "exact", "embree", "simplified"; nullopt for any other name.
+std::optional<RenderMode> renderModeFromName(std::string_view name);
+const char* renderModeName(RenderMode mode);
+
+struct FrameOptions {
+  RenderMode mode = RenderMode::Exact;
+  LodOptions lod;  // surfels and simplified modes
+  // Samples per pixel (supersampling.hpp: 1, 4, 16, 64, 256): each a whole pass at its sub-pixel
+  // position, shaded and summed, then box-filtered into colour with fractional alpha. Memory does not
+  // grow with the count: one G-buffer and one sum image.
+  std::uint32_t samples = 1;
+};
+
+struct FrameResult {
+  // Shaded (headlight_shading.hpp), straight RGBA: alpha is the fraction of samples that hit a surface
+  // (0 or 1 at one sample), colour (0, 0, 0) where it is 0.
+  std::vector<glm::vec4> image;
+  double seconds = 0.0;  // every pass: clear, traverse, raster or rays, shading; plus the resolve
+  // Traversal and raster times summed over the passes; the counts are those of one pass.
+  LodStats stats;
+};
+
+// What a mode draws from besides the scene; each must outlive the renderer.
+struct FrameSources {
+  const SceneSurfels* surfels = nullptr;  // Surfels and Simplified modes (Simplified takes its decisions from them)
+  const Scene* simplified = nullptr;      // Simplified mode: the scene's simplifyScene copy
+  const EmbreeScene* rays = nullptr;      // Embree mode: a BVH built elsewhere and shared; null: built here
+};
+
+class FrameRenderer {
+ public:
+  // Scene and hierarchy must outlive the renderer. In Embree mode without sources.rays the BVH is built
+  // here (buildSeconds()). Throws std::invalid_argument for a missing source or an unsupported sample
+  // count.
+  FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, const FrameOptions& options, std::uint32_t width,
+                std::uint32_t height, const FrameSources& sources = {});
+
+  // Bit-identical for any thread count. The camera must be width × height.
+  FrameResult render(const Camera& camera);
+  double buildSeconds() const { return buildSeconds_; }  // 0 unless this renderer built the BVH
+
+ private:
+  // One pass at the camera's pixel centres into gbuffer_; adds its times and (first pass) counts.
+  void drawPass(const Camera& camera, LodStats& stats, bool firstPass);
+
+  const Scene& scene_;
+  const Hierarchy& hierarchy_;
+  FrameOptions options_;
+  FrameSources sources_;
+  SceneSurfels none_;  // exact mode: the LOD traversal with no arrays draws every visible mesh
+  Framebuffer gbuffer_;
+  std::optional<EmbreeScene> ownRays_;
+  double buildSeconds_ = 0.0;
+};
+
+}  // namespace pbs

@@ -1,0 +1,105 @@
+// FrameRenderer: one G-buffer reused across frames and samples, the mode's draw, the shared shading,
+// and the supersampled passes summed and resolved.
+#include "pbs/surfels/frame_renderer.hpp"
+
+#include "elapsed.hpp"
+
+#include <pbs/raster/headlight_shading.hpp>
+#include <pbs/raster/supersampling.hpp>
+#include <pbs/surfels/simplified_lod.hpp>
+
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace pbs {
+namespace {
+
+constexpr std::array<std::pair<RenderMode, const char*>, 4> kModeNames{{{RenderMode::Surfels, "surfels"},
+                                                                        {RenderMode::Exact, "exact"},
+                                                                        {RenderMode::Embree, "embree"},
+                                                                        {RenderMode::Simplified, "simplified"}}};
+
+}  // namespace
+
+std::optional<RenderMode> renderModeFromName(std::string_view name) {
+  for (const auto& [mode, text] : kModeNames)
+    if (name == text) return mode;
+  return std::nullopt;
+}
+
+const char* renderModeName(RenderMode mode) {
+  for (const auto& [known, text] : kModeNames)
+    if (known == mode) return text;
+  return "unknown";
+}
+
+FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, const FrameOptions& options,
+                             std::uint32_t width, std::uint32_t height, const FrameSources& sources)
+    : scene_(scene),
+      hierarchy_(hierarchy),
+      options_(options),
+      sources_(sources),
+      gbuffer_(makeFramebuffer(width, height, kChannelColor | kChannelNormal)) {
+  const RenderMode mode = options.mode;
+  if ((mode == RenderMode::Surfels || mode == RenderMode::Simplified) && !sources.surfels)
+    throw std::invalid_argument("surfels and simplified modes need a surfel file");
+  if (mode == RenderMode::Simplified && !sources.simplified)
+    throw std::invalid_argument("simplified mode needs the simplified scene");
+  if (!isSupportedSampleCount(options.samples))
+    throw std::invalid_argument(std::to_string(options.samples) + " samples per pixel; supported: 1, 4, 16, 64, 256");
+  if (mode == RenderMode::Embree && !sources.rays) {
+    const auto build = detail::Clock::now();
+    ownRays_.emplace(scene, hierarchy);
+    buildSeconds_ = detail::secondsSince(build);
+    sources_.rays = &*ownRays_;
+  }
+}
+
+void FrameRenderer::drawPass(const Camera& camera, LodStats& stats, bool firstPass) {
+  // Embree overwrites every pixel itself. The rasterizer clears depth alone: shading reads colour and
+  // normal only where depth says a pixel is covered.
+  if (options_.mode != RenderMode::Embree) clearFramebuffer(gbuffer_, 0);
+  LodStats pass;
+  switch (options_.mode) {
+    case RenderMode::Surfels: pass = renderLod(scene_, hierarchy_, *sources_.surfels, camera, gbuffer_, options_.lod); break;
+    case RenderMode::Exact: pass = renderLod(scene_, hierarchy_, none_, camera, gbuffer_, options_.lod); break;
+    case RenderMode::Simplified:
+      pass = renderSimplifiedLod(scene_, *sources_.simplified, hierarchy_, *sources_.surfels, camera, gbuffer_, options_.lod);
+      break;
+    case RenderMode::Embree: {
+      const auto cast = detail::Clock::now();
+      sources_.rays->render(camera, gbuffer_);
+      pass.rasterSeconds = detail::secondsSince(cast);
+      break;
+    }
+  }
+  const double traverse = stats.traverseSeconds + pass.traverseSeconds;
+  const double raster = stats.rasterSeconds + pass.rasterSeconds;
+  if (firstPass) stats = pass;
+  stats.traverseSeconds = traverse;
+  stats.rasterSeconds = raster;
+}
+
+FrameResult FrameRenderer::render(const Camera& camera) {
+  FrameResult result;
+  const auto start = detail::Clock::now();
+  if (options_.samples == 1) {
+    drawPass(camera, result.stats, true);
+    result.image = shadeHeadlight(gbuffer_, camera);
+  } else {
+    SampleSums sums{std::vector<glm::vec4>(gbuffer_.pixelCount(), glm::vec4(0.0f)), 0};
+    bool first = true;
+    for (const glm::dvec2& sample : subpixelSamples(options_.samples)) {
+      const Camera shifted = subpixelCamera(camera, sample);
+      drawPass(shifted, result.stats, std::exchange(first, false));
+      accumulateHeadlight(gbuffer_, shifted, sums);
+    }
+    result.image = resolveSamples(sums);
+  }
+  result.seconds = detail::secondsSince(start);
+  return result;
+}
+
+}  // namespace pbs

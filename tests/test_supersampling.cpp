@@ -1,0 +1,161 @@
+// Supersampling in both exact renderers: the fixed sample pattern, the shifted cameras, the resolve,
+// bit-identical frames for any thread count, and the rasterizer and the rays converging to one image.
+#include "test_fixtures.hpp"
+
+#include <pbs/raster/image_metrics.hpp>
+#include <pbs/raster/orbit_camera.hpp>
+#include <pbs/raster/supersampling.hpp>
+#include <pbs/raster/thread_arena.hpp>
+#include <pbs/surfels/frame_renderer.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <set>
+#include <stdexcept>
+#include <vector>
+
+namespace pbs::test {
+namespace {
+
+TEST(SamplePattern, IsARotatedGridWithOneSampleInEveryRowAndColumn) {
+  ASSERT_EQ(subpixelSamples(1).size(), 1u);
+  EXPECT_EQ(subpixelSamples(1)[0], glm::dvec2(0.5, 0.5));
+  for (std::uint32_t n : {4u, 16u, 64u, 256u}) {
+    const std::vector<glm::dvec2> samples = subpixelSamples(n);
+    ASSERT_EQ(samples.size(), n);
+    std::set<int> columns, rows;
+    for (const glm::dvec2& s : samples) {
+      ASSERT_GE(s.x, 0.0);
+      ASSERT_LT(s.x, 1.0);
+      ASSERT_GE(s.y, 0.0);
+      ASSERT_LT(s.y, 1.0);
+      columns.insert(int(std::floor(s.x * n)));
+      rows.insert(int(std::floor(s.y * n)));
+    }
+    EXPECT_EQ(columns.size(), n) << "n-rooks: every one of the n columns holds a sample";
+    EXPECT_EQ(rows.size(), n) << "and every row";
+    // The mean position is the pixel centre, so the box filter is not biased to one side.
+    glm::dvec2 mean(0.0);
+    for (const glm::dvec2& s : samples) mean += s / double(n);
+    EXPECT_NEAR(mean.x, 0.5, 1e-12);
+    EXPECT_NEAR(mean.y, 0.5, 1e-12);
+  }
+  // The classic 4-sample rotated grid.
+  const std::vector<glm::dvec2> four = subpixelSamples(4);
+  EXPECT_EQ(four[0], glm::dvec2(0.125, 0.375));
+  EXPECT_EQ(four[1], glm::dvec2(0.375, 0.875));
+  EXPECT_EQ(four[2], glm::dvec2(0.625, 0.125));
+  EXPECT_EQ(four[3], glm::dvec2(0.875, 0.625));
+  for (std::uint32_t bad : {0u, 2u, 8u, 15u, 1024u}) {
+    EXPECT_FALSE(isSupportedSampleCount(bad)) << bad;
+    EXPECT_THROW(subpixelSamples(bad), std::invalid_argument) << bad;
+  }
+}
+
+TEST(SamplePattern, ShiftedCamerasSampleTheirPositionExactly) {
+  const Camera camera = orbitCamera(glm::dvec3(1.0, 2.0, 3.0), 4.0, Orbit{}, 320, 200);
+  const glm::dvec4 clip = camera.clipFromWorld() * glm::dvec4(1.5, 2.5, 2.0, 1.0);
+  const glm::dvec3 window = windowFromClip(camera, clip);
+  EXPECT_EQ(subpixelCamera(camera, glm::dvec2(0.5)).projection, camera.projection) << "the centre is no shift";
+  for (const glm::dvec2& sample : subpixelSamples(16)) {
+    const Camera shifted = subpixelCamera(camera, sample);
+    EXPECT_EQ(shifted.view, camera.view);
+    const glm::dvec3 moved = windowFromClip(shifted, shifted.clipFromWorld() * glm::dvec4(1.5, 2.5, 2.0, 1.0));
+    // The shifted camera's pixel centre (px + 0.5) is the original's px + sample: points move by −(sample − 0.5).
+    EXPECT_NEAR(moved.x, window.x - (sample.x - 0.5), 1e-9);
+    EXPECT_NEAR(moved.y, window.y - (sample.y - 0.5), 1e-9);
+    EXPECT_NEAR(moved.z, window.z, 1e-12) << "depth is not moved";
+  }
+}
+
+TEST(SampleResolve, BoxFilterGivesStraightColourAndCoverage) {
+  SampleSums sums{std::vector<glm::vec4>(3, glm::vec4(0.0f)), 4};
+  sums.sums[0] = glm::vec4(0.4f, 0.8f, 1.2f, 2.0f);  // two of four samples hit, colours summing to these
+  sums.sums[1] = glm::vec4(2.0f, 2.0f, 2.0f, 4.0f);  // all four
+  const std::vector<glm::vec4> image = resolveSamples(sums);
+  EXPECT_EQ(image[0], glm::vec4(0.2f, 0.4f, 0.6f, 0.5f));
+  EXPECT_EQ(image[1], glm::vec4(0.5f, 0.5f, 0.5f, 1.0f));
+  EXPECT_EQ(image[2], glm::vec4(0.0f)) << "no sample hit: background";
+  EXPECT_THROW(resolveSamples(SampleSums{}), std::invalid_argument);
+}
+
+// The two groups of boxes seen from an orbit, small enough on screen that edges cover many pixels' worth.
+struct GroupsView {
+  Scene scene = twoIdenticalGroups();
+  Hierarchy hierarchy = analyzeHierarchy(scene);
+  Camera camera;
+  GroupsView() {
+    Bounds bounds;
+    for (std::uint32_t root : scene.roots) bounds.extend(hierarchy.worldBounds[root]);
+    camera = orbitCamera(bounds.center(), 0.5 * glm::length(bounds.size()), Orbit{35.0, 25.0, 2.2}, 160, 120);
+  }
+  RgbaImage render(RenderMode mode, std::uint32_t samples) const {
+    FrameRenderer renderer(scene, hierarchy, {.mode = mode, .samples = samples}, camera.width, camera.height);
+    return RgbaImage{camera.width, camera.height, renderer.render(camera).image};
+  }
+};
+
+bool sameBits(const RgbaImage& a, const RgbaImage& b) {
+  return a.pixels.size() == b.pixels.size() &&
+         std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(glm::vec4)) == 0;
+}
+
+TEST(Supersampling, FramesAreBitIdenticalForAnyThreadCount) {
+  const GroupsView view;
+  for (RenderMode mode : {RenderMode::Exact, RenderMode::Embree}) {
+    RgbaImage one, two, many;
+    runWithThreads(1, [&] { one = view.render(mode, 16); });
+    runWithThreads(2, [&] { two = view.render(mode, 16); });
+    runWithThreads(0, [&] { many = view.render(mode, 16); });
+    EXPECT_TRUE(sameBits(one, two)) << renderModeName(mode);
+    EXPECT_TRUE(sameBits(one, many)) << renderModeName(mode);
+    // Edges are covered in part: fractional alpha exists, colour stays in range.
+    std::size_t partial = 0;
+    for (const glm::vec4& p : one.pixels) {
+      partial += p.a > 0.0f && p.a < 1.0f;
+      EXPECT_TRUE(p.a >= 0.0f && p.a <= 1.0f && p.r >= 0.0f && p.r <= 1.0f);
+    }
+    EXPECT_GT(partial, 100u) << renderModeName(mode);
+  }
+}
+
+TEST(Supersampling, OneSampleIsTheUnsupersampledFrame) {
+  const GroupsView view;
+  for (RenderMode mode : {RenderMode::Exact, RenderMode::Embree}) {
+    const RgbaImage image = view.render(mode, 1);
+    for (const glm::vec4& p : image.pixels) ASSERT_TRUE(p.a == 0.0f || p.a == 1.0f) << renderModeName(mode);
+  }
+}
+
+TEST(Supersampling, RasterizerAndRaysConvergeAndSixteenSamplesAreCloseToTheReference) {
+  const GroupsView view;
+  const RgbaImage reference = view.render(RenderMode::Embree, 64);
+  const RgbaImage exact16 = view.render(RenderMode::Exact, 16);
+  const RgbaImage embree16 = view.render(RenderMode::Embree, 16);
+  const RgbaImage embree1 = view.render(RenderMode::Embree, 1);
+  const RgbaImage exact1 = view.render(RenderMode::Exact, 1);
+
+  // The two renderers sample the same positions: at 16 samples they agree to rounding at a few edges.
+  const ImageDifference between = compareImages(exact16, embree16);
+  EXPECT_LT(between.flipForegroundMean, 0.01);
+  EXPECT_GT(between.foregroundPsnr, 40.0);
+  EXPECT_NEAR(between.coverageA, between.coverageB, 0.002 * between.coverageB);
+
+  const ImageDifference at16 = compareImages(embree16, reference);
+  const ImageDifference at1 = compareImages(embree1, reference);
+  const ImageDifference exactAt1 = compareImages(exact1, reference);
+  EXPECT_LT(at16.flipForegroundMean * 3.0, at1.flipForegroundMean)
+      << "16 samples: " << at16.flipForegroundMean << ", 1 sample: " << at1.flipForegroundMean;
+  EXPECT_GT(at16.foregroundPsnr, at1.foregroundPsnr + 6.0);
+  EXPECT_NEAR(exactAt1.flipForegroundMean, at1.flipForegroundMean, 0.1 * at1.flipForegroundMean)
+      << "both exact renderers at 1 sample are the same picture";
+  // Coverage converges too: the 16-sample image neither loses nor adds much of the reference's coverage.
+  EXPECT_LT(at16.holeFraction, 0.02);
+  EXPECT_LT(at16.bloatFraction, 0.02);
+}
+
+}  // namespace
+}  // namespace pbs::test
