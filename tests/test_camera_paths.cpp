@@ -1,5 +1,6 @@
 // Tests of the named camera paths: the orbit as `pbs render` has always made it, the approach into the
 // densest region, the closed flythrough loop, and finite, deterministic cameras for any scene size.
+#include "cli_scenes.hpp"
 #include "test_fixtures.hpp"
 
 #include <pbs/raster/orbit_camera.hpp>
@@ -7,6 +8,7 @@
 #include <pbs/surfels/lod_render.hpp>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -249,7 +251,8 @@ TEST(CameraPaths, FlythroughLooksAtGeometry) {
     std::size_t covered = 0;
     for (std::size_t p = 0; p < framebuffer.pixelCount(); ++p) covered += framebuffer.covered(p) ? 1 : 0;
     // Without a ground the gaps between the boxes show, most where the loop runs along a row.
-    EXPECT_GT(covered, framebuffer.pixelCount() / 3) << "eye " << view.eye.x << ", " << view.eye.y << ", " << view.eye.z;
+    EXPECT_GT(covered, framebuffer.pixelCount() / 3)
+        << "eye " << view.eye.x << ", " << view.eye.y << ", " << view.eye.z;
   }
 }
 
@@ -326,6 +329,23 @@ TEST(CameraPaths, EmptySceneCirclesTheUnitSphereAtTheOrigin) {
   const std::vector<PathView> views = pathOf(CameraPath::Orbit, a, 4, orbit);
   for (const PathView& view : views) EXPECT_NEAR(glm::length(view.eye), orbit.distance, 1e-12);
   for (const PathView& view : pathOf(CameraPath::Flythrough, a, 8)) EXPECT_LT(glm::length(view.eye), 1.0);
+}
+
+TEST(CameraPaths, FigureDrawsEveryPathAndListsItsViews) {
+  test::ScratchDir scratch;
+  const std::string scene = test::groupsFile(scratch);
+  const test::CommandResult made =
+      test::runPbs("figure paths " + scene + " -o '" + (scratch / "fig").string() + "' --size 96x64 --frames 5");
+  ASSERT_EQ(made.status, 0) << made.err;
+  EXPECT_TRUE(std::filesystem::is_regular_file(scratch / "fig" / "paths.png"));
+  const nlohmann::json json = nlohmann::json::parse(test::readFile(scratch / "fig" / "paths.json"));
+  for (CameraPath path : kPaths) {
+    const nlohmann::json& views = json["paths"][cameraPathName(path)]["views"];
+    ASSERT_EQ(views.size(), 5u) << cameraPathName(path);
+    EXPECT_EQ(views[0]["eye"].size(), 3u);
+    EXPECT_EQ(views[0]["forward"].size(), 3u);
+  }
+  EXPECT_EQ(json["image"]["panel_width"], 96);
 }
 
 }  // namespace

@@ -215,23 +215,32 @@ TEST(Flip, BitIdenticalForAnyThreadCount) {
 }
 
 TEST(Flip, PoolsTheMapIntoMeanMedianAndMax) {
-  const std::uint32_t w = 20, h = 15;  // an even count: the median is the mean of the middle two
-  const std::vector<glm::vec3> a = randomImage(w, h, 7);
-  const std::vector<glm::vec3> b = randomImage(w, h, 8);
-  const FlipResult r = computeFlip(a, b, w, h, kDefaultPixelsPerDegree, true);
-  std::vector<float> sorted = r.map;
-  std::sort(sorted.begin(), sorted.end());
-  double sum = 0.0;
-  for (float v : sorted) sum += v;
-  EXPECT_NEAR(r.mean, sum / double(sorted.size()), 1e-12);
-  EXPECT_EQ(r.median, 0.5 * (double(sorted[sorted.size() / 2 - 1]) + double(sorted[sorted.size() / 2])));
-  EXPECT_EQ(r.max, sorted.back());
-  EXPECT_GE(sorted.front(), 0.0f);
-  EXPECT_LE(sorted.back(), 1.0f);
-  const FlipResult withoutMap = computeFlip(a, b, w, h);
-  EXPECT_TRUE(withoutMap.map.empty()) << "the map is kept only when asked for";
-  EXPECT_EQ(withoutMap.mean, r.mean);
-  EXPECT_EQ(withoutMap.median, r.median);
+  // Even and odd counts (an even count's median is the mean of the middle two), and a map mostly of
+  // zeros, where the middle values repeat.
+  const auto check = [](std::uint32_t w, std::uint32_t h, const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
+    const FlipResult r = computeFlip(a, b, w, h, kDefaultPixelsPerDegree, true);
+    std::vector<float> sorted = r.map;
+    std::sort(sorted.begin(), sorted.end());
+    double sum = 0.0;
+    for (float v : sorted) sum += v;
+    EXPECT_NEAR(r.mean, sum / double(sorted.size()), 1e-12);
+    const std::size_t middle = sorted.size() / 2;
+    const double median = sorted.size() % 2 == 1 ? double(sorted[middle])
+                                                 : 0.5 * (double(sorted[middle - 1]) + double(sorted[middle]));
+    EXPECT_EQ(r.median, median) << w << "x" << h;
+    EXPECT_EQ(r.max, sorted.back());
+    EXPECT_GE(sorted.front(), 0.0f);
+    EXPECT_LE(sorted.back(), 1.0f);
+    const FlipResult withoutMap = computeFlip(a, b, w, h);
+    EXPECT_TRUE(withoutMap.map.empty()) << "the map is kept only when asked for";
+    EXPECT_EQ(withoutMap.mean, r.mean);
+    EXPECT_EQ(withoutMap.median, r.median);
+  };
+  check(20, 15, randomImage(20, 15, 7), randomImage(20, 15, 8));
+  check(21, 15, randomImage(21, 15, 7), randomImage(21, 15, 8));
+  std::vector<glm::vec3> spot = randomImage(50, 41, 14);
+  for (std::size_t i = 0; i < 300; ++i) spot[i] = glm::vec3(0.0f, 0.0f, 1.0f);  // the top rows differ
+  check(50, 41, randomImage(50, 41, 14), spot);
 }
 
 TEST(Flip, ValuesOutsideTheDisplayRangeAreClampedAndNanIsBlack) {

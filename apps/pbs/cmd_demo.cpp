@@ -58,9 +58,10 @@ void run(const DemoOptions& options) {
   const Bounds& bounds = loaded.summary.bounds;
   const Camera camera =
       orbitCamera(bounds.center(), 0.5 * glm::length(bounds.size()), Orbit{}, options.width, options.height);
-  FrameRenderer withSurfels(loaded.scene, loaded.hierarchy, {.mode = RenderMode::Surfels}, options.width,
+  FrameRenderer withSurfels(loaded.scene, loaded.hierarchy, {.mode = RenderMode::Surfels, .lod = {}}, options.width,
                             options.height, {.surfels = &surfels});
-  FrameRenderer exactly(loaded.scene, loaded.hierarchy, {.mode = RenderMode::Exact}, options.width, options.height);
+  FrameRenderer exactly(loaded.scene, loaded.hierarchy, {.mode = RenderMode::Exact, .lod = {}}, options.width,
+                        options.height);
   const FrameResult fast = withSurfels.render(camera);
   const FrameResult exact = exactly.render(camera);
   writeImage8(folder / "surfels.png", options.width, options.height, 4, toRgba8(fast.image));

@@ -63,7 +63,8 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
 
   std::vector<RgbaImage> reference;
   {
-    FrameRenderer renderer(scene, hierarchy, {.mode = RenderMode::Embree, .samples = inputs.referenceSamples}, width,
+    FrameRenderer renderer(scene, hierarchy, {.mode = RenderMode::Embree, .lod = {}, .samples = inputs.referenceSamples},
+                           width,
                            height, {.rays = &rays});
     for (std::size_t f = 0; f < cameras.size(); ++f) {
       FrameResult frame = renderer.render(cameras[f]);

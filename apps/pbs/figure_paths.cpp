@@ -61,7 +61,8 @@ struct Canvas {
   std::vector<std::uint8_t> rgb;
 
   void disc(int panelX, std::uint32_t panelWidth, double x, double y, double radius, const Color& color) {
-    const int x0 = std::max(panelX, int(std::floor(x - radius))), x1 = std::min(panelX + int(panelWidth) - 1, int(std::ceil(x + radius)));
+    const int x0 = std::max(panelX, int(std::floor(x - radius))),
+              x1 = std::min(panelX + int(panelWidth) - 1, int(std::ceil(x + radius)));
     const int y0 = std::max(0, int(std::floor(y - radius))), y1 = std::min(int(height) - 1, int(std::ceil(y + radius)));
     for (int py = y0; py <= y1; ++py)
       for (int px = x0; px <= x1; ++px) {
@@ -100,11 +101,13 @@ std::vector<std::uint8_t> renderTop(const LoadedScene& loaded, const Camera& cam
   return toRgba8(image);
 }
 
-void outlineBox(Canvas& canvas, int panelX, const Camera& camera, const Bounds& box, double radius, const Color& color) {
+void outlineBox(Canvas& canvas, int panelX, const Camera& camera, const Bounds& box, double radius,
+                const Color& color) {
   if (box.empty()) return;
   const double y = box.max.y;
   const glm::dvec2 corners[4] = {toPixel(camera, {box.min.x, y, box.min.z}), toPixel(camera, {box.max.x, y, box.min.z}),
-                                 toPixel(camera, {box.max.x, y, box.max.z}), toPixel(camera, {box.min.x, y, box.max.z})};
+                                 toPixel(camera, {box.max.x, y, box.max.z}),
+                                 toPixel(camera, {box.min.x, y, box.max.z})};
   for (int i = 0; i < 4; ++i) canvas.line(panelX, camera.width, corners[i], corners[(i + 1) % 4], radius, color);
 }
 
@@ -179,7 +182,8 @@ void writePathsFigure(const PathsFigureOptions& options, const std::filesystem::
   }
   const Bounds region = approachRegion(loaded.hierarchy, loaded.scene.roots);
 
-  const TopExtent extents[2] = {extentAround(everything, 0.06), extentAround(bounds.empty() ? everything : bounds, 0.1)};
+  const TopExtent extents[2] = {extentAround(everything, 0.06),
+                                extentAround(bounds.empty() ? everything : bounds, 0.1)};
   const Camera cameras[2] = {topCamera(extents[0], bounds, w, h), topCamera(extents[1], bounds, w, h)};
   const std::vector<std::uint8_t> overview = renderTop(loaded, cameras[0]), closeUp = renderTop(loaded, cameras[1]);
   Canvas canvas{2 * w, h, contactSheet(w, h, 2, {overview, closeUp}, kBackground)};
@@ -193,22 +197,25 @@ void writePathsFigure(const PathsFigureOptions& options, const std::filesystem::
     for (std::size_t p : {std::size_t(0), std::size_t(2), std::size_t(1)})
       drawPath(canvas, panelX, cameras[panel], paths[p], kPaths[p] != CameraPath::Approach, scale, kPathColors[p]);
   }
+  for (std::uint32_t y = 0; y < h; ++y)  // a line between the panels
+    std::copy(kBoxColor.begin(), kBoxColor.end(), &canvas.rgb[(std::size_t(y) * canvas.width + w) * 3]);
   drawLegend(canvas, scale);
   writeImage8(folder / "paths.png", canvas.width, canvas.height, 3, canvas.rgb);
 
-  nlohmann::json json = {{"figure", "paths"},
-                         {"scene", loaded.name},
-                         {"orbit", {options.orbit.azimuthDegrees, options.orbit.elevationDegrees, options.orbit.distance}},
-                         {"frames", paths.front().size()},
-                         {"bounds", boundsJson(bounds)},
-                         {"approach_region", boundsJson(region)},
-                         {"image",
-                          {{"file", "paths.png"},
-                           {"panel_width", w},
-                           {"panel_height", h},
-                           {"view", "top: orthographic, looking down -Y, +X right, +Z down"},
-                           {"panels", {extentJson(extents[0], cameras[0]), extentJson(extents[1], cameras[1])}}}},
-                         {"paths", nlohmann::json::object()}};
+  nlohmann::json json = {
+      {"figure", "paths"},
+      {"scene", loaded.name},
+      {"orbit", {options.orbit.azimuthDegrees, options.orbit.elevationDegrees, options.orbit.distance}},
+      {"frames", paths.front().size()},
+      {"bounds", boundsJson(bounds)},
+      {"approach_region", boundsJson(region)},
+      {"image",
+       {{"file", "paths.png"},
+        {"panel_width", w},
+        {"panel_height", h},
+        {"view", "top: orthographic, looking down -Y, +X right, +Z down"},
+        {"panels", {extentJson(extents[0], cameras[0]), extentJson(extents[1], cameras[1])}}}},
+      {"paths", nlohmann::json::object()}};
   for (std::size_t p = 0; p < paths.size(); ++p) {
     nlohmann::json frames = nlohmann::json::array();
     for (const PathView& view : paths[p])

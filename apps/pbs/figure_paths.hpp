@@ -12,15 +12,16 @@
 namespace pbs::cli {
 
 struct PathsFigureOptions {
-  std::string scene = "default";  // a .gltf/.glb file, or "default"
-  Orbit orbit;                    // the orbit's start, and the approach's direction and start distance
-  std::uint32_t frames = 36;      // per path
+  std::string scene = "default";              // a .gltf/.glb file, or "default"
+  Orbit orbit;                                // the orbit's start, and the approach's direction and start distance
+  std::uint32_t frames = 36;                  // per path
   std::uint32_t width = 1024, height = 1024;  // of each of the two panels
 };
 
 // Path colours (sRGB), in the order orbit, approach, flythrough; the legend's squares, top left, are
 // in the same order.
-inline constexpr std::array<std::array<std::uint8_t, 3>, 3> kPathColors = {{{31, 119, 180}, {214, 39, 40}, {44, 160, 44}}};
+inline constexpr std::array<std::array<std::uint8_t, 3>, 3> kPathColors = {
+    {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}}};
 
 // Writes `folder`/paths.png and paths.json (folder created if missing). paths.png is two panels side by
 // side, each a top view (orthographic, looking down −Y; +X to the right, +Z down) of the scene rendered

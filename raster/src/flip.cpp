@@ -1,16 +1,16 @@
 // LDR-FLIP of two sRGB pictures: checks the input, runs the colour and feature pipelines by rows, pools the map.
 #include <pbs/raster/flip.hpp>
 
+#include "flip_branchless.hpp"
 #include "flip_color.hpp"
 #include "flip_features.hpp"
-#include "flip_branchless.hpp"
+#include "flip_median.hpp"
 #include "simd_clones.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -33,16 +33,6 @@ void requireValidInput(std::size_t referenceSize, std::size_t testSize, std::uin
 PBS_AVX2_CLONES
 void combineErrors(float* colorError, const float* featureError, std::size_t count) {
   for (std::size_t i = 0; i < count; ++i) colorError[i] = flip::powPositive(colorError[i], 1.0f - featureError[i]);
-}
-
-// The median by partial sorting of `values` (which it reorders).
-double median(std::vector<float>& values) {
-  const std::size_t middle = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(middle), values.end());
-  const double upper = values[middle];
-  if (values.size() % 2 == 1) return upper;
-  const double lower = *std::max_element(values.begin(), values.begin() + std::ptrdiff_t(middle));
-  return 0.5 * (lower + upper);
 }
 
 }  // namespace
@@ -82,13 +72,8 @@ FlipResult computeFlip(std::span<const glm::vec3> reference, std::span<const glm
   for (double s : rowSums) total += s;
   result.mean = total / double(map.size());
   result.max = *std::max_element(rowMaxima.begin(), rowMaxima.end());
-  if (keepMap) {
-    std::vector<float> copy = map;
-    result.median = median(copy);
-    result.map = std::move(map);
-  } else {
-    result.median = median(map);
-  }
+  result.median = flip::medianOfNonNegative(map);
+  if (keepMap) result.map = std::move(map);
   return result;
 }
 

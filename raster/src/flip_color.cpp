@@ -1,4 +1,4 @@
-// FLIP's colour pipeline (paper section 4.1): YCxCz planes, contrast-sensitivity filtering, Hunt-adjusted HyAB, ΔEc.
+// FLIP's colour pipeline: YCxCz planes, contrast-sensitivity filtering, Hunt-adjusted HyAB, the colour error ΔEc.
 #include "flip_color.hpp"
 
 #include "flip_color_space.hpp"
@@ -7,7 +7,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -125,10 +124,10 @@ struct RowScratch {
 // The filtered Y', Cx and Cz of row y.
 void filterOpponentRow(const ColorFilters& filters, const OpponentPlanes& planes, std::uint32_t y, RowScratch& scratch,
                        FilteredRow& out) {
-  const auto separable = [&](const Plane& plane, const HalfKernel& kernel, float* out) {
+  const auto separable = [&](const Plane& plane, const HalfKernel& kernel, float* filtered) {
     filterDown(plane, y, kernel, scratch.column.data());
     scratch.padded.assign(scratch.column.data());
-    filterAlong(scratch.padded, kernel, out);
+    filterAlong(scratch.padded, kernel, filtered);
   };
   separable(planes.achromatic, filters.achromatic, out.achromatic.data());
   separable(planes.redGreen, filters.redGreen, out.redGreen.data());

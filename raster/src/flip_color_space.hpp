@@ -80,7 +80,7 @@ PBS_CLONE_INLINE glm::vec3 multiply(const Matrix3& m, const glm::vec3& v) {
 
 // IEC 61966-2-1 decoding of one channel, for values in [0, 1].
 PBS_CLONE_INLINE float srgbToLinear(float c) {
-  const float curve = powPositive((c + 0.055f) * (1.0f / 1.055f), 2.4f);
+  const float curve = powTwelveFifths((c + 0.055f) * (1.0f / 1.055f));
   const float line = c * (1.0f / 12.92f);
   return selectFloat(c <= 0.04045f, line, curve);
 }

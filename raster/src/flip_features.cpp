@@ -1,4 +1,4 @@
-// FLIP's feature pipeline (paper section 4.2): edges and points of the luminance, and their difference ΔEf.
+// FLIP's feature pipeline: edges and points of the luminance, and their difference ΔEf.
 #include "flip_features.hpp"
 
 #include "flip_branchless.hpp"
@@ -14,17 +14,21 @@ namespace {
 
 constexpr double kFeatureWidthDegrees = 0.082;  // the paper's w: σ = w/2 degrees
 
-// Scales the taps so that the positive ones sum to 1 and the negative ones to −1, `centre` (the
-// tap at 0, not stored) counted once and the others on both sides. A kernel with no tap of one sign
-// (at a resolution too coarse for it) is all zeros: the detector sees nothing rather than a
-// biased response.
+// Scales a derivative kernel so that its positive taps sum to 1 and its negative ones to −1. `centre`
+// is its tap at 0 (implied by the shape, not stored); `taps` are those at +1 … +radius, and each
+// stands for two, its mirror at −k being equal (even kernel) or opposite (odd). A kernel with no
+// tap of one sign (at a resolution too coarse for it) is all zeros: the detector sees nothing rather
+// than a biased response.
 HalfKernel balancedDerivative(KernelShape shape, double centre, const std::vector<double>& taps) {
   double positive = std::max(centre, 0.0), negative = std::max(-centre, 0.0);
   for (double t : taps) {
-    // Each stored tap stands for two: itself at +k and its mirror at −k, equal for an even kernel
-    // and opposite for an odd one.
     const double mirrored = shape == KernelShape::slope ? -t : t;
-    for (double v : {t, mirrored}) (v > 0.0 ? positive : negative) += std::abs(v);
+    for (double v : {t, mirrored}) {
+      if (v > 0.0)
+        positive += v;
+      else
+        negative -= v;
+    }
   }
   HalfKernel kernel{shape, std::vector<float>(taps.size(), 0.0f)};
   if (positive == 0.0 || negative == 0.0) return kernel;
@@ -64,8 +68,9 @@ void featureErrorOfRow(const float* refEdges, const float* refPoints, const floa
   }
 }
 
-// Edge and point magnitudes of row y, on luminance y = (Y' + 16)/116. The detectors are zero-sum and
-// linear, so they are run on Y' itself and scaled by 1/116: the offset cancels exactly.
+// Edge and point magnitudes of row y, for luminance Y/Yn = (Y' + 16)/116. Each 2-D detector (a
+// derivative along one axis times a Gaussian along the other) sums to zero, so the offset adds
+// nothing and the scale factors out: they run on Y' itself and the magnitudes are divided by 116.
 void featureMagnitudes(const FeatureFilters& filters, const Plane& achromatic, std::uint32_t y, RowScratch& s,
                        float* edges, float* points) {
   filterDown(achromatic, y, filters.gaussian, s.smoothed.data());
@@ -100,7 +105,7 @@ FeatureFilters makeFeatureFilters(double pixelsPerDegree) {
   filters.gaussian = HalfKernel{KernelShape::smoothing, {}};
   for (double g : gaussian) filters.gaussian.weights.push_back(float(g / gaussianSum));
   filters.edge = balancedDerivative(KernelShape::slope, 0.0, edge);
-  filters.point = balancedDerivative(KernelShape::curvature, -1.0, point);
+  filters.point = balancedDerivative(KernelShape::curvature, -1.0, point);  // (0 − 1)·exp(0) at the centre
   return filters;
 }
 

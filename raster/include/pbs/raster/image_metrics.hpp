@@ -74,11 +74,11 @@ ImageDifference compareImages(const RgbaImage& a, const RgbaImage& b, const Comp
 
 // Pass/fail limits for image tests, in the manner of OpenImageIO's idiff: each one set is checked.
 struct ImageThresholds {
-  std::optional<double> maxFlip;              // flipMean
-  std::optional<double> minPsnr;              // psnr (whole image)
-  std::optional<double> minForegroundPsnr;    // foregroundPsnr
-  std::optional<double> maxHoles;             // holeFraction
-  std::optional<double> maxBloat;             // bloatFraction
+  std::optional<double> maxFlip{};              // flipMean
+  std::optional<double> minPsnr{};              // psnr (whole image)
+  std::optional<double> minForegroundPsnr{};    // foregroundPsnr
+  std::optional<double> maxHoles{};             // holeFraction
+  std::optional<double> maxBloat{};             // bloatFraction
 };
 
 // One limit a comparison broke: the option's name ("--max-flip", …), the measured value and the limit.

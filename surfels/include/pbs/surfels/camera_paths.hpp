@@ -61,8 +61,8 @@ enum class CameraPath { Orbit, Approach, Flythrough };
 
 inline constexpr double kApproachRegionFraction = 0.2;
 inline constexpr double kApproachMinStart = 1.1;  // bounding radii beyond |T − C|, at least
-inline constexpr double kFlySpread = 1.15;  // semi-axes in standard deviations of the triangles
-inline constexpr double kFlyRoom = 0.9;     // at most this much of the way from the loop's centre to the box
+inline constexpr double kFlySpread = 1.15;        // semi-axes in standard deviations of the triangles
+inline constexpr double kFlyRoom = 0.9;           // at most this much of the way from the loop's centre to the box
 inline constexpr double kFlyFlatHeight = 0.05;
 inline constexpr double kFlyLowHeight = 0.10;   // of H, the loop's lowest point
 inline constexpr double kFlyHighHeight = 0.40;  // of H, the loop's highest point

@@ -28,7 +28,7 @@ const char* renderModeName(RenderMode mode);
 
 struct FrameOptions {
   RenderMode mode = RenderMode::Exact;
-  LodOptions lod;  // surfels and simplified modes
+  LodOptions lod{};  // surfels and simplified modes
   // Samples per pixel (supersampling.hpp: 1, 4, 16, 64, 256): each a whole pass at its sub-pixel
   // position, shaded and summed, then box-filtered into colour with fractional alpha. Memory does not
   // grow with the count: one G-buffer and one sum image.
