@@ -159,9 +159,9 @@ TEST(Flip, FlatColoursScoreTheirColourErrorFromThePaper) {
   for (const auto& [a, b] : pairs) {
     const double expected = colourErrorOfFlatColours(a, b);
     const FlipResult r = computeFlip(uniformImage(w, h, a), uniformImage(w, h, b), w, h, kDefaultPixelsPerDegree, true);
-    EXPECT_NEAR(r.mean, expected, 2e-5) << a.r << " " << a.g << " " << a.b << " vs " << b.r << " " << b.g << " " << b.b;
-    EXPECT_NEAR(r.median, expected, 2e-5);
-    EXPECT_NEAR(r.max, expected, 2e-5);
+    EXPECT_NEAR(r.mean, expected, 2e-6) << a.r << " " << a.g << " " << a.b << " vs " << b.r << " " << b.g << " " << b.b;
+    EXPECT_NEAR(r.median, expected, 2e-6);
+    EXPECT_NEAR(r.max, expected, 2e-6);
     const auto [low, high] = std::minmax_element(r.map.begin(), r.map.end());
     EXPECT_EQ(*low, *high) << "a flat pair is flat everywhere, borders included";
   }

@@ -41,8 +41,8 @@ PBS_CLONE_INLINE float log2Positive(float x) {
   return exponent + lnM * float(std::numbers::log2e);
 }
 
-// 2^z for z in about [−126, 128): z = n + f with n whole and |f| ≤ ½, e^(f·ln 2) by its Taylor series
-// to the 7th power (error < 1e-8), and 2^n put straight into the exponent bits. Below −126, 0.
+// 2^z for z in [−126, 127] (0 below, 2^127 above): z = n + f with n whole and |f| ≤ ½, e^(f·ln 2)
+// by its Taylor series to the 7th power (error < 1e-8), and 2^n put straight into the exponent bits.
 PBS_CLONE_INLINE float exp2Bounded(float z) {
   const bool underflow = z < -126.0f;
   const float clamped = selectFloat(underflow, -126.0f, selectFloat(z > 127.0f, 127.0f, z));

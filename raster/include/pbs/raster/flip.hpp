@@ -28,14 +28,17 @@ struct FlipResult {
 // paper defines it:
 //   - colour: sRGB → linear → XYZ → YCxCz; each opponent channel filtered with the paper's
 //     contrast-sensitivity functions (Gaussians in degrees of visual angle, 2-D kernels normalised to
-//     sum 1); back to linear RGB clamped to [0, 1] → CIELAB (D65) → Hunt-adjusted → HyAB distance,
-//     raised to 0.7 and remapped to [0, 1] against the green-to-blue distance (pc 0.4, pt 0.95);
+//     sum 1, one radius for all: ⌈3·√(0.04/2π²)·pixelsPerDegree⌉); back to linear RGB clamped to
+//     [0, 1] → CIELAB (D65) → Hunt-adjusted → HyAB distance, raised to 0.7 and remapped to [0, 1]
+//     against the green-to-blue distance (pc 0.4, pt 0.95);
 //   - features: edges (first Gaussian derivative) and points (second derivative) of the unfiltered
-//     luminance, σ = 0.041 degrees; ΔEf = (max(|Δedge|, |Δpoint|) / √2)^0.5;
+//     luminance, σ = 0.041 degrees, radius ⌈3σ⌉; ΔEf = (max(|Δedge|, |Δpoint|) / √2)^0.5;
 //   - per pixel FLIP = ΔEc^(1 − ΔEf).
 // Borders are clamp-to-edge (outside pixels repeat the nearest edge pixel), as in NVIDIA's tool.
 // Inputs are clamped to [0, 1] first, NaN counting as 0 (+∞ as 1); alpha, if any, must already be
-// composited. The result is symmetric: swapping reference and test gives the same bits.
+// composited. Per-pixel values agree with NVIDIA's implementation to about 1e-4. Pixels farther than
+// the kernel radius from every difference score exactly 0 (identical images everywhere); swapping
+// reference and test gives the same bits.
 // Throws std::invalid_argument when either span is not width·height long, or pixelsPerDegree is not
 // a finite number in (0, kMaxPixelsPerDegree]. An empty image gives all zeros.
 // Runs in parallel by rows; the result is bit-identical for any thread count.
