@@ -59,7 +59,8 @@ Scale makeScale(const PlotAxis& axis, double dataMin, double dataMax) {
   if (axis.log) {
     double a = std::log10(lo), b = std::log10(hi);
     if (!axis.min) a = std::floor(a);
-    if (!axis.max) b = std::ceil(b);
+    // A fitted top keeps a quarter decade above the data, so a marker's label beside it stays inside.
+    if (!axis.max) b = std::max(std::ceil(b), b + 0.25);
     if (b <= a) b = a + 1.0;
     scale.lo = a;
     scale.hi = b;

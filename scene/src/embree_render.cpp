@@ -5,12 +5,19 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <glm/glm.hpp>
+
 #include <stdexcept>
 
 namespace pbs {
 namespace {
 
 constexpr std::uint32_t kBlock = 4;  // 4×4 pixels, one rtcIntersect16 packet
+
+bool finiteRay(const Ray& ray) {
+  const auto finite = [](const glm::dvec3& v) { return !glm::any(glm::isnan(v)) && !glm::any(glm::isinf(v)); };
+  return finite(ray.origin) && finite(ray.direction);
+}
 
 }  // namespace
 
@@ -28,7 +35,9 @@ void EmbreeScene::render(const Camera& camera, Framebuffer& framebuffer) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    RTCRayHit16 packet;
+    // Lanes left invalid still hold whatever they held: zeros or an earlier block's valid rays, never
+    // garbage, which Embree's coherent traversal was seen to trip on (an assertion in its kernels).
+    RTCRayHit16 packet{};
     alignas(64) int valid[16];
     std::size_t pixels[16];
 
@@ -41,7 +50,9 @@ void EmbreeScene::render(const Camera& camera, Framebuffer& framebuffer) const {
           if (px >= camera.width || py >= camera.height) continue;
           pixels[lane] = std::size_t(py) * camera.width + px;
           const RaySegment segment = rays.at(px + 0.5, py + 0.5);
-          if (!(segment.tNear <= segment.tFar)) {
+          // A camera whose volume has no extent (a zero-size capture view) gives rays of no direction
+          // (NaN or infinite): they hit nothing, and Embree must never see them.
+          if (!(segment.tNear <= segment.tFar) || !finiteRay(segment.ray)) {
             clearPixel(framebuffer, pixels[lane]);
             continue;
           }
