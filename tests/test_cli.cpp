@@ -96,9 +96,16 @@ TEST(Cli, DemoRunsOnTheEmbeddedDefault) {
   EXPECT_LT(json["arrays"].get<int>(), json["surfel_nodes"].get<int>()) << "instances share arrays";
   const auto& frame = json["frame"];
   EXPECT_GT(frame["surfels_drawn"].get<std::uint64_t>(), 0u);
-  EXPECT_LT(frame["triangles_drawn"].get<std::uint64_t>(), frame["exact_triangles"].get<std::uint64_t>());
-  EXPECT_GT(frame["ssim"].get<double>(), 0.8) << "the surfel image resembles the exact one";
-  for (const char* name : {"default.surfels", "surfels.png", "exact.png"})
+  EXPECT_LT(frame["triangles_drawn"].get<std::uint64_t>(), json["triangles"].get<std::uint64_t>());
+  EXPECT_EQ(frame["reference_samples"], 64);
+  for (const char* key : {"surfels", "embree_1", "embree_4"}) {
+    EXPECT_GT(frame[key]["flip"].get<double>(), 0.0) << key;
+    EXPECT_LT(frame[key]["flip"].get<double>(), 1.0) << key;
+  }
+  EXPECT_GT(frame["surfels"]["ssim"].get<double>(), 0.8) << "the surfel image resembles the reference";
+  EXPECT_LT(frame["embree_4"]["flip"].get<double>(), frame["embree_1"]["flip"].get<double>())
+      << "more rays per pixel come closer to the reference";
+  for (const char* name : {"default.surfels", "surfels.png", "embree.png", "reference.png"})
     EXPECT_TRUE(std::filesystem::exists(scratch / name)) << name;
 }
 

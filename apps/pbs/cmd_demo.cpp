@@ -1,5 +1,6 @@
 // `pbs demo`: the main job on the embedded default scene, end to end: generate and summarise it, make
-// surfels for every complex node, render one view with them and exactly, and compare the two.
+// surfels for every complex node, render one view with them and with Embree's rays, and measure both
+// against a converged reference.
 #include "commands.hpp"
 #include "image_files.hpp"
 #include "progress_meter.hpp"
@@ -10,6 +11,7 @@
 #include <pbs/raster/image_metrics.hpp>
 #include <pbs/raster/orbit_camera.hpp>
 #include <pbs/raster/thread_arena.hpp>
+#include <pbs/scene/embree_caster.hpp>
 #include <pbs/surfels/frame_renderer.hpp>
 #include <pbs/surfels/scene_surfels.hpp>
 #include <pbs/surfels/surfelize.hpp>
@@ -32,9 +34,13 @@ struct DemoOptions {
   int threads = 0;
 };
 
-RgbaImage asImage(std::uint32_t width, std::uint32_t height, std::vector<glm::vec4> pixels) {
-  return RgbaImage{width, height, std::move(pixels)};
-}
+// The converged reference every frame of the demo is measured against, as `pbs eval`'s default.
+constexpr std::uint32_t kReferenceSamples = 64;
+
+struct DemoFrame {
+  const char* name;
+  FrameResult frame;
+};
 
 void run(const DemoOptions& options) {
   const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
@@ -58,16 +64,27 @@ void run(const DemoOptions& options) {
   const Bounds& bounds = loaded.summary.bounds;
   const Camera camera =
       orbitCamera(bounds.center(), 0.5 * glm::length(bounds.size()), Orbit{}, options.width, options.height);
-  FrameRenderer withSurfels(loaded.scene, loaded.hierarchy, {.mode = RenderMode::Surfels, .lod = {}}, options.width,
-                            options.height, {.surfels = &surfels});
-  FrameRenderer exactly(loaded.scene, loaded.hierarchy, {.mode = RenderMode::Exact, .lod = {}}, options.width,
-                        options.height);
-  const FrameResult fast = withSurfels.render(camera);
-  const FrameResult exact = exactly.render(camera);
-  writeImage8(folder / "surfels.png", options.width, options.height, 4, toRgba8(fast.image));
-  writeImage8(folder / "exact.png", options.width, options.height, 4, toRgba8(exact.image));
-  const ImageDifference difference = compareImages(asImage(options.width, options.height, exact.image),
-                                                   asImage(options.width, options.height, fast.image));
+  // The surfels against the exact renderer a user without a GPU has, Embree's rays at 1 and 4 samples
+  // per pixel, all measured against the converged reference: rays at kReferenceSamples.
+  const EmbreeScene rays(loaded.scene, loaded.hierarchy);
+  const auto frameOf = [&](RenderMode mode, std::uint32_t samples) {
+    FrameRenderer renderer(loaded.scene, loaded.hierarchy, {.mode = mode, .lod = {}, .samples = samples}, options.width,
+                           options.height, {.surfels = &surfels, .simplified = nullptr, .rays = &rays});
+    return renderer.render(camera);
+  };
+  const FrameResult reference = frameOf(RenderMode::Embree, kReferenceSamples);
+  const DemoFrame frames[] = {{"surfels", frameOf(RenderMode::Surfels, 1)},
+                              {"embree, 1 sample", frameOf(RenderMode::Embree, 1)},
+                              {"embree, 4 samples", frameOf(RenderMode::Embree, 4)}};
+  writeImage8(folder / "reference.png", options.width, options.height, 4, toRgba8(reference.image));
+  writeImage8(folder / "surfels.png", options.width, options.height, 4, toRgba8(frames[0].frame.image));
+  writeImage8(folder / "embree.png", options.width, options.height, 4, toRgba8(frames[1].frame.image));
+  const RgbaImage referenceImage{options.width, options.height, reference.image};
+  std::vector<ImageDifference> errors;
+  for (const DemoFrame& f : frames)
+    errors.push_back(compareImages(RgbaImage{options.width, options.height, f.frame.image}, referenceImage));
+  const FrameResult& fast = frames[0].frame;
+  const double speedup = frames[1].frame.seconds / std::max(fast.seconds, 1e-9);
 
   if (options.json) {
     nlohmann::json report = summaryJson(loaded);
@@ -77,14 +94,19 @@ void run(const DemoOptions& options) {
     report["surfelize_seconds"] = surfelizeSeconds;
     report["frame"] = {{"width", options.width},
                        {"height", options.height},
-                       {"surfels_seconds", fast.seconds},
-                       {"exact_seconds", exact.seconds},
+                       {"reference_samples", kReferenceSamples},
+                       {"reference_seconds", reference.seconds},
                        {"surfels_drawn", fast.stats.surfels},
                        {"triangles_drawn", fast.stats.triangles},
-                       {"exact_triangles", exact.stats.triangles},
-                       {"psnr", finiteOrNull(difference.psnr)},
-                       {"ssim", difference.ssim},
-                       {"hole_fraction", difference.holeFraction}};
+                       {"surfels_speedup_over_embree", speedup}};
+    const char* keys[] = {"surfels", "embree_1", "embree_4"};
+    for (std::size_t i = 0; i < std::size(frames); ++i)
+      report["frame"][keys[i]] = {{"seconds", frames[i].frame.seconds},
+                                  {"flip", errors[i].flipForegroundMean},
+                                  {"foreground_psnr", finiteOrNull(errors[i].foregroundPsnr)},
+                                  {"ssim", errors[i].ssim},
+                                  {"hole_fraction", errors[i].holeFraction},
+                                  {"bloat_fraction", errors[i].bloatFraction}};
     report["output"] = folder.string();
     std::cout << report.dump(2) << "\n";
     return;
@@ -94,13 +116,16 @@ void run(const DemoOptions& options) {
               withThousands(stats.nodesWithSurfels).c_str(), withThousands(settings.file.threshold).c_str(),
               withThousands(stats.arrays).c_str(), withThousands(stats.surfels).c_str(), surfelizeSeconds,
               settings.file.resolution);
-  std::printf("render     %ux%u: surfels %.1f ms (%s surfels, %s triangles), exact %.1f ms (%s triangles): %.1fx\n",
-              options.width, options.height, fast.seconds * 1e3, withThousands(fast.stats.surfels).c_str(),
-              withThousands(fast.stats.triangles).c_str(), exact.seconds * 1e3,
-              withThousands(exact.stats.triangles).c_str(), exact.seconds / std::max(fast.seconds, 1e-9));
-  std::printf("compare    PSNR %.1f dB, SSIM %.4f, holes %.4f (surfels against exact)\n", difference.psnr,
-              difference.ssim, difference.holeFraction);
-  std::printf("wrote      %s/{default.surfels, surfels.png, exact.png}\n", folder.string().c_str());
+  std::printf("render     %ux%u against Embree at %u samples per pixel (%.1f s); FLIP over the foreground, lower is "
+              "better:\n",
+              options.width, options.height, kReferenceSamples, reference.seconds);
+  for (std::size_t i = 0; i < std::size(frames); ++i)
+    std::printf("  %-18s %8.1f ms   FLIP %.4f   foreground PSNR %5.1f dB   holes %.3f   bloat %.3f\n", frames[i].name,
+                frames[i].frame.seconds * 1e3, errors[i].flipForegroundMean, errors[i].foregroundPsnr,
+                errors[i].holeFraction, errors[i].bloatFraction);
+  std::printf("  surfels draw %s surfels and %s triangles, %.1fx the speed of one ray per pixel\n",
+              withThousands(fast.stats.surfels).c_str(), withThousands(fast.stats.triangles).c_str(), speedup);
+  std::printf("wrote      %s/{default.surfels, surfels.png, embree.png, reference.png}\n", folder.string().c_str());
 }
 
 }  // namespace
@@ -112,9 +137,10 @@ void addDemoCommand(CLI::App& app) {
   options->surfelize.file.resolution = 256;
   SurfelFileOptions& file = options->surfelize.file;
   CLI::App* command = app.add_subcommand(
-      "demo", "The main job on the embedded default scene (or SCENE): surfelize, render with surfels and exactly, compare");
+      "demo", "The main job on the embedded default scene (or SCENE): surfelize, render with surfels and with rays, "
+              "measure both against a converged reference");
   command->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->capture_default_str();
-  command->add_option("-o,--output", options->output, "folder for the .surfels file and the two images")
+  command->add_option("-o,--output", options->output, "folder for the .surfels file and the three images")
       ->capture_default_str();
   command->add_option("--threshold", file.threshold, "nodes above this many triangles get surfels")
       ->capture_default_str();
