@@ -1,6 +1,8 @@
 // The orbit, approach and flythrough paths of camera_paths.hpp.
 #include "pbs/surfels/camera_paths.hpp"
 
+#include "pbs/raster/value_names.hpp"
+
 #include <glm/gtc/constants.hpp>
 
 #include <algorithm>
@@ -9,6 +11,9 @@
 
 namespace pbs {
 namespace {
+
+constexpr ValueNames<CameraPath, 3> kPathNames{
+    {{{CameraPath::Orbit, "orbit"}, {CameraPath::Approach, "approach"}, {CameraPath::Flythrough, "flythrough"}}}};
 
 // The scene's box relative to its centre, with a box of no diagonal replaced as the header says.
 struct SceneFrame {
@@ -211,21 +216,9 @@ std::vector<PathView> flythroughPath(const Hierarchy& hierarchy, std::span<const
 
 }  // namespace
 
-std::optional<CameraPath> cameraPathFromName(std::string_view name) {
-  if (name == "orbit") return CameraPath::Orbit;
-  if (name == "approach") return CameraPath::Approach;
-  if (name == "flythrough") return CameraPath::Flythrough;
-  return std::nullopt;
-}
+std::optional<CameraPath> cameraPathFromName(std::string_view name) { return kPathNames.parse(name); }
 
-const char* cameraPathName(CameraPath path) {
-  switch (path) {
-    case CameraPath::Orbit: return "orbit";
-    case CameraPath::Approach: return "approach";
-    case CameraPath::Flythrough: return "flythrough";
-  }
-  return "orbit";
-}
+const char* cameraPathName(CameraPath path) { return kPathNames.name(path).data(); }
 
 Bounds approachRegion(const Hierarchy& hierarchy, std::span<const std::uint32_t> roots) {
   const Bounds scene = sceneBounds(hierarchy, roots);

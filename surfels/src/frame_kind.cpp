@@ -2,6 +2,7 @@
 #include "pbs/surfels/frame_kind.hpp"
 
 #include "pbs/raster/framebuffer.hpp"
+#include "pbs/raster/value_names.hpp"
 #include "pbs/scene/scene_draws.hpp"
 
 #include <tbb/blocked_range.h>
@@ -11,20 +12,15 @@
 
 namespace pbs {
 
-const char* frameKindName(FrameKind kind) {
-  switch (kind) {
-    case FrameKind::Near: return "near";
-    case FrameKind::Mid: return "mid";
-    case FrameKind::Far: return "far";
-  }
-  return "unknown";
-}
+namespace {
 
-std::optional<FrameKind> frameKindFromName(std::string_view name) {
-  for (FrameKind kind : {FrameKind::Near, FrameKind::Mid, FrameKind::Far})
-    if (name == frameKindName(kind)) return kind;
-  return std::nullopt;
-}
+constexpr ValueNames<FrameKind, 3> kKindNames{{{{FrameKind::Near, "near"}, {FrameKind::Mid, "mid"}, {FrameKind::Far, "far"}}}};
+
+}  // namespace
+
+const char* frameKindName(FrameKind kind) { return kKindNames.name(kind).data(); }
+
+std::optional<FrameKind> frameKindFromName(std::string_view name) { return kKindNames.parse(name); }
 
 FrameKind frameKindOf(double geometryShare) {
   if (geometryShare >= kNearGeometryShare) return FrameKind::Near;

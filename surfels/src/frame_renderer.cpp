@@ -6,9 +6,9 @@
 
 #include <pbs/raster/headlight_shading.hpp>
 #include <pbs/raster/supersampling.hpp>
+#include <pbs/raster/value_names.hpp>
 #include <pbs/surfels/simplified_lod.hpp>
 
-#include <array>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -16,24 +16,16 @@
 namespace pbs {
 namespace {
 
-constexpr std::array<std::pair<RenderMode, const char*>, 4> kModeNames{{{RenderMode::Surfels, "surfels"},
-                                                                        {RenderMode::Exact, "exact"},
-                                                                        {RenderMode::Embree, "embree"},
-                                                                        {RenderMode::Simplified, "simplified"}}};
+constexpr ValueNames<RenderMode, 4> kModeNames{{{{RenderMode::Surfels, "surfels"},
+                                                 {RenderMode::Exact, "exact"},
+                                                 {RenderMode::Embree, "embree"},
+                                                 {RenderMode::Simplified, "simplified"}}}};
 
 }  // namespace
 
-std::optional<RenderMode> renderModeFromName(std::string_view name) {
-  for (const auto& [mode, text] : kModeNames)
-    if (name == text) return mode;
-  return std::nullopt;
-}
+std::optional<RenderMode> renderModeFromName(std::string_view name) { return kModeNames.parse(name); }
 
-const char* renderModeName(RenderMode mode) {
-  for (const auto& [known, text] : kModeNames)
-    if (known == mode) return text;
-  return "unknown";
-}
+const char* renderModeName(RenderMode mode) { return kModeNames.name(mode).data(); }
 
 FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, const FrameOptions& options,
                              std::uint32_t width, std::uint32_t height, const FrameSources& sources)
