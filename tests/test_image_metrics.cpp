@@ -230,6 +230,23 @@ TEST(ImageMetrics, FlipIsComputedOnTheCompositedPair) {
   EXPECT_EQ(compareImages(a, b, {.flip = false}).flipMean, 0.0);
 }
 
+TEST(ImageMetrics, NonFiniteValuesCountAsZero) {
+  const RgbaImage b = patternImage(32, 24, 3);
+  RgbaImage bad = b, zeroed = b;
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  bad.pixels[5] = glm::vec4(nan, 0.5f, -inf, 1.0f);
+  zeroed.pixels[5] = glm::vec4(0.0f, 0.5f, 0.0f, 1.0f);
+  bad.pixels[40] = glm::vec4(0.3f, 0.3f, 0.3f, nan);  // coverage NaN: background
+  zeroed.pixels[40] = glm::vec4(0.3f, 0.3f, 0.3f, 0.0f);
+  const ImageDifference d = compareImages(bad, b), expected = compareImages(zeroed, b);
+  for (double value : {d.rmse, d.psnr, d.foregroundPsnr, d.ssim, d.flipMean, d.holeFraction, d.bloatFraction})
+    EXPECT_TRUE(std::isfinite(value));
+  EXPECT_EQ(d.rmse, expected.rmse);
+  EXPECT_EQ(d.flipMean, expected.flipMean);
+  EXPECT_EQ(d.holes, expected.holes);
+  EXPECT_EQ(d.foregroundPixels, expected.foregroundPixels);
+}
+
 TEST(ImageMetrics, ThresholdsReportEveryLimitBroken) {
   ImageDifference d;
   d.flipMean = 0.05;

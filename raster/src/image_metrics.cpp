@@ -131,9 +131,14 @@ struct RowSums {
 
 float coverage(float alpha) { return alpha > 0.0f ? std::min(alpha, 1.0f) : 0.0f; }  // NaN counts as 0
 
+// Straight colour over the background; a NaN or infinite colour component counts as 0, so one bad
+// pixel of a float image costs its own error and cannot turn every sum into NaN.
 glm::vec3 composite(const glm::vec4& pixel, const glm::vec3& background) {
   const float alpha = coverage(pixel.a);
-  return glm::vec3(pixel) * alpha + background * (1.0f - alpha);
+  glm::vec3 colour(pixel);
+  for (int c = 0; c < 3; ++c)
+    if (!std::isfinite(colour[c])) colour[c] = 0.0f;
+  return colour * alpha + background * (1.0f - alpha);
 }
 
 double psnrOf(double squares, double values) {

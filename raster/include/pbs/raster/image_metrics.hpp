@@ -32,8 +32,9 @@ struct CompareOptions {
   bool keepFlipMap = false;       // keep FLIP's per-pixel values in ImageDifference::flipMap
 };
 
-// A compared with B (the reference). Coverage is alpha (clamped to [0, 1]): 0 or 1 at one sample per
-// pixel, the fraction of samples that hit a surface when supersampled.
+// A compared with B (the reference). Coverage is alpha (clamped to [0, 1], NaN as 0): 0 or 1 at one
+// sample per pixel, the fraction of samples that hit a surface when supersampled. A NaN or infinite
+// colour component counts as 0.
 struct ImageDifference {
   // Over the whole composited image, background included: R, G, B in 0..1 units, peak 1 (HDR values
   // above 1 are not rescaled); psnr +infinity when rmse is 0.
