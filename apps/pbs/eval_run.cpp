@@ -2,6 +2,8 @@
 // over the path so its timings match `pbs render`.
 #include "eval_run.hpp"
 
+#include "report_numbers.hpp"
+
 #include <pbs/raster/flip.hpp>
 #include <pbs/raster/headlight_shading.hpp>
 #include <pbs/scene/embree_caster.hpp>
@@ -15,10 +17,6 @@
 
 namespace pbs::cli {
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 double coveredPixels(const std::vector<glm::vec4>& image) {
   double covered = 0.0;

@@ -92,11 +92,8 @@ EvalSetting combinedSetting(const std::string& option, const std::string& text, 
 }  // namespace
 
 bool EvalSetting::drawsLike(const EvalSetting& o) const {
-  const bool sameLod = lod.threshold == o.lod.threshold && lod.band == o.lod.band && lod.overdraw == o.lod.overdraw &&
-                       lod.pointSize == o.lod.pointSize && lod.prefixRule == o.lod.prefixRule &&
-                       lod.minSizeFactor == o.lod.minSizeFactor;
   if (mode != o.mode || samples != o.samples) return false;
-  return isPeer() || (sameLod && ordering == o.ordering && simplify == o.simplify);
+  return isPeer() || (lod == o.lod && ordering == o.ordering && simplify == o.simplify);
 }
 
 std::string sweepKeys() { return "embree, exact, overdraw, threshold, point, band, rule, ordering, simplify"; }

@@ -7,10 +7,9 @@
 #include "scene_report.hpp"
 #include "svg_plot.hpp"
 
-#include <pbs/raster/framebuffer.hpp>
 #include <pbs/raster/headlight_shading.hpp>
 #include <pbs/surfels/camera_paths.hpp>
-#include <pbs/surfels/lod_render.hpp>
+#include <pbs/surfels/frame_renderer.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -92,10 +91,9 @@ glm::dvec2 toPixel(const Camera& camera, const glm::dvec3& world) {
 
 // The scene rendered exactly from `camera`, as RGBA8 (alpha 0 where nothing was drawn), faded.
 std::vector<std::uint8_t> renderTop(const LoadedScene& loaded, const Camera& camera) {
-  Framebuffer gbuffer = makeFramebuffer(camera.width, camera.height, kChannelColor | kChannelNormal);
-  const SceneSurfels none;  // no arrays: the traversal draws every visible mesh
-  renderLod(loaded.scene, loaded.hierarchy, none, camera, gbuffer, LodOptions{});
-  std::vector<glm::vec4> image = shadeHeadlight(gbuffer, camera);
+  FrameRenderer exact(loaded.scene, loaded.hierarchy, {.mode = RenderMode::Exact, .lod = {}}, camera.width,
+                      camera.height);
+  std::vector<glm::vec4> image = exact.render(camera).image;
   for (glm::vec4& pixel : image)
     if (pixel.a > 0.0f) pixel = glm::vec4(glm::mix(glm::vec3(pixel), glm::vec3(1.0f), kSceneFade), pixel.a);
   return toRgba8(image);

@@ -26,10 +26,12 @@ void requireSameSize(const RgbaImage& a, const RgbaImage& b) {
                                 " and " + std::to_string(b.width) + "x" + std::to_string(b.height));
 }
 
-std::vector<double> luminance(const RgbaImage& image) {
-  std::vector<double> y(image.pixels.size());
+// Y of every pixel (RGBA or RGB: alpha plays no part).
+template <typename Pixel>
+std::vector<double> luminance(const std::vector<Pixel>& pixels) {
+  std::vector<double> y(pixels.size());
   for (std::size_t i = 0; i < y.size(); ++i) {
-    const glm::vec4& p = image.pixels[i];
+    const Pixel& p = pixels[i];
     y[i] = 0.2126 * double(p.r) + 0.7152 * double(p.g) + 0.0722 * double(p.b);
   }
   return y;
@@ -50,20 +52,15 @@ std::vector<double> gaussianWeights(std::uint32_t size) {
   return weights;
 }
 
-}  // namespace
-
-double luminanceSsim(const RgbaImage& a, const RgbaImage& b) {
-  requireSameSize(a, b);
-  if (a.pixelCount() == 0) return 1.0;
-  const std::uint32_t width = a.width;
-  const std::vector<double> ya = luminance(a);
-  const std::vector<double> yb = luminance(b);
-  const std::uint32_t windowX = std::min(kSsimWindow, a.width);
-  const std::uint32_t windowY = std::min(kSsimWindow, a.height);
+// Mean SSIM of two width × height luminance images (at least one pixel).
+double ssimOfLuminance(const std::vector<double>& ya, const std::vector<double>& yb, std::uint32_t width,
+                       std::uint32_t height) {
+  const std::uint32_t windowX = std::min(kSsimWindow, width);
+  const std::uint32_t windowY = std::min(kSsimWindow, height);
   const std::vector<double> weightsX = gaussianWeights(windowX);
   const std::vector<double> weightsY = gaussianWeights(windowY);
-  const std::uint32_t outWidth = a.width - windowX + 1;
-  const std::uint32_t outHeight = a.height - windowY + 1;
+  const std::uint32_t outWidth = width - windowX + 1;
+  const std::uint32_t outHeight = height - windowY + 1;
 
   // One sum per window row, each summed left to right by one task: the total cannot depend on how
   // the rows were shared out.
@@ -117,8 +114,6 @@ double luminanceSsim(const RgbaImage& a, const RgbaImage& b) {
   return total / (double(outWidth) * double(outHeight));
 }
 
-namespace {
-
 // Sums of one row of the comparison; rows are added in order afterwards, so the totals do not depend
 // on how the rows were shared out.
 struct RowSums {
@@ -147,35 +142,35 @@ double psnrOf(double squares, double values) {
   return mse > 0.0 ? -10.0 * std::log10(mse) : std::numeric_limits<double>::infinity();
 }
 
-RgbaImage compositeImage(const RgbaImage& image, const glm::vec3& background) {
-  RgbaImage out{image.width, image.height, std::vector<glm::vec4>(image.pixels.size())};
+// Every pixel composited: what FLIP, SSIM and the squared differences all read.
+std::vector<glm::vec3> compositeImage(const RgbaImage& image, const glm::vec3& background) {
+  std::vector<glm::vec3> out(image.pixels.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, image.pixels.size(), 4096),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t i = range.begin(); i != range.end(); ++i)
-                        out.pixels[i] = glm::vec4(composite(image.pixels[i], background), 1.0f);
+                        out[i] = composite(image.pixels[i], background);
                     });
   return out;
 }
 
-// FLIP's input: the composited colours (it clamps them to its [0, 1] itself).
-std::vector<glm::vec3> flipInput(const RgbaImage& composited) {
-  std::vector<glm::vec3> rgb(composited.pixels.size());
-  for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = glm::vec3(composited.pixels[i]);
-  return rgb;
-}
-
 }  // namespace
+
+double luminanceSsim(const RgbaImage& a, const RgbaImage& b) {
+  requireSameSize(a, b);
+  if (a.pixelCount() == 0) return 1.0;
+  return ssimOfLuminance(luminance(a.pixels), luminance(b.pixels), a.width, a.height);
+}
 
 ImageDifference compareImages(const RgbaImage& a, const RgbaImage& b, const CompareOptions& options) {
   requireSameSize(a, b);
   ImageDifference d;
   d.pixels = a.pixelCount();
   if (d.pixels == 0) return d;
-  const RgbaImage compositeA = compositeImage(a, options.background);
-  const RgbaImage compositeB = compositeImage(b, options.background);
+  const std::vector<glm::vec3> compositeA = compositeImage(a, options.background);
+  const std::vector<glm::vec3> compositeB = compositeImage(b, options.background);
   if (options.flip) {
-    FlipResult flip = computeFlip(flipInput(compositeB), flipInput(compositeA), a.width, a.height,
-                                        options.pixelsPerDegree, true);
+    // FLIP clamps its input to [0, 1] itself.
+    FlipResult flip = computeFlip(compositeB, compositeA, a.width, a.height, options.pixelsPerDegree, true);
     d.flipMean = flip.mean;
     d.flipMedian = flip.median;
     d.flipMax = flip.max;
@@ -188,7 +183,7 @@ ImageDifference compareImages(const RgbaImage& a, const RgbaImage& b, const Comp
     RowSums& row = rows[y];
     for (std::size_t i = std::size_t(y) * width, end = i + width; i < end; ++i) {
       const float alphaA = coverage(a.pixels[i].a), alphaB = coverage(b.pixels[i].a);
-      const glm::vec4 difference = compositeA.pixels[i] - compositeB.pixels[i];
+      const glm::vec3 difference = compositeA[i] - compositeB[i];
       double squares = 0.0;
       for (int c = 0; c < 3; ++c) squares += double(difference[c]) * double(difference[c]);
       row.squares += squares;
@@ -226,7 +221,7 @@ ImageDifference compareImages(const RgbaImage& a, const RgbaImage& b, const Comp
   d.bloat = total.bloat;
   d.holeFraction = total.coverageB > 0.0 ? total.holes / total.coverageB : 0.0;
   d.bloatFraction = total.coverageB > 0.0 ? total.bloat / total.coverageB : 0.0;
-  d.ssim = luminanceSsim(compositeA, compositeB);
+  d.ssim = ssimOfLuminance(luminance(compositeA), luminance(compositeB), a.width, a.height);
   if (!options.keepFlipMap) d.flipMap = {};
   return d;
 }

@@ -8,13 +8,16 @@
 
 namespace pbs {
 
+glm::dvec3 orbitDirection(const Orbit& orbit) {
+  const double azimuth = glm::radians(orbit.azimuthDegrees);
+  const double elevation = glm::radians(std::clamp(orbit.elevationDegrees, -89.9, 89.9));
+  return {std::cos(elevation) * std::cos(azimuth), std::sin(elevation), std::cos(elevation) * std::sin(azimuth)};
+}
+
 Camera orbitCamera(const glm::dvec3& center, double radius, const Orbit& orbit, std::uint32_t width,
                    std::uint32_t height) {
   if (!(radius > 0.0)) radius = 1.0;
-  const double azimuth = glm::radians(orbit.azimuthDegrees);
-  const double elevation = glm::radians(std::clamp(orbit.elevationDegrees, -89.9, 89.9));  // look-at needs up ≠ view
-  const glm::dvec3 direction{std::cos(elevation) * std::cos(azimuth), std::sin(elevation),
-                             std::cos(elevation) * std::sin(azimuth)};
+  const glm::dvec3 direction = orbitDirection(orbit);
   const double distance = std::max(orbit.distance, 1e-6) * radius;
   const glm::dvec3 eye = center + direction * distance;
   const glm::dmat4 view = glm::lookAt(eye, center, glm::dvec3(0.0, 1.0, 0.0));

@@ -107,18 +107,10 @@ void bakeLeaves(Scene& city, const std::vector<Mesh>& prototypes) {
   });
 }
 
-}  // namespace
-
-Scene generateCity(const std::vector<Scene>& prototypes, const CityOptions& options) {
-  if (prototypes.empty()) throw std::invalid_argument("generateCity: no prototypes");
-  if (options.fanout == 0) throw std::invalid_argument("generateCity: fanout must be at least 1");
-  const std::uint64_t nodeCount = countNodes(options);
-
-  Scene city;
-  std::vector<Mesh> flattened;
-  for (std::size_t p = 0; p < prototypes.size(); ++p) flattened.push_back(flattenPrototype(city, prototypes[p], p));
-  const auto prototypeCount = std::uint32_t(flattened.size());
-
+// The city's nodes: a root block, `levels` levels of `fanout` children each on a grid, instances of
+// random prototypes (mesh indices below `prototypes`) at the leaves. Level by level, so the draws (and
+// so the city) depend only on the seed and the options.
+std::vector<Node> placeNodes(std::uint32_t prototypes, const CityOptions& options) {
   std::uint32_t columns = 1;
   while (columns * columns < options.fanout) ++columns;
   const std::uint32_t rows = (options.fanout + columns - 1) / columns;
@@ -127,34 +119,49 @@ Scene generateCity(const std::vector<Scene>& prototypes, const CityOptions& opti
   for (std::uint32_t d = options.levels; d-- > 1;) spacing[d - 1] = spacing[d] * columns * kStreetFactor;
 
   SeededRandom random(options.seed);
-  city.nodes.reserve(nodeCount);
-  city.roots = {0};
+  std::vector<Node> nodes;
+  nodes.reserve(countNodes(options));
   if (options.levels == 0) {
-    city.nodes.push_back(makeInstance(random, prototypeCount, glm::dmat4(1.0), "instance 0"));
-  } else {
-    city.nodes.push_back(Node{"city", glm::dmat4(1.0), {}, -1});
-    // Level by level, so the draws (and so the city) depend only on the seed and the options.
-    std::vector<std::uint32_t> level = {0}, next;
-    for (std::uint32_t depth = 1; depth <= options.levels; ++depth) {
-      next.clear();
-      for (std::uint32_t parent : level) {
-        for (std::uint32_t i = 0; i < options.fanout; ++i) {
-          const auto index = std::uint32_t(city.nodes.size());
-          const glm::dmat4 place = gridPlace(i, columns, rows, spacing[depth - 1]);
-          if (depth == options.levels) {
-            city.nodes.push_back(makeInstance(random, prototypeCount, place, "instance " + std::to_string(index)));
-          } else {
-            const double turn = random.range(-kBlockTurn, kBlockTurn);
-            city.nodes.push_back(Node{"block " + std::to_string(index), place * turnY(turn), {}, -1});
-          }
-          city.nodes[parent].children.push_back(index);
-          next.push_back(index);
-        }
-      }
-      std::swap(level, next);
-    }
+    nodes.push_back(makeInstance(random, prototypes, glm::dmat4(1.0), "instance 0"));
+    return nodes;
   }
-  // The draws above are the same either way, so the unique city is the instanced one, baked.
+  nodes.push_back(Node{"city", glm::dmat4(1.0), {}, -1});
+  std::vector<std::uint32_t> level = {0}, next;
+  for (std::uint32_t depth = 1; depth <= options.levels; ++depth) {
+    next.clear();
+    for (std::uint32_t parent : level) {
+      for (std::uint32_t i = 0; i < options.fanout; ++i) {
+        const auto index = std::uint32_t(nodes.size());
+        const glm::dmat4 place = gridPlace(i, columns, rows, spacing[depth - 1]);
+        if (depth == options.levels) {
+          nodes.push_back(makeInstance(random, prototypes, place, "instance " + std::to_string(index)));
+        } else {
+          const double turn = random.range(-kBlockTurn, kBlockTurn);
+          nodes.push_back(Node{"block " + std::to_string(index), place * turnY(turn), {}, -1});
+        }
+        nodes[parent].children.push_back(index);
+        next.push_back(index);
+      }
+    }
+    std::swap(level, next);
+  }
+  return nodes;
+}
+
+}  // namespace
+
+Scene generateCity(const std::vector<Scene>& prototypes, const CityOptions& options) {
+  if (prototypes.empty()) throw std::invalid_argument("generateCity: no prototypes");
+  if (options.fanout == 0) throw std::invalid_argument("generateCity: fanout must be at least 1");
+  countNodes(options);  // throws before any work when the nodes would not fit 32-bit indices
+
+  Scene city;
+  std::vector<Mesh> flattened;
+  for (std::size_t p = 0; p < prototypes.size(); ++p) flattened.push_back(flattenPrototype(city, prototypes[p], p));
+
+  city.nodes = placeNodes(std::uint32_t(flattened.size()), options);
+  city.roots = {0};
+  // placeNodes draws the same either way, so the unique city is the instanced one, baked.
   if (options.unique)
     bakeLeaves(city, flattened);
   else

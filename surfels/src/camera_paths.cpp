@@ -84,7 +84,7 @@ PathView viewAt(const SceneFrame& frame, const glm::dvec3& offset, const glm::dv
 
 std::vector<PathView> orbitPath(const Bounds& bounds, const Orbit& orbit, std::uint32_t frames, std::uint32_t width,
                                 std::uint32_t height) {
-  // Exactly orbitViews' arithmetic (apps/pbs/orbit_views.cpp), so existing orbits keep their bits.
+  // The arithmetic of the orbit `pbs render` and `pbs eval` used before paths, so orbits keep their bits.
   const glm::dvec3 center = bounds.empty() ? glm::dvec3(0.0) : bounds.center();
   const double radius = 0.5 * glm::length(bounds.size());
   std::vector<PathView> views;
@@ -121,10 +121,7 @@ std::vector<PathView> approachPath(const Hierarchy& hierarchy, std::span<const s
     halfExtents = 0.5 * region.size();
   }
   const double regionRadius = glm::length(halfExtents);
-  const double azimuth = glm::radians(orbit.azimuthDegrees);
-  const double elevation = glm::radians(std::clamp(orbit.elevationDegrees, -89.9, 89.9));
-  const glm::dvec3 dir{std::cos(elevation) * std::cos(azimuth), std::sin(elevation),
-                       std::cos(elevation) * std::sin(azimuth)};
+  const glm::dvec3 dir = orbitDirection(orbit);
   const double start = glm::length(target) + std::max(orbit.distance, kApproachMinStart) * frame.radius;
   const double end = std::max(0.5 * exitDistance(halfExtents, dir), 1e-3 * regionRadius);
   std::vector<PathView> views;

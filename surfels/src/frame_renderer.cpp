@@ -11,7 +11,6 @@
 
 #include <stdexcept>
 #include <string>
-#include <utility>
 
 namespace pbs {
 namespace {
@@ -49,7 +48,7 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, con
   }
 }
 
-void FrameRenderer::drawPass(const Camera& camera, LodStats& stats, bool firstPass) {
+LodStats FrameRenderer::drawPass(const Camera& camera) {
   // Embree overwrites every pixel itself. The rasterizer clears depth alone: shading reads colour and
   // normal only where depth says a pixel is covered.
   if (options_.mode != RenderMode::Embree) clearFramebuffer(gbuffer_, 0);
@@ -67,25 +66,27 @@ void FrameRenderer::drawPass(const Camera& camera, LodStats& stats, bool firstPa
       break;
     }
   }
-  const double traverse = stats.traverseSeconds + pass.traverseSeconds;
-  const double raster = stats.rasterSeconds + pass.rasterSeconds;
-  if (firstPass) stats = pass;
-  stats.traverseSeconds = traverse;
-  stats.rasterSeconds = raster;
+  return pass;
 }
 
 FrameResult FrameRenderer::render(const Camera& camera) {
   FrameResult result;
   const auto start = detail::Clock::now();
   if (options_.samples == 1) {
-    drawPass(camera, result.stats, true);
+    result.stats = drawPass(camera);
     result.image = shadeHeadlight(gbuffer_, camera);
   } else {
     SampleSums sums{std::vector<glm::vec4>(gbuffer_.pixelCount(), glm::vec4(0.0f)), 0};
-    bool first = true;
     for (const glm::dvec2& sample : subpixelSamples(options_.samples)) {
       const Camera shifted = subpixelCamera(camera, sample);
-      drawPass(shifted, result.stats, std::exchange(first, false));
+      const LodStats pass = drawPass(shifted);
+      // Counts are the first pass's (every pass draws about the same); times add up.
+      if (sums.samples == 0) {
+        result.stats = pass;
+      } else {
+        result.stats.traverseSeconds += pass.traverseSeconds;
+        result.stats.rasterSeconds += pass.rasterSeconds;
+      }
       accumulateHeadlight(gbuffer_, shifted, sums);
     }
     result.image = resolveSamples(sums);

@@ -17,6 +17,10 @@ struct Orbit {
 
 inline constexpr double kOrbitFovYDegrees = 45.0;
 
+// The unit direction from the centre toward the orbit's eye: (cos el·cos az, sin el, cos el·sin az),
+// the elevation clamped to ±89.9° (a look-at needs up ≠ view).
+glm::dvec3 orbitDirection(const Orbit& orbit);
+
 // A perspective camera at `orbit` around the sphere (centre, radius) looking at its centre, +Y up,
 // vertical field of view kOrbitFovYDegrees. Near and far enclose the sphere (near at least
 // radius × 1e-4 when the eye is inside it). A radius ≤ 0 is treated as 1.

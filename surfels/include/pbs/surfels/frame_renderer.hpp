@@ -64,8 +64,8 @@ class FrameRenderer {
   double buildSeconds() const { return buildSeconds_; }  // 0 unless this renderer built the BVH
 
  private:
-  // One pass at the camera's pixel centres into gbuffer_; adds its times and (first pass) counts.
-  void drawPass(const Camera& camera, LodStats& stats, bool firstPass);
+  // One pass at the camera's pixel centres into gbuffer_.
+  LodStats drawPass(const Camera& camera);
 
   const Scene& scene_;
   const Hierarchy& hierarchy_;

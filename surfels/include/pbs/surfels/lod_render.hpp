@@ -42,6 +42,8 @@ struct LodOptions {
   // A surfel seen at angle θ between its normal and the view direction is drawn max(|cos θ|, this)
   // times the point size, so silhouettes stay sharp (paper, Sec. 3). 1 disables the shrinking.
   float minSizeFactor = 0.25f;
+
+  bool operator==(const LodOptions&) const = default;
 };
 
 // What one traversal decided: geometry to draw and surfel prefixes to draw.
