@@ -157,10 +157,12 @@ TEST(EvalCli, ApproachFramesGoFromFarToNear) {
   EXPECT_TRUE(summary["settings"][1].contains("near"));
 }
 
+// With points of a fixed size (prefix-sized discs close a sparse prefix by growing instead).
 TEST(EvalCli, MoreSurfelsNeverLeaveMoreHolesOnAStaticView) {
   const EvalRun eval;
-  const test::CommandResult run =
-      eval.run("--size 160x120 --frames 1 --peers embree=1 --reference-samples 4 --sweep overdraw=0.5,1,2,8 --quiet");
+  const test::CommandResult run = eval.run(
+      "--size 160x120 --frames 1 --peers embree=1 --reference-samples 4 --splat nearest --point-size 2 "
+      "--sweep overdraw=0.5,1,2,8 --quiet");
   ASSERT_EQ(run.status, 0) << run.err;
   const std::vector<test::CsvRow> rows = eval.rows();
   ASSERT_EQ(rows.size(), 6u);  // embree=1, surfels (overdraw 4) and four overdraws

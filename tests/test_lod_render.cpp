@@ -58,6 +58,7 @@ TEST(PrefixLength, PackingRuleIsPackingOverRadiusSquared) {
   const SplatArray array = arrayOf(100000, 0.25, 2.0);
   LodOptions options;
   options.prefixRule = PrefixRule::Packing;
+  options.pointSize = 2.0f;  // the packing rule sizes prefixes for a fixed point size
   // r = 2 px · 0.01 world units per pixel / 2 = 0.01 in the world; in a node frame scaled by 2: 0.005.
   EXPECT_EQ(prefixLength(array, 10.0, 0.01, 1.0, options), 20000u);  // 2 / 0.01²
   EXPECT_EQ(prefixLength(array, 10.0, 0.01, 2.0, options), 80000u);  // 2 / 0.005²
@@ -140,7 +141,9 @@ TEST(TraverseLod, InTheBandBothRepresentationsAreDrawn) {
 
 std::vector<glm::vec4> renderImage(const SurfeledScene& s, const Camera& camera, const LodOptions& options,
                                    const SceneSurfels& surfels) {
-  Framebuffer gbuffer = makeFramebuffer(camera.width, camera.height, kChannelColor | kChannelNormal);
+  // Blended splats need the coverage channel (their partly covered pixels).
+  const ChannelMask coverage = options.splat == SplatMode::Blend ? ChannelMask{kChannelCoverage} : ChannelMask{0};
+  Framebuffer gbuffer = makeFramebuffer(camera.width, camera.height, kChannelColor | kChannelNormal | coverage);
   renderLod(s.scene, s.hierarchy, surfels, camera, gbuffer, options);
   return shadeHeadlight(gbuffer, camera);
 }
@@ -284,27 +287,33 @@ PoppingMeasure popping(const SurfeledScene& s, const LodOptions& options) {
 // a switch point is larger than the changes around it. The measure (see popping): the step change of
 // the error against exact rendering, at each switch step against the non-switching steps around it.
 // The same path without the band pops, which shows the measure sees popping.
-TEST(RenderLod, TransitionsDoNotPopOnASharedScene) {
+class Transitions : public testing::TestWithParam<SplatMode> {};
+
+TEST_P(Transitions, DoNotPopOnASharedScene) {
   PBS_SHARED_SCENE(spot, "spot.glb");
   PBS_SHARED_SCENE(teapot, "teapot.glb");
   Scene city = generateCity({importGltf(spot).scene, importGltf(teapot).scene}, CityOptions{.levels = 2, .fanout = 4});
   validateScene(city, "city");
   const SurfeledScene s = surfeled(std::move(city), 5000);
   LodOptions smooth;
+  smooth.splat = GetParam();
   smooth.threshold = 48.0;
   smooth.band = 1.0;
   const PoppingMeasure banded = popping(s, smooth);
   LodOptions abrupt = smooth;
   abrupt.band = 0.0;
   const PoppingMeasure popped = popping(s, abrupt);
-  std::printf("switch steps: with band %d, worst change / changes around %.2f; without band %d, %.2f\n",
-              banded.switches, banded.worstRatio, popped.switches, popped.worstRatio);
+  std::printf("%s: switch steps: with band %d, worst change / changes around %.2f; without band %d, %.2f\n",
+              splatModeName(GetParam()), banded.switches, banded.worstRatio, popped.switches, popped.worstRatio);
   EXPECT_GT(banded.switches, 0) << "the path must cross switch points";
   // "Larger than the changes around it" with a factor 2 of slack for the error's own step-to-step
   // noise (measured: about 1.6 with the band, about 5 without it).
   EXPECT_LE(banded.worstRatio, 2.0);
   EXPECT_GT(popped.worstRatio, 2.0) << "the same criterion must catch abrupt switching";
 }
+
+INSTANTIATE_TEST_SUITE_P(RenderLod, Transitions, testing::Values(SplatMode::Nearest, SplatMode::Blend),
+                         [](const testing::TestParamInfo<SplatMode>& info) { return splatModeName(info.param); });
 
 TEST(RenderCli, ModesWriteImagesThatCompare) {
   ScratchDir scratch;

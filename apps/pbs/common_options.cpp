@@ -3,6 +3,8 @@
 
 #include <pbs/raster/supersampling.hpp>
 
+#include <optional>
+
 #include <map>
 #include <sstream>
 #include <string>
@@ -34,9 +36,27 @@ void addLodOptions(CLI::App& command, LodOptions& lod) {
   command.add_option("--overdraw", lod.overdraw, "surfels per covered pixel (paper: 4)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  command
+      .add_option_function<std::string>(
+          "--splat",
+          [&lod](const std::string& name) {
+            const std::optional<SplatMode> mode = splatModeFromName(name);
+            if (!mode) throw CLI::ValidationError("--splat", "expected blend or nearest, got " + name);
+            lod.splat = *mode;
+          },
+          "blend (discs blended on the front surface, fractional coverage) or nearest (points, nearest wins)")
+      ->default_str(splatModeName(lod.splat));
   command.add_option("--point-size", lod.pointSize,
-                     "point size in pixels; below 1, sub-pixel points (for scenes of sub-pixel parts)")
-      ->check(CLI::Range(0.05f, 64.0f))
+                     "0: sized from the prefix (discs that close the surface); else a fixed size in pixels for "
+                     "--splat nearest, below 1 sub-pixel points")
+      ->check(CLI::Range(0.0f, 64.0f))
+      ->capture_default_str();
+  command.add_option("--cull", lod.backFaceCosine,
+                     "surfels whose cosine to the eye is below this are not drawn (-1: draw all)")
+      ->check(CLI::Range(-1.0f, 1.0f))
+      ->capture_default_str();
+  command.add_option("--coverage-gain", lod.coverageGain, "blend mode: multiplies each splat's coverage")
+      ->check(CLI::Range(0.1f, 10.0f))
       ->capture_default_str();
   const std::map<std::string, PrefixRule> rules = {{"coverage", PrefixRule::Coverage}, {"packing", PrefixRule::Packing}};
   command.add_option("--prefix-rule", lod.prefixRule, "coverage (paper, default) or packing (authors' later rule)")

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -42,7 +43,15 @@ void apply(const std::string& option, const std::string& key, const std::string&
   } else if (key == "threshold") {
     setting.lod.threshold = parseNumber(option, key, value, 1e-3, 1e6);
   } else if (key == "point") {
-    setting.lod.pointSize = float(parseNumber(option, key, value, 0.05, 64.0));
+    setting.lod.pointSize = float(parseNumber(option, key, value, 0.0, 64.0));
+  } else if (key == "splat") {
+    const std::optional<SplatMode> mode = splatModeFromName(value);
+    if (!mode) throw CLI::ValidationError(option, "splat is blend or nearest, got '" + value + "'");
+    setting.lod.splat = *mode;
+  } else if (key == "cull") {
+    setting.lod.backFaceCosine = float(parseNumber(option, key, value, -1.0, 1.0));
+  } else if (key == "gain") {
+    setting.lod.coverageGain = float(parseNumber(option, key, value, 0.1, 10.0));
   } else if (key == "band") {
     setting.lod.band = parseNumber(option, key, value, 0.0, 10.0);
   } else if (key == "rule") {
@@ -96,7 +105,9 @@ bool EvalSetting::drawsLike(const EvalSetting& o) const {
   return isPeer() || (lod == o.lod && ordering == o.ordering && simplify == o.simplify);
 }
 
-std::string sweepKeys() { return "embree, exact, overdraw, threshold, point, band, rule, ordering, simplify"; }
+std::string sweepKeys() {
+  return "embree, exact, overdraw, threshold, point, splat, cull, gain, band, rule, ordering, simplify";
+}
 
 std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& baseline, const std::string& option) {
   if (text == "surfels") return {baselineSettingNamed("surfels", baseline)};
@@ -119,7 +130,7 @@ std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& b
 std::vector<std::string> defaultPeers() { return {"embree=1,4,16", "exact=1"}; }
 
 std::vector<std::string> defaultSweep(SurfelOrdering fileOrdering) {
-  std::vector<std::string> sweeps = {"overdraw=1,2,8", "threshold=64,256", "point=1,4"};
+  std::vector<std::string> sweeps = {"overdraw=1,2,8", "threshold=64,256", "splat=nearest"};
   std::string orderings;
   for (SurfelOrdering o : {SurfelOrdering::Farthest, SurfelOrdering::Dart, SurfelOrdering::Random}) {
     if (o == fileOrdering) continue;

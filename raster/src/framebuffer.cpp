@@ -18,6 +18,7 @@ void forEachChannel(Framebuffer& framebuffer, Visit&& visit) {
   visit(framebuffer.position, ChannelMask{kChannelPosition}, glm::vec3(0.0f));
   visit(framebuffer.normal, ChannelMask{kChannelNormal}, glm::vec3(0.0f));
   visit(framebuffer.ids, ChannelMask{kChannelIds}, PixelIds{});
+  visit(framebuffer.coverage, ChannelMask{kChannelCoverage}, 0.0f);
 }
 
 bool allocated(const Framebuffer& framebuffer, ChannelMask channel) {

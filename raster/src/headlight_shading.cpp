@@ -19,6 +19,7 @@ void forEachShadedPixel(const Framebuffer& gbuffer, const Camera& camera, const 
     throw std::invalid_argument("shadeHeadlight: the G-buffer needs the colour and normal channels");
   // The viewing direction in world space: eye −Z through the inverse view.
   const glm::vec3 view = glm::normalize(glm::vec3(glm::inverse(camera.view) * glm::dvec4(0.0, 0.0, -1.0, 0.0)));
+  const bool partial = gbuffer.has(kChannelCoverage);
   tbb::parallel_for(std::uint32_t(0), gbuffer.height, [&](std::uint32_t y) {
     for (std::size_t i = std::size_t(y) * gbuffer.width, end = i + gbuffer.width; i < end; ++i) {
       if (!gbuffer.covered(i)) continue;
@@ -26,7 +27,8 @@ void forEachShadedPixel(const Framebuffer& gbuffer, const Camera& camera, const 
       const float length = glm::length(n);
       const float facing = length > 0.0f ? std::abs(glm::dot(n, view)) / length : 1.0f;
       const glm::vec3 base = glm::vec3(gbuffer.color[i]) / 255.0f;
-      shade(i, glm::vec4(base * (kHeadlightAmbient + (1.0f - kHeadlightAmbient) * facing), 1.0f));
+      const float alpha = partial ? gbuffer.coverage[i] : 1.0f;
+      shade(i, glm::vec4(base * (kHeadlightAmbient + (1.0f - kHeadlightAmbient) * facing), alpha));
     }
   });
 }
@@ -42,7 +44,9 @@ std::vector<glm::vec4> shadeHeadlight(const Framebuffer& gbuffer, const Camera& 
 void accumulateHeadlight(const Framebuffer& gbuffer, const Camera& camera, SampleSums& sums) {
   if (sums.sums.size() != gbuffer.pixelCount())
     throw std::invalid_argument("accumulateHeadlight: the sums are not the size of the G-buffer");
-  forEachShadedPixel(gbuffer, camera, [&](std::size_t i, const glm::vec4& rgba) { sums.sums[i] += rgba; });
+  // Premultiplied, so a partly covered pixel adds its share of colour and coverage.
+  forEachShadedPixel(gbuffer, camera,
+                     [&](std::size_t i, const glm::vec4& rgba) { sums.sums[i] += glm::vec4(glm::vec3(rgba) * rgba.a, rgba.a); });
   ++sums.samples;
 }
 

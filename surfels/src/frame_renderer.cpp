@@ -20,6 +20,11 @@ constexpr ValueNames<RenderMode, 4> kModeNames{{{{RenderMode::Surfels, "surfels"
                                                  {RenderMode::Embree, "embree"},
                                                  {RenderMode::Simplified, "simplified"}}}};
 
+// Only blended surfels leave pixels partly covered.
+ChannelMask coverageChannel(const FrameOptions& options) {
+  return options.mode == RenderMode::Surfels && options.lod.splat == SplatMode::Blend ? ChannelMask{kChannelCoverage} : ChannelMask{0};
+}
+
 }  // namespace
 
 std::optional<RenderMode> renderModeFromName(std::string_view name) { return kModeNames.parse(name); }
@@ -32,7 +37,7 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, con
       hierarchy_(hierarchy),
       options_(options),
       sources_(sources),
-      gbuffer_(makeFramebuffer(width, height, kChannelColor | kChannelNormal)) {
+      gbuffer_(makeFramebuffer(width, height, kChannelColor | kChannelNormal | coverageChannel(options))) {
   const RenderMode mode = options.mode;
   if ((mode == RenderMode::Surfels || mode == RenderMode::Simplified) && !sources.surfels)
     throw std::invalid_argument("surfels and simplified modes need a surfel file");

@@ -1,10 +1,12 @@
-// renderLod: the traversal's geometry through the triangle rasterizer, its prefixes as point splats
-// shrunk where surfels are seen edge-on.
+// renderLod: the traversal's geometry through the triangle rasterizer, its prefixes as blended splats or
+// as nearest-wins points shrunk where surfels are seen edge-on.
 #include "pbs/surfels/lod_render.hpp"
 
 #include "elapsed.hpp"
+#include "pbs/raster/blended_splats.hpp"
 #include "pbs/raster/points.hpp"
 #include "pbs/raster/triangles.hpp"
+#include "pbs/raster/value_names.hpp"
 #include "pbs/scene/scene_draws.hpp"
 
 #include <glm/gtc/matrix_inverse.hpp>
@@ -20,65 +22,105 @@ namespace {
 using detail::Clock;
 using detail::secondsSince;
 
-// max(|cos θ|, minimum) per surfel of the prefix, θ between its world normal and the view direction
-// toward the node (one direction per node: the node is small on screen when it draws surfels).
-void edgeOnFactors(const SplatArray& splats, std::uint32_t count, const glm::dmat4& world, const Camera& camera,
-                   float minimum, std::vector<float>& factors) {
-  const glm::dmat4 eyeFromWorld = camera.view;
-  const glm::dvec3 center(world * glm::dvec4(splats.box.center(), 1.0));
-  glm::dvec3 toNode;
-  if (camera.isOrthographic()) {
-    toNode = glm::dvec3(glm::inverse(eyeFromWorld) * glm::dvec4(0.0, 0.0, -1.0, 0.0));
-  } else {
-    const glm::dvec3 eye(glm::inverse(eyeFromWorld) * glm::dvec4(0.0, 0.0, 0.0, 1.0));
-    toNode = center - eye;
-  }
+constexpr ValueNames<SplatMode, 2> kSplatNames{{{{SplatMode::Nearest, "nearest"}, {SplatMode::Blend, "blend"}}}};
+
+// The unit direction from the eye toward the node's centre (one direction per node: the node is small on
+// screen when it draws surfels), in world space.
+glm::vec3 viewTowardNode(const SplatArray& splats, const glm::dmat4& world, const Camera& camera) {
+  const glm::dmat4 worldFromEye = glm::inverse(camera.view);
+  const glm::dvec3 toNode = camera.isOrthographic()
+                                ? glm::dvec3(worldFromEye * glm::dvec4(0.0, 0.0, -1.0, 0.0))
+                                : glm::dvec3(world * glm::dvec4(splats.box.center(), 1.0)) -
+                                      glm::dvec3(worldFromEye * glm::dvec4(0.0, 0.0, 0.0, 1.0));
   const double length = glm::length(toNode);
-  const glm::vec3 view = length > 0.0 ? glm::vec3(toNode / length) : glm::vec3(0.0f, 0.0f, -1.0f);
+  return length > 0.0 ? glm::vec3(toNode / length) : glm::vec3(0.0f, 0.0f, -1.0f);
+}
+
+// Nearest mode's per-surfel size factors: 0 for a surfel facing away (cosine to the eye below the
+// options' limit), else max(|cos θ|, minSizeFactor) so that silhouettes stay sharp (paper, Sec. 3).
+void sizeFactors(const SplatArray& splats, std::uint32_t count, const glm::dmat4& world, const Camera& camera,
+                 const LodOptions& options, std::vector<float>& factors) {
+  const glm::vec3 view = viewTowardNode(splats, world, camera);
   const glm::mat3 normalFromObject(glm::inverseTranspose(glm::dmat3(world)));
   factors.resize(count);
   for (std::uint32_t i = 0; i < count; ++i) {
     const glm::vec3 n = normalFromObject * splats.normals[i];
     const float norm = glm::length(n);
-    const float cosine = norm > 0.0f ? std::abs(glm::dot(n, view)) / norm : 1.0f;
-    factors[i] = std::max(cosine, minimum);
+    const float toEye = norm > 0.0f ? -glm::dot(n, view) / norm : 1.0f;
+    factors[i] = toEye < options.backFaceCosine ? 0.0f : std::max(std::abs(toEye), options.minSizeFactor);
   }
 }
 
+glm::dmat4 objectFrame(const Hierarchy& hierarchy, const LodDraws::Surfels& draw, const SplatArray& splats) {
+  return glm::translate(hierarchy.world[draw.node], splats.box.center());
+}
+
+void drawNearest(const Hierarchy& hierarchy, const SceneSurfels& surfels, const LodDraws& draws, const Camera& camera,
+                 Framebuffer& framebuffer, const LodOptions& options) {
+  std::vector<std::vector<float>> factors(draws.surfels.size());
+  tbb::parallel_for(std::size_t(0), draws.surfels.size(), [&](std::size_t d) {
+    const LodDraws::Surfels& draw = draws.surfels[d];
+    sizeFactors(surfels.arrays[draw.array], draw.count, hierarchy.world[draw.node], camera, options, factors[d]);
+  });
+  const bool fixedSize = options.pointSize > 0.0f;
+  bool subPixel = fixedSize && options.pointSize < 1.0f;
+  std::vector<PointSet> sets;
+  sets.reserve(draws.surfels.size());
+  for (std::size_t d = 0; d < draws.surfels.size(); ++d) {
+    const LodDraws::Surfels& draw = draws.surfels[d];
+    const SplatArray& splats = surfels.arrays[draw.array];
+    const auto pointSize = float(fixedSize ? options.pointSize : draw.pointSize);
+    subPixel |= !fixedSize && pointSize < 1.0f;
+    sets.push_back(PointSet{.positions = std::span(splats.positions).first(draw.count),
+                            .normals = std::span(splats.normals).first(draw.count),
+                            .colors = std::span(splats.colors).first(draw.count),
+                            .sizeFactors = factors[d],
+                            .worldFromObject = objectFrame(hierarchy, draw, splats),
+                            .pointSize = pointSize,
+                            .nodeId = draw.node,
+                            .instanceId = draw.array});
+  }
+  drawPoints(framebuffer, camera, sets, PointOptions{.subPixel = subPixel});
+}
+
+void drawBlended(const Hierarchy& hierarchy, const SceneSurfels& surfels, const LodDraws& draws, const Camera& camera,
+                 Framebuffer& framebuffer, const LodOptions& options) {
+  std::vector<SurfelSplatSet> sets;
+  sets.reserve(draws.surfels.size());
+  for (const LodDraws::Surfels& draw : draws.surfels) {
+    const SplatArray& splats = surfels.arrays[draw.array];
+    sets.push_back(SurfelSplatSet{.positions = std::span(splats.positions).first(draw.count),
+                                  .normals = std::span(splats.normals).first(draw.count),
+                                  .colors = std::span(splats.colors).first(draw.count),
+                                  .worldFromObject = objectFrame(hierarchy, draw, splats),
+                                  .radius = float(draw.radius),
+                                  .area = float(kSurfelAreaPerSpacing2 * draw.radius * draw.radius),
+                                  .nodeId = draw.node,
+                                  .instanceId = draw.array});
+  }
+  drawBlendedSplats(framebuffer, camera, sets,
+                    BlendOptions{.backFaceCosine = options.backFaceCosine, .coverageGain = options.coverageGain});
+}
+
 }  // namespace
+
+std::optional<SplatMode> splatModeFromName(std::string_view name) { return kSplatNames.parse(name); }
+const char* splatModeName(SplatMode mode) { return kSplatNames.name(mode).data(); }
 
 LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
                    Framebuffer& framebuffer, const LodOptions& options) {
   LodStats stats;
   const auto traverseStart = Clock::now();
   const LodDraws draws = traverseLod(scene, hierarchy, surfels, camera, options);
-  std::vector<std::vector<float>> factors(draws.surfels.size());
-  const bool shrink = options.minSizeFactor < 1.0f;
-  if (shrink)
-    tbb::parallel_for(std::size_t(0), draws.surfels.size(), [&](std::size_t d) {
-      const LodDraws::Surfels& draw = draws.surfels[d];
-      edgeOnFactors(surfels.arrays[draw.array], draw.count, hierarchy.world[draw.node], camera, options.minSizeFactor,
-                    factors[d]);
-    });
-  std::vector<PointSet> sets;
-  sets.reserve(draws.surfels.size());
-  for (std::size_t d = 0; d < draws.surfels.size(); ++d) {
-    const LodDraws::Surfels& draw = draws.surfels[d];
-    const SplatArray& splats = surfels.arrays[draw.array];
-    sets.push_back(PointSet{.positions = std::span(splats.positions).first(draw.count),
-                            .normals = std::span(splats.normals).first(draw.count),
-                            .colors = std::span(splats.colors).first(draw.count),
-                            .sizeFactors = shrink ? std::span<const float>(factors[d]) : std::span<const float>(),
-                            .worldFromObject = glm::translate(hierarchy.world[draw.node], splats.box.center()),
-                            .pointSize = options.pointSize,
-                            .nodeId = draw.node,
-                            .instanceId = draw.array});
-  }
   stats.traverseSeconds = secondsSince(traverseStart);
 
   const auto rasterStart = Clock::now();
   drawNodeTriangles(scene, hierarchy, draws.geometryNodes, camera, framebuffer, TriangleOptions{.cullBackFaces = false});
-  drawPoints(framebuffer, camera, sets, PointOptions{.subPixel = options.pointSize < 1.0f});
+  // A framebuffer with the coverage channel is a blended frame's: every pixel of it is written, splats or not.
+  if (options.splat == SplatMode::Blend && framebuffer.has(kChannelCoverage))
+    drawBlended(hierarchy, surfels, draws, camera, framebuffer, options);
+  else if (!draws.surfels.empty())
+    drawNearest(hierarchy, surfels, draws, camera, framebuffer, options);
   stats.rasterSeconds = secondsSince(rasterStart);
 
   stats.triangles = draws.triangles;

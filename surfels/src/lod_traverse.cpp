@@ -65,10 +65,15 @@ class Traversal {
     const SplatArray& splats = surfels_.arrays[array];
     const glm::dmat4& world = hierarchy_.world[node];
     const glm::dvec3 center(world * glm::dvec4(splats.box.center(), 1.0));
-    const std::uint32_t full = prefixLength(splats, size, worldPixelAt(camera_, center), frameScale(world), options_);
+    const double worldPixel = worldPixelAt(camera_, center);
+    const double scale = frameScale(world);
+    const std::uint32_t full = prefixLength(splats, size, worldPixel, scale, options_);
     const auto count = std::uint32_t(std::lround(double(full) * factor));
     if (count == 0) return;
-    draws.surfels.push_back({node, array, count});
+    // An array of one surfel has no spacing to measure: its disc spans the box.
+    const double radius = splats.packing > 0.0 ? splats.spacing(full) : glm::length(splats.box.size()) / 2.0;
+    const double pointSize = worldPixel > 0.0 ? 2.0 * radius * scale / worldPixel : 0.0;
+    draws.surfels.push_back({node, array, count, radius, pointSize});
     draws.surfelCount += count;
   }
 
@@ -84,8 +89,10 @@ class Traversal {
 std::uint32_t prefixLength(const SplatArray& array, double projectedSize, double worldPixel, double scale,
                            const LodOptions& options) {
   double count = 0.0;
-  const double pointSize = double(options.pointSize);
-  if (options.prefixRule == PrefixRule::Coverage) {
+  // Points sized from the prefix count surfels as the paper does for its reference point size.
+  const bool fixedSize = options.pointSize > 0.0f;
+  const double pointSize = fixedSize ? double(options.pointSize) : double(kReferencePointSize);
+  if (options.prefixRule == PrefixRule::Coverage || !fixedSize) {
     const double relativeSize = pointSize / kReferencePointSize;
     count = projectedSize * projectedSize * array.coverage * options.overdraw / (relativeSize * relativeSize);
   } else {

@@ -14,9 +14,12 @@ enum Channel : std::uint32_t {
   kChannelPosition = 1u << 1,  // world position − Framebuffer::positionOrigin, float3
   kChannelNormal = 1u << 2,    // world-space unit normal, float3
   kChannelIds = 1u << 3,       // node, instance and primitive ids, 32 bits each
+  // Fraction of the pixel the surface covers, float in [0, 1]: only blended splats (blended_splats.hpp)
+  // leave a covered pixel partly covered, so only frames drawing them allocate it.
+  kChannelCoverage = 1u << 4,
 };
 using ChannelMask = std::uint32_t;
-inline constexpr ChannelMask kAllChannels = kChannelColor | kChannelPosition | kChannelNormal | kChannelIds;
+inline constexpr ChannelMask kAllChannels = kChannelColor | kChannelPosition | kChannelNormal | kChannelIds | kChannelCoverage;
 
 struct PixelIds {
   std::uint32_t node = 0xffffffffu;
@@ -42,6 +45,7 @@ struct Framebuffer {
   std::vector<glm::vec3> position;
   std::vector<glm::vec3> normal;
   std::vector<PixelIds> ids;
+  std::vector<float> coverage;
 
   bool has(Channel channel) const { return (channels & channel) != 0; }
   bool covered(std::size_t pixel) const { return depth[pixel] != kClearDepth; }

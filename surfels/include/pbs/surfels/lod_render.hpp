@@ -11,6 +11,8 @@
 #include "pbs/surfels/scene_surfels.hpp"
 
 #include <cstdint>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 namespace pbs {
@@ -27,6 +29,19 @@ enum class PrefixRule : std::uint32_t {
 
 inline constexpr float kReferencePointSize = 2.0f;
 
+// How prefixes are drawn. Nearest: each surfel a square of the point size, the nearest point wins each
+// pixel (the paper's GL points). Blend: each surfel a disc in its plane, projected and blended with its
+// neighbours on the front surface, sub-pixel ones adding fractional coverage (blended_splats.hpp).
+enum class SplatMode : std::uint32_t { Nearest = 0, Blend = 1 };
+
+// "nearest", "blend"; nullopt for any other name.
+std::optional<SplatMode> splatModeFromName(std::string_view name);
+const char* splatModeName(SplatMode mode);
+
+// The surface area one surfel stands for, as a fraction of r² for a prefix of spacing r (packing / k =
+// r²): the cell of a point in a hexagonal packing of spacing r has area (√3 / 2) r².
+inline constexpr double kSurfelAreaPerSpacing2 = 0.8660254037844386;
+
 struct LodOptions {
   // Projected size (square root of the box's projected area, pixels) above which a node is descended.
   double threshold = 128.0;
@@ -34,14 +49,23 @@ struct LodOptions {
   // children at once. 0 switches abruptly (popping, for comparison).
   double band = 0.5;
   double overdraw = 4.0;
-  // Pixels. Below 1 the points are sub-pixel (PointOptions::subPixel): each covers a pixel only where
-  // the pixel's centre falls inside it, which keeps scenes of sub-pixel parts (a city far away) from
-  // being inflated by one-pixel points; the prefix grows as the points shrink.
-  float pointSize = 2.0f;
+  SplatMode splat = SplatMode::Blend;
+  // Pixels; 0: from the prefix (the default). A prefix of k surfels closes the node's surface with discs
+  // of radius r = √(packing / k) in the node's frame (the authors' later rule), so a prefix cut short by
+  // its array draws larger points and a dense one smaller; nearest mode draws squares of side 2r at the
+  // node's distance, sub-pixel when below 1, and blend mode discs of radius r.
+  // A fixed size (nearest mode only) sizes the prefix by prefixRule instead. Below 1 the points are
+  // sub-pixel (PointOptions::subPixel): each covers a pixel only where the pixel's centre falls inside it.
+  float pointSize = 0.0f;
   PrefixRule prefixRule = PrefixRule::Coverage;
   // A surfel seen at angle θ between its normal and the view direction is drawn max(|cos θ|, this)
   // times the point size, so silhouettes stay sharp (paper, Sec. 3). 1 disables the shrinking.
   float minSizeFactor = 0.25f;
+  // Surfels whose normal (facing the capture view that saw them) makes a cosine below this with the
+  // direction to the eye are not drawn; slightly negative so that silhouettes stay closed. −1 draws all.
+  float backFaceCosine = -0.2f;
+  // Blend mode: multiplies each splat's coverage (BlendOptions::coverageGain).
+  float coverageGain = 1.0f;
 
   bool operator==(const LodOptions&) const = default;
 };
@@ -52,6 +76,10 @@ struct LodDraws {
     std::uint32_t node = 0;
     std::uint32_t array = 0;
     std::uint32_t count = 0;  // prefix length, ≤ the array's size
+    // Disc radius in the node's frame that closes the surface with the whole prefix the node's size asks
+    // for (before a transition thins it): √(packing / k).
+    double radius = 0.0;
+    double pointSize = 0.0;  // 2 × radius in pixels at the node's centre
   };
   std::vector<std::uint32_t> geometryNodes;  // nodes whose own mesh is drawn as triangles, in traversal order
   std::vector<Surfels> surfels;              // in traversal order
@@ -79,7 +107,9 @@ struct LodStats {
   std::uint64_t nodesSurfels = 0;
 };
 
-// Traverses and draws into `framebuffer` (its channels decide what is written; it is not cleared).
+// Traverses and draws into `framebuffer` (its channels decide what is written; it is not cleared). Blend
+// mode needs the coverage channel (kChannelCoverage) and writes all of it; into a framebuffer without it,
+// prefixes are drawn nearest-wins.
 // The image does not depend on the thread count.
 LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
                    Framebuffer& framebuffer, const LodOptions& options);
