@@ -215,7 +215,9 @@ TEST(BlendedSplats, StiffInputsAreDroppedOrDefined) {
   SurfelSplatSet set{.positions = positions, .normals = normals, .colors = colors, .radius = 2.0f, .area = 4.0f};
   Framebuffer framebuffer = makeFramebuffer(16, 16, kBlendChannels);
   drawBlendedSplats(framebuffer, camera, std::span(&set, 1));
-  EXPECT_NEAR(totalCoverage(framebuffer), 4.0, 0.5);  // one disc: its area, give or take the edge steepening
+  // One disc alone: its area, plus what the rise above S = ½ adds at its rim.
+  EXPECT_GE(totalCoverage(framebuffer), 4.0);
+  EXPECT_LE(totalCoverage(framebuffer), 5.5);
   // No radius: nothing.
   set.radius = 0.0f;
   Framebuffer none = makeFramebuffer(16, 16, kBlendChannels);

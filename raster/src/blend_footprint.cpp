@@ -160,7 +160,6 @@ bool FootprintProjector::project(std::size_t i, Footprint& out) const {
       pixels <= kSummedPixels ? pixelWeightSum(out, xs, ys) : 2.0 * std::numbers::pi * std::sqrt(det) * kKernelMass;
   if (!(weights > 0.0)) return false;
   out.amplitude = float(gain_ * projectedArea / weights);
-  out.blur = float(std::sqrt((a.x * a.x + b.x * b.x + a.y * a.y + b.y * b.y) / 8.0));
   out.normal = glm::vec3(glm::normalize(normalFromObject_ * n));
   out.color = set_.colors[i];
   out.set = setIndex_;

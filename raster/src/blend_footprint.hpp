@@ -32,7 +32,6 @@ struct Footprint {
   float depthReach;              // the plane's depth change is clamped to the disc's own depth extent
   float cutoff;                  // Mahalanobis distance² of the footprint's edge: kCutoff or more
   float amplitude;               // coverage at q = 0
-  float blur;                    // RMS standard deviation of the disc's part of the kernel, pixels
   glm::vec3 normal;              // world, unit, facing the eye
   glm::u8vec4 color;
   std::uint16_t x0, y0, x1, y1;  // pixel rectangle [x0, x1) × [y0, y1), clipped to the viewport

@@ -42,13 +42,16 @@ struct BlendOptions {
 //
 // Each surfel's footprint is the projection of its disc (through the Jacobian at its centre) convolved
 // with a pixel-sized filter: a Gaussian of covariance Σ = (a aᵀ + b bᵀ)/4 + I/12 (a, b the projected disc
-// axes), cut off at Mahalanobis distance 2. At a pixel centre it weighs w = exp(−q/2) and covers
-// c = gain · A · w / (2π √det Σ · (1 − e⁻²)), A the projected area the surfel stands for: summed over
-// pixels, c gives A, so coverage is conserved at any size. Its depth at the pixel follows the disc's plane.
+// axes), cut off at Mahalanobis distance 2 (or farther, so that it reaches ¾ pixel). At a pixel centre it
+// weighs w = exp(−q/2) and covers c = A · w / W, A the projected area the surfel stands for (times the
+// gain) and W the sum of w over the footprint's pixels (its integral for footprints wider than 9 × 9
+// pixels): summed over pixels, c gives A, so coverage is conserved at any size. Its depth at the pixel
+// follows the disc's plane.
 //
 // Per pixel: the front depth is the least (splat depth + tolerance), the tolerance being one disc radius
 // along the view ray; splats up to it form the front layer, the rest in front of the geometry a back
-// layer. Each layer's colour and normal are the coverage-weighted means, its alpha min(1, Σ c); front over
+// layer. Each layer's colour and normal are the coverage-weighted means, its alpha S = Σ c raised toward 1
+// where S > ½ (closing the ripples of a closed surface; see layerAlpha); front over
 // back over geometry gives colour, normal and coverage (kChannelCoverage, required: every pixel of it is
 // written, 1 where only geometry is). A splat deeper than the geometry by more than its tolerance is
 // hidden; within it (a node fading out over its children's triangles) it is blended over them.
