@@ -66,6 +66,30 @@ TEST(PrefixLength, PackingRuleIsPackingOverRadiusSquared) {
   EXPECT_EQ(prefixLength(array, 10.0, 0.01, 1.0, options), 5000u) << "larger points, fewer surfels";
 }
 
+TEST(SplatArrays, PackingNeverStandsForMoreThanTheSubtreesArea) {
+  SurfelArray array;
+  array.surfels.resize(100);
+  array.packing = 8.0;
+  array.area = 4.0;  // the surfels would stand for 100 · κ · 8 / 100 = 6.9 > 4
+  EXPECT_DOUBLE_EQ(splatArrayOf(array).packing, 4.0 / kSurfelAreaPerSpacing2);
+  array.area = 100.0;  // a typical array: the packing value stands
+  EXPECT_DOUBLE_EQ(splatArrayOf(array).packing, 8.0);
+  array.area = 0.0;  // no area recorded: nothing to cap by
+  EXPECT_DOUBLE_EQ(splatArrayOf(array).packing, 8.0);
+}
+
+TEST(LodTraversal, PrefixSizedDiscsCloseTheSurfaceAndGrowWhenTheArrayRunsOut) {
+  // r = √(packing / k) for the prefix the node's size asks for; the array caps k, so a node seen closer
+  // than its array can serve draws larger discs.
+  const SplatArray array = arrayOf(1000, 1.0, 0.5);
+  LodOptions options;  // point size from the prefix
+  const std::uint32_t k = prefixLength(array, 10.0, 0.01, 1.0, options);
+  EXPECT_EQ(k, 400u);  // 10² · coverage 1 · overdraw 4: the paper's count for 2-pixel points
+  EXPECT_NEAR(array.spacing(k), std::sqrt(0.5 / 400.0), 1e-12);
+  EXPECT_EQ(prefixLength(array, 200.0, 0.01, 1.0, options), 1000u) << "capped by the array";
+  EXPECT_GT(array.spacing(1000), 0.0);
+}
+
 // A scene with surfels from surfelize (small, fast settings).
 struct SurfeledScene {
   Scene scene;

@@ -5,6 +5,7 @@
 #include "pbs/scene/scene_fingerprint.hpp"
 #include "pbs/surfels/surfel_nodes.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <unordered_map>
 
@@ -18,7 +19,9 @@ SplatArray splatArrayOf(const SurfelArray& array) {
   SplatArray splats;
   splats.box = array.box;
   splats.coverage = array.coverage;
-  splats.packing = array.packing;
+  // N surfels of spacing r cover N · κ r² = κ · packing: at most the area.
+  const double areaBound = array.area / kSurfelAreaPerSpacing2;
+  splats.packing = array.area > 0.0 ? std::min(array.packing, areaBound) : array.packing;
   splats.positions.reserve(array.surfels.size());
   splats.normals.reserve(array.surfels.size());
   splats.colors.reserve(array.surfels.size());

@@ -38,10 +38,6 @@ enum class SplatMode : std::uint32_t { Nearest = 0, Blend = 1 };
 std::optional<SplatMode> splatModeFromName(std::string_view name);
 const char* splatModeName(SplatMode mode);
 
-// The surface area one surfel stands for, as a fraction of r² for a prefix of spacing r (packing / k =
-// r²): the cell of a point in a hexagonal packing of spacing r has area (√3 / 2) r².
-inline constexpr double kSurfelAreaPerSpacing2 = 0.8660254037844386;
-
 struct LodOptions {
   // Projected size (square root of the box's projected area, pixels) above which a node is descended.
   double threshold = 128.0;
