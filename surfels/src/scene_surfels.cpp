@@ -12,16 +12,23 @@
 namespace pbs {
 
 double SplatArray::spacing(std::size_t count) const {
-  return count > 0 ? std::sqrt(packing / double(count)) : 0.0;
+  if (count == 0) return 0.0;
+  const double first = double(std::min<std::size_t>(kPackingSample, size()));
+  const double last = double(size());
+  double value = packing;
+  if (packingEnd > 0.0 && packing > 0.0 && last > first && double(count) > first) {
+    const double t = std::min(1.0, std::log(double(count) / first) / std::log(last / first));
+    value = packing * std::pow(packingEnd / packing, t);
+  }
+  return std::sqrt(value / double(count));
 }
 
 SplatArray splatArrayOf(const SurfelArray& array) {
   SplatArray splats;
   splats.box = array.box;
   splats.coverage = array.coverage;
-  // N surfels of spacing r cover N · κ r² = κ · packing: at most the area.
-  const double areaBound = array.area / kSurfelAreaPerSpacing2;
-  splats.packing = array.area > 0.0 ? std::min(array.packing, areaBound) : array.packing;
+  splats.packing = array.packing;
+  splats.packingEnd = array.packingEnd;
   splats.positions.reserve(array.surfels.size());
   splats.normals.reserve(array.surfels.size());
   splats.colors.reserve(array.surfels.size());

@@ -20,8 +20,8 @@
 //    80  node table bytes          u64 (records only, without the checksum)
 //    88  file bytes                u64 (the whole file)
 //    96  header checksum           u64 (Hash64 of bytes 0…95)
-//   array table: array count × 88-byte records, then u64 checksum of the records
-//     box.min xyz f64×3, box.max xyz f64×3, coverage f64, packing f64, area f64, surfel count u32,
+//   array table: array count × 96-byte records, then u64 checksum of the records
+//     box.min xyz f64×3, box.max xyz f64×3, coverage f64, packing f64, packing end f64, area f64, surfel count u32,
 //     reserved u32 (0), data offset u64
 //   node table: node count × (path length u32, path bytes, array index u32), then u64 checksum
 //   data, per array at its data offset: count × 16-byte surfels (chunks of kSurfelsPerChunk), then one
@@ -46,7 +46,7 @@ namespace pbs::surfel_file {
 inline constexpr std::array<std::uint8_t, 8> kMagic = {'P', 'B', 'S', 'U', 'R', 'F', 'E', 'L'};
 inline constexpr std::uint64_t kHeaderBytes = 104;
 inline constexpr std::uint64_t kHeaderChecksumOffset = 96;
-inline constexpr std::uint64_t kArrayRecordBytes = 88;
+inline constexpr std::uint64_t kArrayRecordBytes = 96;
 inline constexpr std::uint64_t kNodeRecordMinBytes = 8;  // a node with an empty path
 inline constexpr std::uint64_t kChecksumBytes = 8;
 
@@ -103,6 +103,7 @@ void layoutArray(Io& io, SurfelArrayInfo& a) {
   for (int i = 0; i < 3; ++i) io.f64(a.box.max[i]);
   io.f64(a.coverage);
   io.f64(a.packing);
+  io.f64(a.packingEnd);
   io.f64(a.area);
   io.u32(a.count);
   io.u32(reserved);
@@ -123,7 +124,7 @@ const char* nonFiniteArrayValue(const Array& a) {
   for (int i = 0; i < 3; ++i)
     if (!std::isfinite(a.box.min[i]) || !std::isfinite(a.box.max[i])) return "box";
   if (!std::isfinite(a.coverage)) return "coverage";
-  if (!std::isfinite(a.packing)) return "packing";
+  if (!std::isfinite(a.packing) || !std::isfinite(a.packingEnd)) return "packing";
   if (!std::isfinite(a.area)) return "area";
   return nullptr;
 }

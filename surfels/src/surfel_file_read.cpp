@@ -210,6 +210,7 @@ SurfelFile readSurfelFile(const std::filesystem::path& path) {
     array.box = infos[a].box;
     array.coverage = infos[a].coverage;
     array.packing = infos[a].packing;
+    array.packingEnd = infos[a].packingEnd;
     array.area = infos[a].area;
     array.surfels = reader.readPrefix(a, infos[a].count);
   }

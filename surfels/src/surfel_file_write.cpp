@@ -61,7 +61,9 @@ std::vector<std::uint8_t> layoutTables(const SurfelFile& file) {
   std::uint64_t offset = header.nodeTableOffset + nodeTableBytes + kChecksumBytes;
   for (std::size_t a = 0; a < infos.size(); ++a) {
     const SurfelArray& array = file.arrays[a];
-    infos[a] = {array.box, array.coverage, array.packing, array.area, static_cast<std::uint32_t>(array.surfels.size()),
+    infos[a] = {array.box,        array.coverage,
+                array.packing,    array.packingEnd,
+                array.area,       static_cast<std::uint32_t>(array.surfels.size()),
                 offset};
     offset += arrayDataBytes(array.surfels.size());
   }

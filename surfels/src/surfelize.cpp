@@ -18,22 +18,32 @@
 #include <algorithm>
 #include <atomic>
 #include <mutex>
-#include <numeric>
 
 namespace pbs {
 namespace {
 
+// The positions the ordering and the packing values see. Surfels at one place facing opposite ways are
+// the two sides of a thin surface (a wall, the shell of a cooling tower), and a renderer that culls
+// back faces draws one of them: each side must be spread out on its own, or a prefix holds one side here
+// and the other there, and culling leaves half of it open. So the surfels facing away from a fixed
+// direction are moved beside the others, three extents away, where the two sides never crowd each other
+// out. A closed surface is split into two halves the same way, at the cost of a seam of double density.
+std::vector<glm::vec3> orderingPositions(std::span<const Surfel> surfels) {
+  const glm::vec3 side = glm::normalize(glm::vec3(0.3f, 0.8f, 0.52f));  // no axis: walls are often axis-aligned
+  float extent = 0.0f;
+  for (const Surfel& s : surfels) extent = std::max({extent, std::abs(s.position.x), std::abs(s.position.y), std::abs(s.position.z)});
+  const glm::vec3 shift(extent > 0.0f ? 3.0f * extent : 1.0f, 0.0f, 0.0f);
+  std::vector<glm::vec3> positions(surfels.size());
+  for (std::size_t i = 0; i < surfels.size(); ++i)
+    positions[i] = glm::dot(surfels[i].normal, side) < 0.0f ? surfels[i].position + shift : surfels[i].position;
+  return positions;
+}
+
 // The packing value the renderer sizes prefixes with: d_k² · k for the mean nearest-neighbour distance
-// d_k of the first k = min(1000, N) surfels. Spacing shrinks as 1/sqrt(count) on a surface, so
-// packing / r² is the count whose spacing is r, for any r.
-double packingValue(const std::vector<Surfel>& surfels) {
-  constexpr std::size_t kPackingSample = 1000;
-  const std::size_t k = std::min(kPackingSample, surfels.size());
+// d_k of the first k ordered points. Spacing shrinks as 1/sqrt(count) on a surface, so packing / r² is
+// the count whose spacing is r, for any r.
+double packingValue(std::span<const glm::vec3> positions, std::span<const std::uint32_t> order, std::size_t k) {
   if (k < 2) return 0.0;
-  std::vector<glm::vec3> positions(k);
-  std::vector<std::uint32_t> order(k);
-  for (std::size_t i = 0; i < k; ++i) positions[i] = surfels[i].position;
-  std::iota(order.begin(), order.end(), 0u);
   const double spacing = meanNearestNeighbourDistance(positions, order, k);
   return spacing * spacing * double(k);
 }
@@ -70,8 +80,7 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& p
       fromChildren ? detail::captureFromChildSurfels(scene, frame, node, arrays, plan.arrayOfNode, capture)
                    : captureNode(scene, frame, node, capture);
 
-  std::vector<glm::vec3> positions(captured.surfels.size());
-  for (std::size_t i = 0; i < positions.size(); ++i) positions[i] = captured.surfels[i].position;
+  const std::vector<glm::vec3> positions = orderingPositions(captured.surfels);
   Hash64 seed(options.file.seed);
   seed.string(path);
   const std::vector<std::uint32_t> order =
@@ -85,7 +94,8 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& p
   array.area = area;
   array.surfels.reserve(order.size());
   for (std::uint32_t i : order) array.surfels.push_back(captured.surfels[i]);
-  array.packing = packingValue(array.surfels);
+  array.packing = packingValue(positions, order, std::min(kPackingSample, order.size()));
+  array.packingEnd = packingValue(positions, order, order.size());
   return made;
 }
 

@@ -22,19 +22,19 @@ inline constexpr double kSurfelAreaPerSpacing2 = 0.8660254037844386;
 struct SplatArray {
   Bounds box;  // node-frame box; positions are relative to its centre
   double coverage = 0.0;
-  // The file's packing value, capped so that a whole array never stands for more than the subtree's
-  // surface area: packing is measured on the first 1000 surfels, and where a subtree's parts are far
-  // apart (a city), those spread over the gaps between them, and the value overstates the area of later
-  // prefixes up to tenfold (measured: the 500 M-triangle city's root, 6.5× its area against 0.6× for a
-  // typical array of the default scene, whose hidden surfaces never become surfels).
-  double packing = 0.0;
+  double packing = 0.0;     // the file's packing values (SurfelArray): at k = min(1000, N) surfels …
+  double packingEnd = 0.0;  // … and at all N; 0 when not known
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;
   std::vector<glm::u8vec4> colors;
 
   std::size_t size() const { return positions.size(); }
-  // Mean spacing of the first `count` surfels, from the packing value (packing = d_k² · k): the
-  // distance between neighbours that a prefix of that length leaves, in the node frame.
+  // Mean spacing of the first `count` surfels, from the packing values (packing = d_k² · k): the
+  // distance between neighbours that a prefix of that length leaves, in the node frame. Between the two
+  // measured lengths the packing is interpolated as a power of k: where a subtree's parts lie far apart
+  // (a city), its first surfels spread over the gaps and later ones fill the parts, and the first value
+  // overstates the spacing of long prefixes (the 500 M-triangle city's root: its surfels would stand for
+  // 6.5 times its area, against 0.6 for a typical array of the default scene).
   double spacing(std::size_t count) const;
 };
 

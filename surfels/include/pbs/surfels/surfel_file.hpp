@@ -4,7 +4,7 @@
 // Layout (version 1, little-endian, every offset in bytes from the start of the file):
 //   header      fixed size: magic "PBSURFEL", version, scene fingerprint, the options the arrays were
 //               made with, the counts and offsets of the two tables, a checksum of the header itself
-//   array table one fixed-size record per array: box, coverage, packing, area, surfel count, data
+//   array table one fixed-size record per array: box, coverage, packing at 1000 and at the end, area, surfel count, data
 //               offset; followed by a checksum of the whole table
 //   node table  one record per node: its stable path and the array it uses (instances share arrays);
 //               followed by a checksum of the whole table
@@ -35,6 +35,8 @@ inline constexpr std::uint32_t kSurfelFileVersion = 1;
 inline constexpr std::size_t kSurfelBytes = 16;
 inline constexpr std::uint32_t kSurfelsPerChunk = 1024;
 inline constexpr std::uint32_t kPositionBits = 21;
+// SurfelArray::packing is measured on the first min(kPackingSample, N) surfels.
+inline constexpr std::size_t kPackingSample = 1000;
 
 // The options an array set was made with: part of the file so that a reader knows what it holds.
 struct SurfelFileOptions {
@@ -51,7 +53,10 @@ struct SurfelArray {
   Bounds box;             // node-frame box; positions are quantized against it. Its centre is the origin
                           // the surfel positions are relative to.
   double coverage = 0.0;  // capture coverage estimate in [0, 1]
-  double packing = 0.0;   // (mean nearest-neighbour distance of the first min(1000, N) surfels)² × N
+  double packing = 0.0;   // (mean nearest-neighbour distance of the first k = min(1000, N) surfels)² × k
+  // The same of all N surfels. Where a subtree's parts lie far apart (a city), its first surfels spread
+  // over the gaps and the two differ: the renderer interpolates between them (SplatArray::spacing).
+  double packingEnd = 0.0;
   double area = 0.0;      // surface area of the node's subtree in the node frame (ρ(k) needs it)
   std::vector<Surfel> surfels;  // in order: every prefix is a usable, evenly spread subset
 };
@@ -80,6 +85,7 @@ struct SurfelArrayInfo {
   Bounds box;
   double coverage = 0.0;
   double packing = 0.0;
+  double packingEnd = 0.0;
   double area = 0.0;
   std::uint32_t count = 0;
   std::uint64_t dataOffset = 0;
