@@ -66,16 +66,17 @@ TEST(PrefixLength, PackingRuleIsPackingOverRadiusSquared) {
   EXPECT_EQ(prefixLength(array, 10.0, 0.01, 1.0, options), 5000u) << "larger points, fewer surfels";
 }
 
-TEST(SplatArrays, PackingNeverStandsForMoreThanTheSubtreesArea) {
-  SurfelArray array;
-  array.surfels.resize(100);
-  array.packing = 8.0;
-  array.area = 4.0;  // the surfels would stand for 100 · κ · 8 / 100 = 6.9 > 4
-  EXPECT_DOUBLE_EQ(splatArrayOf(array).packing, 4.0 / kSurfelAreaPerSpacing2);
-  array.area = 100.0;  // a typical array: the packing value stands
-  EXPECT_DOUBLE_EQ(splatArrayOf(array).packing, 8.0);
-  array.area = 0.0;  // no area recorded: nothing to cap by
-  EXPECT_DOUBLE_EQ(splatArrayOf(array).packing, 8.0);
+TEST(SplatArrays, SpacingFollowsThePackingMeasuredAtBothEnds) {
+  SplatArray array = arrayOf(10000, 1.0, 1.0);
+  array.packingEnd = 0.25;  // the full array is 4 times denser than its first 1000 surfels predict
+  EXPECT_DOUBLE_EQ(array.spacing(100), std::sqrt(1.0 / 100.0));
+  EXPECT_DOUBLE_EQ(array.spacing(1000), std::sqrt(1.0 / 1000.0));
+  EXPECT_NEAR(array.spacing(10000), std::sqrt(0.25 / 10000.0), 1e-15);
+  // Halfway in log k, halfway in log packing.
+  const auto k = std::size_t(std::lround(std::sqrt(1000.0 * 10000.0)));
+  EXPECT_NEAR(array.spacing(k), std::sqrt(0.5 / double(k)), 1e-6);
+  array.packingEnd = 0.0;  // not known: the first value stands
+  EXPECT_DOUBLE_EQ(array.spacing(10000), std::sqrt(1.0 / 10000.0));
 }
 
 TEST(LodTraversal, PrefixSizedDiscsCloseTheSurfaceAndGrowWhenTheArrayRunsOut) {

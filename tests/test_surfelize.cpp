@@ -165,6 +165,48 @@ TEST(Surfelize, BitIdenticalFileForOneTwoAndFourThreads) {
   }
 }
 
+// An open sheet (one-sided mesh, drawn two-sided) seen from both sides: a renderer culling back faces
+// draws one side's surfels, so each side's share of every prefix must cover the sheet on its own.
+TEST(Surfelize, EachSideOfAThinSurfaceIsSpreadOnItsOwn) {
+  Mesh sheet;  // unnamed: assigning a name trips a false -Wrestrict of GCC 12 at -O3
+  constexpr std::uint32_t n = 80;  // 12,800 triangles over [-1, 1]² at z = 0
+  for (std::uint32_t j = 0; j <= n; ++j)
+    for (std::uint32_t i = 0; i <= n; ++i)
+      sheet.positions.emplace_back(-1.0f + 2.0f * float(i) / n, -1.0f + 2.0f * float(j) / n, 0.0f);
+  for (std::uint32_t j = 0; j < n; ++j)
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const std::uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      sheet.indices.insert(sheet.indices.end(), {a, b, d, a, d, c});
+    }
+  sheet.normals = computeVertexNormals(sheet.positions, sheet.indices);
+  sheet.parts.push_back(MeshPart{0, std::uint32_t(sheet.indices.size()), 0});
+  updateMeshBounds(sheet);
+  const Scene scene = test::sceneOf(std::move(sheet), {glm::dmat4(1.0)});
+  const SurfelFile file = surfelize(scene, analyzeHierarchy(scene), smallOptions(1000));
+  ASSERT_EQ(file.arrays.size(), 1u);
+  const std::vector<Surfel>& surfels = file.arrays[0].surfels;
+  for (const std::size_t k : {std::size_t(40), std::size_t(160)}) {
+    for (const float side : {-1.0f, 1.0f}) {
+      std::vector<glm::vec2> own;
+      for (std::size_t i = 0; i < k; ++i)
+        if (surfels[i].normal.z * side > 0.5f) own.emplace_back(surfels[i].position);
+      ASSERT_GE(own.size(), k / 3) << "side " << side << " of prefix " << k;
+      // The covering radius: the farthest any point of the sheet is from this side's surfels.
+      double covering = 0.0;
+      for (int y = 0; y <= 40; ++y)
+        for (int x = 0; x <= 40; ++x) {
+          const glm::vec2 p(-1.0f + x / 20.0f, -1.0f + y / 20.0f);
+          double nearest = 1e9;
+          for (const glm::vec2& q : own) nearest = std::min(nearest, double(glm::length(p - q)));
+          covering = std::max(covering, nearest);
+        }
+      // Hexagonal packing of m points on area 4 leaves a covering radius of 0.62 √(4 / m); farthest-point
+      // sets stay within twice the best.
+      EXPECT_LT(covering, 2.0 * 0.62 * std::sqrt(4.0 / double(own.size()))) << "side " << side << " of prefix " << k;
+    }
+  }
+}
+
 TEST(Surfelize, SeedChangesTheOrderNotTheSurface) {
   const Scene scene = twoIdenticalGroups();
   SurfelizeOptions a = smallOptions(1000), b = smallOptions(1000);
