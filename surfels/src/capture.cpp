@@ -18,10 +18,15 @@ namespace {
 // The authors' coverage rule: alpha > 0.1 in RGBA8.
 constexpr std::uint8_t kMinCoveredAlpha = 26;
 
-void appendSurfels(const Framebuffer& framebuffer, std::vector<Surfel>& surfels) {
+// `direction` is the one the view looks along. Normals are turned to face it: a one-sided surface seen
+// from behind must not keep a normal pointing away from every view that can see it, else a renderer
+// could not tell front-facing surfels from back-facing ones. A zero normal stays zero.
+void appendSurfels(const Framebuffer& framebuffer, const glm::vec3& direction, std::vector<Surfel>& surfels) {
   for (std::size_t pixel = 0; pixel < framebuffer.pixelCount(); ++pixel) {
     if (!framebuffer.covered(pixel) || framebuffer.color[pixel].a < kMinCoveredAlpha) continue;
-    surfels.push_back({framebuffer.position[pixel], framebuffer.normal[pixel], framebuffer.color[pixel]});
+    const glm::vec3 normal = framebuffer.normal[pixel];
+    surfels.push_back({framebuffer.position[pixel], glm::dot(normal, direction) > 0.0f ? -normal : normal,
+                       framebuffer.color[pixel]});
   }
 }
 
@@ -46,7 +51,7 @@ CaptureResult captureBox(const Bounds& box, const CaptureOptions& options, const
     draw(camera, framebuffer);
     if (options.onView) options.onView(result.views, camera, framebuffer);
     const std::size_t before = result.surfels.size();
-    appendSurfels(framebuffer, result.surfels);
+    appendSurfels(framebuffer, glm::vec3(direction), result.surfels);
     result.coveredPixels += result.surfels.size() - before;
     boxArea += projectedBoxPixels(camera, box);
     ++result.views;
