@@ -14,7 +14,11 @@ namespace pbs::test {
 // twoIdenticalGroups() as `scratch`/groups.glb, its path quoted for the command line.
 inline std::string groupsFile(const ScratchDir& scratch) {
   writeGlb(twoIdenticalGroups(), scratch / "groups.glb");
-  return "'" + (scratch / "groups.glb").string() + "'";
+  // Appended, not "'" + string: GCC 12's -Wrestrict misfires on that operator+ where it is inlined.
+  std::string quoted = "'";
+  quoted += (scratch / "groups.glb").string();
+  quoted += "'";
+  return quoted;
 }
 
 // groupsFile() and `scratch`/groups.surfels made from it by `pbs surfelize --threshold 1000

@@ -10,6 +10,7 @@
 #include "pbs/surfels/blue_noise_metrics.hpp"
 #include "pbs/surfels/capture.hpp"
 #include "pbs/surfels/ordering.hpp"
+#include "pbs/surfels/prefilter_colors.hpp"
 #include "pbs/surfels/surfel_nodes.hpp"
 
 #include <tbb/parallel_for.h>
@@ -76,6 +77,7 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& p
   seed.string(path);
   const std::vector<std::uint32_t> order =
       orderPoints(options.file.ordering, positions, options.file.maxSurfels, seed.digest());
+  positions = {};  // before the colour filter, which makes its own copies
 
   MadeArray made;
   made.candidates = captured.surfels.size();
@@ -85,6 +87,10 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& p
   array.area = area;
   array.surfels.reserve(order.size());
   for (std::uint32_t i : order) array.surfels.push_back(captured.surfels[i]);
+  if (options.file.colors == SurfelColors::Prefiltered) {
+    const std::vector<glm::u8vec4> colors = prefilteredColors(captured.surfels, order);
+    for (std::size_t i = 0; i < colors.size(); ++i) array.surfels[i].color = colors[i];
+  }
   array.packing = packingValue(array.surfels);
   return made;
 }
@@ -115,7 +121,8 @@ std::uint64_t surfelizeMemoryEstimate(const Scene& scene, const Hierarchy& hiera
   const detail::SurfelPlan plan = detail::planSurfelArrays(scene, hierarchy, options.file.threshold);
   const std::uint64_t pixels = std::uint64_t(options.file.resolution) * options.file.resolution;
   constexpr std::uint64_t kGBufferBytes = 4 + 4 + 12 + 12;  // depth, colour, position, normal per pixel
-  // A candidate: the surfel, its position for the ordering, and the ordering's grid and heap entries.
+  // A candidate: the surfel, its position for the ordering, and the ordering's grid and heap entries
+  // (freed before the colour filter, whose position, colour and grid cells take less).
   constexpr std::uint64_t kCandidateBytes = sizeof(Surfel) + 12 + 32;
   const std::uint64_t capture = pixels * (kGBufferBytes + options.file.directions * kCandidateBytes);
   const std::uint64_t frame = scene.nodes.size() * (sizeof(glm::dmat4) + sizeof(Bounds) + 24);
