@@ -14,9 +14,10 @@ namespace pbs::test {
 // twoIdenticalGroups() as `scratch`/groups.glb, its path quoted for the command line.
 inline std::string groupsFile(const ScratchDir& scratch) {
   writeGlb(twoIdenticalGroups(), scratch / "groups.glb");
-  // Appended rather than "'" + path: GCC 12 at -O3 warns falsely (-Wrestrict) on the latter where inlined.
+  // Appended, not "'" + string: GCC 12's -Wrestrict misfires on that operator+ where it is inlined.
   std::string quoted = "'";
-  quoted.append((scratch / "groups.glb").string()).append("'");
+  quoted += (scratch / "groups.glb").string();
+  quoted += "'";
   return quoted;
 }
 

@@ -170,6 +170,66 @@ TEST(Capture, StiffInputsStayDefined) {
   }
 }
 
+// An open quad (two triangles, normal +z as the mesh has it) is seen from both sides: each view's
+// surfels face that view, so the four views from below give -z normals and the four from above +z.
+TEST(Capture, NormalsFaceTheViewThatSawThem) {
+  const Scene scene =
+      sceneOf(trianglesMesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}), {glm::dmat4(1.0)});
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  ASSERT_EQ(scene.meshes[0].normals[0], glm::vec3(0.0f, 0.0f, 1.0f));
+  for (const auto backend : kBackends) {
+    for (std::uint32_t count : {8u, 16u}) {
+      // Every covered pixel of this opaque quad is a surfel, so the views' covered counts split the surfels.
+      std::vector<std::size_t> perView;
+      CaptureOptions options{.resolution = 32, .directions = count, .backend = backend};
+      options.onView = [&](std::uint32_t, const Camera&, const Framebuffer& gbuffer) {
+        std::size_t covered = 0;
+        for (std::size_t pixel = 0; pixel < gbuffer.pixelCount(); ++pixel) covered += gbuffer.covered(pixel);
+        perView.push_back(covered);
+      };
+      const CaptureResult result = captureNode(scene, hierarchy, 0, options);
+      const std::vector<glm::dvec3> directions = captureDirections(count);
+      ASSERT_EQ(perView.size(), directions.size());
+      std::size_t first = 0, up = 0, down = 0;
+      for (std::size_t view = 0; view < perView.size(); ++view) {
+        const glm::vec3 direction(directions[view]);
+        for (std::size_t i = first; i < first + perView[view]; ++i) {
+          const glm::vec3 n = result.surfels.at(i).normal;
+          ASSERT_LE(glm::dot(n, direction), 0.0f) << "view " << view << ", surfel " << i;
+          ASSERT_NEAR(std::abs(n.z), 1.0f, 1e-6f);
+          (n.z > 0.0f ? up : down) += 1;
+          // The side a view sees decides the sign: looking down (-z) it sees the top.
+          EXPECT_EQ(n.z > 0.0f, direction.z < 0.0f);
+        }
+        first += perView[view];
+      }
+      EXPECT_EQ(first, result.surfels.size());
+      EXPECT_GT(up, 0u);
+      EXPECT_GT(down, 0u);
+    }
+  }
+}
+
+// A zero normal (a degenerate surface) stays zero whatever the view; others are turned to face it.
+TEST(Capture, ZeroNormalStaysZero) {
+  const Bounds box{glm::dvec3(-1.0), glm::dvec3(1.0)};
+  for (const glm::vec3 normal : {glm::vec3(0.0f), glm::vec3(0.0f, 1.0f, 0.0f), glm::vec3(0.0f, -1.0f, 0.0f)}) {
+    const CaptureResult result = captureBox(box, {.resolution = 4}, [&](const Camera&, Framebuffer& gbuffer) {
+      gbuffer.depth[0] = 0.5f;
+      gbuffer.color[0] = glm::u8vec4(255);
+      gbuffer.position[0] = glm::vec3(0.0f);
+      gbuffer.normal[0] = normal;
+    });
+    const std::vector<glm::dvec3> directions = captureDirections(8);
+    ASSERT_EQ(result.surfels.size(), directions.size());
+    for (std::size_t view = 0; view < directions.size(); ++view) {
+      const glm::vec3 n = result.surfels[view].normal;
+      EXPECT_EQ(glm::abs(n), glm::abs(normal));
+      EXPECT_LE(glm::dot(n, glm::vec3(directions[view])), 0.0f);
+    }
+  }
+}
+
 TEST(Capture, RasterAndEmbreeAgreeOnSharedScenes) {
   PBS_SHARED_SCENE(dir, "");
   for (const char* file : {"bunny.glb", "fandisk.glb", "horse.glb", "rocker-arm.glb", "spot.glb", "suzanne.glb",

@@ -69,7 +69,7 @@ SurfelFile sampleFile() {
   SurfelFile file;
   file.sceneFingerprint = 0x0123456789ABCDEFull;
   file.options = {.threshold = 5000, .maxSurfels = 4000, .resolution = 256, .directions = 6,
-                  .ordering = SurfelOrdering::Dart, .seed = 77};
+                  .ordering = SurfelOrdering::Dart, .colors = SurfelColors::Pixel, .seed = 77};
   file.arrays.push_back(makeArray(2500, makeBox({1e6, -2e6, 3.5e5}, {10.0, 4.0, 0.5}), 1));
   file.arrays.push_back(makeArray(0, makeBox({0, 0, 0}, {1, 1, 1}), 2));
   file.arrays.push_back(makeArray(5, makeBox({-3, 2, 1}, {1e-3, 2e-3, 0.0}), 3));
@@ -136,6 +136,7 @@ TEST(SurfelFile, RoundTripKeepsEverything) {
   EXPECT_EQ(back.options.resolution, 256u);
   EXPECT_EQ(back.options.directions, 6u);
   EXPECT_EQ(back.options.ordering, SurfelOrdering::Dart);
+  EXPECT_EQ(back.options.colors, SurfelColors::Pixel);
   EXPECT_EQ(back.options.seed, 77u);
   ASSERT_EQ(back.nodes.size(), file.nodes.size());
   for (std::size_t n = 0; n < file.nodes.size(); ++n) {
@@ -462,10 +463,15 @@ TEST(SurfelFile, BadMagicFutureVersionAndMissingFiles) {
   writeFile(path, magic);
   EXPECT_NE(errorOf(path).find("header: bad magic"), std::string::npos) << errorOf(path);
 
-  std::string future = bytes;
-  putU32(future, 8, 2);
-  writeFile(path, future);
-  EXPECT_NE(errorOf(path).find("unsupported version 2"), std::string::npos) << errorOf(path);
+  // Version 1 (before the colour filter joined the header) and a future version are refused by name.
+  for (std::uint32_t version : {1u, 3u}) {
+    std::string other = bytes;
+    putU32(other, 8, version);
+    writeFile(path, other);
+    EXPECT_NE(errorOf(path).find("unsupported version " + std::to_string(version) + " (this build reads version 2)"),
+              std::string::npos)
+        << errorOf(path);
+  }
 
   writeFile(path, "");
   EXPECT_THROW(readSurfelFile(path), InputError);
@@ -493,13 +499,14 @@ TEST(SurfelFile, AbsurdCountsAndOffsetsAreRefused) {
     writeFile(path, forged);
     return errorOf(path);
   };
-  EXPECT_NE(forgedHeader(56, 0xFFFFFFFFu, false).find("array table: counts absurd"), std::string::npos);
-  EXPECT_NE(forgedHeader(60, 0xFFFFFFFFu, false).find("node table: counts absurd"), std::string::npos);
-  EXPECT_NE(forgedHeader(80, ~0ull, true).find("node table: counts absurd"), std::string::npos);
-  EXPECT_NE(forgedHeader(64, ~0ull - 4, true).find("array table: truncated: offset"), std::string::npos);
-  EXPECT_NE(forgedHeader(72, 1ull << 40, true).find("node table: truncated: offset"), std::string::npos);
-  EXPECT_NE(forgedHeader(88, 1ull << 40, true).find("truncated"), std::string::npos);
+  EXPECT_NE(forgedHeader(64, 0xFFFFFFFFu, false).find("array table: counts absurd"), std::string::npos);
+  EXPECT_NE(forgedHeader(68, 0xFFFFFFFFu, false).find("node table: counts absurd"), std::string::npos);
+  EXPECT_NE(forgedHeader(88, ~0ull, true).find("node table: counts absurd"), std::string::npos);
+  EXPECT_NE(forgedHeader(72, ~0ull - 4, true).find("array table: truncated: offset"), std::string::npos);
+  EXPECT_NE(forgedHeader(80, 1ull << 40, true).find("node table: truncated: offset"), std::string::npos);
+  EXPECT_NE(forgedHeader(96, 1ull << 40, true).find("truncated"), std::string::npos);
   EXPECT_NE(forgedHeader(44, 7, false).find("unknown ordering 7"), std::string::npos);
+  EXPECT_NE(forgedHeader(48, 2, false).find("unknown colour filter 2"), std::string::npos);
 
   // An array record pointing its data past the end, named by the first node using it.
   const std::size_t arrayTable = kHeaderBytes;

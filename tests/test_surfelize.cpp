@@ -14,6 +14,10 @@
 #include <pbs/scene/scene_fingerprint.hpp>
 #include <pbs/scene/subtree_classes.hpp>
 #include <pbs/scene/surface_area.hpp>
+#include <pbs/raster/hash64.hpp>
+#include <pbs/surfels/capture.hpp>
+#include <pbs/surfels/ordering.hpp>
+#include <pbs/surfels/prefilter_colors.hpp>
 #include <pbs/surfels/scene_surfels.hpp>
 #include <pbs/surfels/surfelize.hpp>
 
@@ -217,6 +221,64 @@ TEST(Surfelize, SeedChangesTheOrderNotTheSurface) {
   EXPECT_EQ(fa.arrays[2].coverage, fb.arrays[2].coverage);
 }
 
+// The tessellated box with a colour per face, alone in its scene: its root's array is captured from
+// its triangles in the frame of the scene, so a test can repeat the capture and the ordering.
+Scene sixColourBox() {
+  Mesh box = test::tessellatedBox(10);
+  const std::uint32_t perFace = std::uint32_t(box.indices.size() / 6);
+  box.parts.clear();
+  for (std::uint32_t face = 0; face < 6; ++face) box.parts.push_back(MeshPart{face * perFace, perFace, face});
+  Scene scene = test::sceneOf(std::move(box), {glm::dmat4(1.0)});
+  for (std::uint32_t face = 0; face < 6; ++face)
+    scene.materials[face].baseColorFactor = glm::vec4(face & 1 ? 0.9f : 0.1f, face & 2 ? 0.8f : 0.2f, face & 4 ? 0.7f : 0.3f, 1.0f);
+  return scene;
+}
+
+// --colors pixel keeps each surfel's own captured pixel, as before the colour filter; prefiltered
+// changes the colours only, to prefilteredColors of the same candidates and order.
+TEST(Surfelize, PixelColorsAreTheCapturedOnesAndPrefilteredTheirFilter) {
+  const Scene scene = sixColourBox();
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  SurfelizeOptions options = smallOptions(1000);
+  options.file.colors = SurfelColors::Pixel;
+  const SurfelFile pixel = surfelize(scene, hierarchy, options);
+  options.file.colors = SurfelColors::Prefiltered;
+  const SurfelFile filtered = surfelize(scene, hierarchy, options);
+  ASSERT_EQ(pixel.arrays.size(), 1u);
+  ASSERT_EQ(filtered.arrays.size(), 1u);
+  ASSERT_EQ(pixel.nodes.at(0).path, "/0");
+
+  // The capture and ordering surfelize makes for the root, repeated.
+  const CaptureResult captured = captureNode(scene, analyzeSubtree(scene, 0), 0,
+                                             {.resolution = options.file.resolution, .directions = options.file.directions});
+  std::vector<glm::vec3> positions;
+  for (const Surfel& s : captured.surfels) positions.push_back(s.position);
+  Hash64 seed(options.file.seed);
+  seed.string("/0");
+  const std::vector<std::uint32_t> order =
+      orderPoints(options.file.ordering, positions, options.file.maxSurfels, seed.digest());
+  const std::vector<glm::u8vec4> colors = prefilteredColors(captured.surfels, order);
+
+  const std::vector<Surfel>& a = pixel.arrays[0].surfels;
+  const std::vector<Surfel>& b = filtered.arrays[0].surfels;
+  ASSERT_EQ(a.size(), order.size());
+  ASSERT_EQ(b.size(), order.size());
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const Surfel& candidate = captured.surfels[order[i]];
+    ASSERT_EQ(a[i].position, candidate.position) << i;
+    ASSERT_EQ(a[i].normal, candidate.normal) << i;
+    ASSERT_EQ(a[i].color, candidate.color) << i;
+    ASSERT_EQ(b[i].position, candidate.position) << i;
+    ASSERT_EQ(b[i].normal, candidate.normal) << i;
+    ASSERT_EQ(b[i].color, colors[i]) << i;
+    changed += b[i].color != a[i].color;
+  }
+  // The first surfel mixes all six faces; late ones near an edge mix two or three.
+  EXPECT_NE(b[0].color, a[0].color);
+  EXPECT_GT(changed, 10u);
+}
+
 // What drawing an array's surfels (splats as wide as their spacing) misses or adds against the exact
 // triangles, over four views of the array's node: the fraction of pixels covered by exactly one of
 // the two, and the RMSE of the base colour over the pixels either covers (0…255 per channel).
@@ -320,6 +382,28 @@ TEST(SurfelizeCli, WritesTheFileAndReportsJson) {
   EXPECT_EQ(reader.options().maxSurfels, 500u);
   EXPECT_EQ(reader.options().resolution, 96u);
   EXPECT_EQ(reader.readPrefix(2, 100).size(), 100u);
+}
+
+TEST(SurfelizeCli, ColorsOptionIsRecordedInTheFile) {
+  ScratchDir scratch;
+  const std::string scene = groupsFile(scratch);
+  const auto out = scratch / "pixel.surfels";
+  const std::string common = " --threshold 1000 --max-surfels 300 --resolution 64 --quiet";
+  const test::CommandResult run = test::runPbs("surfelize " + scene + " -o '" + out.string() + "' --colors pixel --json" + common);
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(nlohmann::json::parse(run.out)["colors"], "pixel");
+  EXPECT_EQ(SurfelFileReader(out).options().colors, SurfelColors::Pixel);
+  const test::CommandResult analyzed = test::runPbs("analyze '" + out.string() + "' --no-spectrum");
+  ASSERT_EQ(analyzed.status, 0) << analyzed.err;
+  EXPECT_NE(analyzed.out.find("pixel colours"), std::string::npos) << analyzed.out;
+
+  const auto byDefault = scratch / "default.surfels";
+  ASSERT_EQ(test::runPbs("surfelize " + scene + " -o '" + byDefault.string() + "'" + common).status, 0);
+  EXPECT_EQ(SurfelFileReader(byDefault).options().colors, SurfelColors::Prefiltered);
+
+  const test::CommandResult bad = test::runPbs("surfelize " + scene + " -o '" + out.string() + "' --colors mean" + common);
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.err.find("--colors"), std::string::npos) << bad.err;
 }
 
 TEST(SurfelizeCli, ProgressLinesWhenStderrIsNotATerminal) {

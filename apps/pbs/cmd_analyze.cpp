@@ -275,6 +275,7 @@ std::vector<Measured> analyzeFile(const Options& options, nlohmann::json& report
   }
   report["mode"] = "file";
   report["ordering"] = ordering;
+  report["colors"] = surfelColorsName(reader.options().colors);
   report["seed"] = reader.options().seed;
   report["arrays"] = nlohmann::json::array();
   for (std::size_t a = 0; a < arrays.size(); ++a) {
@@ -352,9 +353,11 @@ void printText(const nlohmann::json& report) {
                   n["coverage"].get<double>(), n["rho_min"].get<double>(), n["rho_mean"].get<double>(),
                   n["mean_nn"].get<double>(), n["seconds"].get<double>());
   } else {
-    std::printf("%s: %zu arrays, %zu nodes, ordering %s (seed %llu)\n", report["source"].get<std::string>().c_str(),
-                report["arrays"].size(), report["nodes"].size(), report["ordering"].get<std::string>().c_str(),
-                static_cast<unsigned long long>(report["seed"].get<std::uint64_t>()));
+    std::printf("%s: %zu arrays, %zu nodes, ordering %s (seed %llu), %s colours\n",
+                report["source"].get<std::string>().c_str(), report["arrays"].size(), report["nodes"].size(),
+                report["ordering"].get<std::string>().c_str(),
+                static_cast<unsigned long long>(report["seed"].get<std::uint64_t>()),
+                report["colors"].get<std::string>().c_str());
     std::printf("  %-16s %6s %8s %10s %9s %9s %9s\n", "node", "array", "count", "area", "coverage", "rho_min",
                 "rho_mean");
     for (const auto& n : report["nodes"])

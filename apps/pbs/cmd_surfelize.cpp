@@ -48,6 +48,14 @@ void addSurfelizeCommand(CLI::App& app) {
       ->capture_default_str();
   addCaptureOptions(*command, file.resolution, file.directions);
   addOrderingOption(*command, file.ordering);
+  std::map<std::string, SurfelColors> colorNames;
+  for (SurfelColors c : {SurfelColors::Pixel, SurfelColors::Prefiltered})
+    colorNames.emplace(std::string(surfelColorsName(c)), c);
+  command
+      ->add_option("--colors", file.colors,
+                   "surfel colours: prefiltered (default: each surfel's neighbourhood averaged, as wide as its "
+                   "spacing in the order) or pixel (the one captured pixel's)")
+      ->transform(CLI::CheckedTransformer(colorNames));
   addCaptureSourceOption(*command, options->surfelize.source,
                          "what an inner node's capture draws: its subtree's triangles (exact) or its children's "
                          "surfels (fast)");
@@ -95,6 +103,7 @@ void addSurfelizeCommand(CLI::App& app) {
             {"max_surfels", settings.file.maxSurfels},
             {"resolution", settings.file.resolution},
             {"ordering", orderingName(settings.file.ordering)},
+            {"colors", surfelColorsName(settings.file.colors)},
             {"capture_from", captureSourceName(settings.source)},
             {"seed", settings.file.seed},
         };

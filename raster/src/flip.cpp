@@ -5,7 +5,7 @@
 #include "flip_color.hpp"
 #include "flip_features.hpp"
 #include "flip_median.hpp"
-#include "simd_clones.hpp"
+#include "pbs/raster/simd_clones.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -3,7 +3,7 @@
 // time), within 2e-6 (relative) of std::pow for x in [1e-4, 300], the ranges FLIP uses.
 #pragma once
 
-#include "simd_clones.hpp"
+#include "pbs/raster/simd_clones.hpp"
 
 #include <bit>
 #include <cstdint>

@@ -2,7 +2,7 @@
 #include "flip_color.hpp"
 
 #include "flip_color_space.hpp"
-#include "simd_clones.hpp"
+#include "pbs/raster/simd_clones.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "flip_branchless.hpp"
-#include "simd_clones.hpp"
+#include "pbs/raster/simd_clones.hpp"
 
 #include <glm/glm.hpp>
 

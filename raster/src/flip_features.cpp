@@ -2,7 +2,7 @@
 #include "flip_features.hpp"
 
 #include "flip_branchless.hpp"
-#include "simd_clones.hpp"
+#include "pbs/raster/simd_clones.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 // The column and row passes of FLIP's separable filters, vectorised across the pixels of a row.
 #include "flip_filters.hpp"
 
-#include "simd_clones.hpp"
+#include "pbs/raster/simd_clones.hpp"
 
 #include <algorithm>
 #include <cassert>

@@ -1,6 +1,6 @@
 // Checking and laying out the point sets of a draw, and the per-point channel values.
 #include "points_sets.hpp"
-#include "simd_clones.hpp"
+#include "pbs/raster/simd_clones.hpp"
 
 #include <glm/gtc/matrix_inverse.hpp>
 

@@ -1,6 +1,6 @@
 // Block-wise projection of points to square and disc splats (see points_splat.hpp).
 #include "points_splat.hpp"
-#include "simd_clones.hpp"
+#include "pbs/raster/simd_clones.hpp"
 
 namespace pbs::points {
 

@@ -6,7 +6,7 @@
 // which is cloned, so that a triangle of a few pixels pays no call and reloads no constants.
 #pragma once
 
-#include "simd_clones.hpp"
+#include "pbs/raster/simd_clones.hpp"
 #include "tile_buffer.hpp"
 
 #include <algorithm>

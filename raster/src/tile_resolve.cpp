@@ -1,6 +1,6 @@
 // Resolving a tile: for each pixel a triangle of this batch won, its attributes are interpolated
 // once (perspective-correct) into the channels the framebuffer has; nothing else is computed.
-#include "simd_clones.hpp"
+#include "pbs/raster/simd_clones.hpp"
 #include "tile_buffer.hpp"
 
 #include <cmath>

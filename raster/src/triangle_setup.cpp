@@ -2,7 +2,7 @@
 // the depth plane and the attribute planes of its shading record, and the bin counts.
 // Parallel over chunks of source triangles; each chunk's output keeps submission order.
 #include "homogeneous_clip.hpp"
-#include "simd_clones.hpp"
+#include "pbs/raster/simd_clones.hpp"
 #include "tile_bins.hpp"
 #include "triangle_batch.hpp"
 #include "window_snap.hpp"

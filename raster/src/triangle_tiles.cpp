@@ -1,6 +1,6 @@
 // The tile stage: one TBB task per tile walks its bin and the large-triangle bin in submission
 // order, then writes depth back and resolves the winners' attributes. No two tasks share a pixel.
-#include "simd_clones.hpp"
+#include "pbs/raster/simd_clones.hpp"
 #include "tile_buffer.hpp"
 #include "tile_coverage.hpp"
 

@@ -2,7 +2,7 @@
 // attributes the channels need, cached per span so triangles sharing a vertex share the work.
 // Spans of many vertices on few pixels (distant instances) leave the attributes to the few
 // triangles that cover a pixel centre (TriangleSpan::deferAttributes).
-#include "simd_clones.hpp"
+#include "pbs/raster/simd_clones.hpp"
 #include "triangle_batch.hpp"
 #include "window_snap.hpp"
 

@@ -1,8 +1,8 @@
 // The byte layout of a .surfels file, shared by the writer and the reader: each record's fields are
 // listed once, in a layout function that a byte sink (writing) and a byte source (reading) both walk.
 //
-// Version 1, all integers little-endian, doubles as their IEEE-754 bits:
-//   header (104 bytes at offset 0)
+// Version 2, all integers little-endian, doubles as their IEEE-754 bits:
+//   header (112 bytes at offset 0)
 //     0  magic "PBSURFEL"          8 bytes
 //     8  version                   u32
 //    12  reserved (0)              u32
@@ -12,14 +12,16 @@
 //    36  options.resolution        u32
 //    40  options.directions        u32
 //    44  options.ordering          u32
-//    48  options.seed              u64
-//    56  array count               u32
-//    60  node count                u32
-//    64  array table offset        u64
-//    72  node table offset         u64
-//    80  node table bytes          u64 (records only, without the checksum)
-//    88  file bytes                u64 (the whole file)
-//    96  header checksum           u64 (Hash64 of bytes 0…95)
+//    48  options.colors            u32
+//    52  reserved (0)              u32
+//    56  options.seed              u64
+//    64  array count               u32
+//    68  node count                u32
+//    72  array table offset        u64
+//    80  node table offset         u64
+//    88  node table bytes          u64 (records only, without the checksum)
+//    96  file bytes                u64 (the whole file)
+//   104  header checksum           u64 (Hash64 of bytes 0…103)
 //   array table: array count × 96-byte records, then u64 checksum of the records
 //     box.min xyz f64×3, box.max xyz f64×3, coverage f64, packing f64, packing end f64, area f64, surfel count u32,
 //     reserved u32 (0), data offset u64
@@ -44,8 +46,8 @@
 namespace pbs::surfel_file {
 
 inline constexpr std::array<std::uint8_t, 8> kMagic = {'P', 'B', 'S', 'U', 'R', 'F', 'E', 'L'};
-inline constexpr std::uint64_t kHeaderBytes = 104;
-inline constexpr std::uint64_t kHeaderChecksumOffset = 96;
+inline constexpr std::uint64_t kHeaderBytes = 112;
+inline constexpr std::uint64_t kHeaderChecksumOffset = 104;
 inline constexpr std::uint64_t kArrayRecordBytes = 96;
 inline constexpr std::uint64_t kNodeRecordMinBytes = 8;  // a node with an empty path
 inline constexpr std::uint64_t kChecksumBytes = 8;
@@ -66,6 +68,8 @@ struct Header {
   std::uint32_t resolution = 0;
   std::uint32_t directions = 0;
   std::uint32_t ordering = 0;
+  std::uint32_t colors = 0;
+  std::uint32_t reservedAfterColors = 0;  // keeps the seed 8-byte aligned
   std::uint64_t seed = 0;
   std::uint32_t arrayCount = 0;
   std::uint32_t nodeCount = 0;
@@ -87,6 +91,8 @@ void layoutHeader(Io& io, Header& h) {
   io.u32(h.resolution);
   io.u32(h.directions);
   io.u32(h.ordering);
+  io.u32(h.colors);
+  io.u32(h.reservedAfterColors);
   io.u64(h.seed);
   io.u32(h.arrayCount);
   io.u32(h.nodeCount);

@@ -72,14 +72,22 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
   if (header.ordering > static_cast<std::uint32_t>(SurfelOrdering::Random)) {
     throw InputError(file, "header", "unknown ordering " + number(header.ordering));
   }
+  if (header.colors > static_cast<std::uint32_t>(SurfelColors::Prefiltered)) {
+    throw InputError(file, "header", "unknown colour filter " + number(header.colors));
+  }
   if (header.fileBytes > fileSize) throw InputError(file, "header", beyond(header.fileBytes, 0, fileSize));
   if (header.fileBytes < fileSize) {
     throw InputError(file, "header",
                      "file size " + number(fileSize) + " exceeds the " + number(header.fileBytes) + " bytes it declares");
   }
   fingerprint_ = header.fingerprint;
-  options_ = {header.threshold, header.maxSurfels, header.resolution, header.directions,
-              static_cast<SurfelOrdering>(header.ordering), header.seed};
+  options_ = {.threshold = header.threshold,
+              .maxSurfels = header.maxSurfels,
+              .resolution = header.resolution,
+              .directions = header.directions,
+              .ordering = static_cast<SurfelOrdering>(header.ordering),
+              .colors = static_cast<SurfelColors>(header.colors),
+              .seed = header.seed};
 
   // Array table: the count is bounded by the file size before the table is read.
   if (header.arrayCount > fileSize / kArrayRecordBytes) {

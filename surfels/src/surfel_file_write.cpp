@@ -52,6 +52,7 @@ std::vector<std::uint8_t> layoutTables(const SurfelFile& file) {
   header.resolution = file.options.resolution;
   header.directions = file.options.directions;
   header.ordering = static_cast<std::uint32_t>(file.options.ordering);
+  header.colors = static_cast<std::uint32_t>(file.options.colors);
   header.seed = file.options.seed;
   header.arrayCount = static_cast<std::uint32_t>(file.arrays.size());
   header.nodeCount = static_cast<std::uint32_t>(file.nodes.size());

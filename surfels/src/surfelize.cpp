@@ -10,6 +10,7 @@
 #include "pbs/surfels/blue_noise_metrics.hpp"
 #include "pbs/surfels/capture.hpp"
 #include "pbs/surfels/ordering.hpp"
+#include "pbs/surfels/prefilter_colors.hpp"
 #include "pbs/surfels/surfel_nodes.hpp"
 
 #include <tbb/parallel_for.h>
@@ -94,6 +95,13 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& p
   array.area = area;
   array.surfels.reserve(order.size());
   for (std::uint32_t i : order) array.surfels.push_back(captured.surfels[i]);
+  if (options.file.colors == SurfelColors::Prefiltered) {
+    // Filtered where the ordering sees the candidates: each side of a thin surface on its own.
+    std::vector<Surfel> seen(captured.surfels.begin(), captured.surfels.end());
+    for (std::size_t i = 0; i < seen.size(); ++i) seen[i].position = positions[i];
+    const std::vector<glm::u8vec4> colors = prefilteredColors(seen, order);
+    for (std::size_t i = 0; i < colors.size(); ++i) array.surfels[i].color = colors[i];
+  }
   array.packing = packingValue(positions, order, std::min(kPackingSample, order.size()));
   array.packingEnd = packingValue(positions, order, order.size());
   return made;
@@ -125,8 +133,9 @@ std::uint64_t surfelizeMemoryEstimate(const Scene& scene, const Hierarchy& hiera
   const detail::SurfelPlan plan = detail::planSurfelArrays(scene, hierarchy, options.file.threshold);
   const std::uint64_t pixels = std::uint64_t(options.file.resolution) * options.file.resolution;
   constexpr std::uint64_t kGBufferBytes = 4 + 4 + 12 + 12;  // depth, colour, position, normal per pixel
-  // A candidate: the surfel, its position for the ordering, and the ordering's grid and heap entries.
-  constexpr std::uint64_t kCandidateBytes = sizeof(Surfel) + 12 + 32;
+  // A candidate: the surfel, its position for the ordering, and the ordering's grid and heap entries,
+  // then the colour filter's copy of the surfel (with the ordering's position) and its grid cells.
+  constexpr std::uint64_t kCandidateBytes = sizeof(Surfel) + 12 + std::max<std::uint64_t>(32, sizeof(Surfel) + 8);
   const std::uint64_t capture = pixels * (kGBufferBytes + options.file.directions * kCandidateBytes);
   const std::uint64_t frame = scene.nodes.size() * (sizeof(glm::dmat4) + sizeof(Bounds) + 24);
   const std::uint64_t arrays =

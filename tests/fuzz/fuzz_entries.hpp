@@ -40,8 +40,8 @@ inline void importGltfBytes(std::span<const std::uint8_t> bytes) {
 // .surfels layout constants (surfels/src/surfel_file_layout.hpp, described in surfel_file.hpp):
 // repeated here so that the fuzzer can repair checksums without reaching into the library's sources.
 namespace surfel_layout {
-inline constexpr std::uint64_t kHeaderBytes = 104;
-inline constexpr std::uint64_t kHeaderChecksumOffset = 96;
+inline constexpr std::uint64_t kHeaderBytes = 112;
+inline constexpr std::uint64_t kHeaderChecksumOffset = 104;
 inline constexpr std::uint64_t kArrayRecordBytes = 88;
 inline constexpr std::uint64_t kChecksumBytes = 8;
 inline constexpr std::uint64_t kHeaderSeed = 0x50425348'45414452ull;
@@ -74,10 +74,10 @@ inline void repairSurfelChecksums(std::vector<std::uint8_t>& bytes) {
     return offset <= size && length <= size - offset;
   };
   // Table checksums first (the header does not cover them), the header's last.
-  const std::uint64_t arrayCount = loadU32(b + 56);
-  const std::uint64_t arrayTable = loadU64(b + 64);
-  const std::uint64_t nodeTable = loadU64(b + 72);
-  const std::uint64_t nodeTableBytes = loadU64(b + 80);
+  const std::uint64_t arrayCount = loadU32(b + 64);
+  const std::uint64_t arrayTable = loadU64(b + 72);
+  const std::uint64_t nodeTable = loadU64(b + 80);
+  const std::uint64_t nodeTableBytes = loadU64(b + 88);
   const bool arraysFit = arrayCount <= size / kArrayRecordBytes &&
                          fits(arrayTable, arrayCount * kArrayRecordBytes + kChecksumBytes);
   if (arraysFit) {

@@ -196,6 +196,7 @@ int main(int argc, char** argv) {
   SurfelFile small;
   small.sceneFingerprint = 0x0123456789ABCDEFull;
   small.options.ordering = SurfelOrdering::Dart;
+  small.options.colors = SurfelColors::Pixel;
   small.arrays = {array(3, 1.0), array(0, 2.0), array(17, 0.0)};
   small.nodes = {{"/0", 0}, {"/0/1", 0}, {"/1", 1}, {"/2/0", 2}};
   writeSurfelFile(surfelDir / "small.surfels", small);

@@ -55,7 +55,9 @@ using DrawCaptureView = std::function<void(const Camera& camera, Framebuffer& gb
 // The capture of `box` with whatever `draw` puts in each view: the views, surfels and coverage of
 // captureNode, for captures that draw something other than a subtree's triangles (a node's children's
 // surfels, say). options.backend is not used. A pixel gives a surfel when it is covered and its colour
-// alpha exceeds 0.1 (the authors' rule: fully transparent texels make no surfels).
+// alpha exceeds 0.1 (the authors' rule: fully transparent texels make no surfels). Its normal is the
+// G-buffer's, negated where needed to face the view: dot(normal, view direction) ≤ 0, so the back of
+// a one-sided surface gets surfels facing away from its front ones (a zero normal stays zero).
 CaptureResult captureBox(const Bounds& box, const CaptureOptions& options, const DrawCaptureView& draw);
 
 // Captures `node`'s whole subtree (world transforms applied; nothing outside the subtree drawn), one

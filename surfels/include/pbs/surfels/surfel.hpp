@@ -8,7 +8,7 @@ namespace pbs {
 struct Surfel {
   glm::vec3 position;  // relative to an origin held beside the array (CaptureResult, SurfelArray), so
                        // far-from-origin nodes keep their digits in single precision
-  glm::vec3 normal;    // unit normal of the surface as stored (not flipped toward any view)
+  glm::vec3 normal;    // unit normal of the surface, facing the capture view it was seen from
   glm::u8vec4 color;   // base colour: material factor × texture where the material has one
 };
 

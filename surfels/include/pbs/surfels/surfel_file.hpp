@@ -1,7 +1,7 @@
 // The .surfels file: every surfel array of a scene, stored so that any prefix of any array can be read
 // on its own, checked by checksums, and tied to the scene it was made from by a fingerprint.
 //
-// Layout (version 1, little-endian, every offset in bytes from the start of the file):
+// Layout (version 2, little-endian, every offset in bytes from the start of the file):
 //   header      fixed size: magic "PBSURFEL", version, scene fingerprint, the options the arrays were
 //               made with, the counts and offsets of the two tables, a checksum of the header itself
 //   array table one fixed-size record per array: box, coverage, packing at 1000 and at the end, area, surfel count, data
@@ -18,6 +18,7 @@
 
 #include "pbs/raster/bounds.hpp"
 #include "pbs/surfels/ordering.hpp"
+#include "pbs/surfels/prefilter_colors.hpp"
 #include "pbs/surfels/surfel.hpp"
 
 #include <array>
@@ -31,7 +32,9 @@
 
 namespace pbs {
 
-inline constexpr std::uint32_t kSurfelFileVersion = 1;
+// Version 2 added the colour filter to the header (and made normals face their capture view); a
+// version 1 file is refused: run pbs surfelize again.
+inline constexpr std::uint32_t kSurfelFileVersion = 2;
 inline constexpr std::size_t kSurfelBytes = 16;
 inline constexpr std::uint32_t kSurfelsPerChunk = 1024;
 inline constexpr std::uint32_t kPositionBits = 21;
@@ -45,6 +48,7 @@ struct SurfelFileOptions {
   std::uint32_t resolution = 512;    // capture resolution
   std::uint32_t directions = 8;      // capture view count
   SurfelOrdering ordering = SurfelOrdering::Farthest;  // which ordering made the arrays
+  SurfelColors colors = SurfelColors::Prefiltered;     // how the surfels' colours were chosen
   std::uint64_t seed = 1;
 };
 

@@ -35,7 +35,7 @@ struct SurfelizeProgress {
 };
 
 struct SurfelizeOptions {
-  SurfelFileOptions file;  // threshold, max surfels, resolution, directions, ordering, seed
+  SurfelFileOptions file;  // threshold, max surfels, resolution, directions, ordering, colours, seed
   CaptureSource source = CaptureSource::Auto;
   // Called after every finished array, one call at a time (never concurrently), from whichever
   // thread finished it.
@@ -55,6 +55,8 @@ struct SurfelizeStats {
 // subtree first (when children's surfels may be drawn, children before parents). Each array's ordering
 // seed mixes options.file.seed with the node's stable path, so the result is the same for any thread
 // count and any schedule. A scene with no node above the threshold gives a file with no arrays.
+// options.file.colors picks the kept surfels' colours: their own pixel's (Pixel) or, by default, each
+// one's prefilteredColors over all of its capture's candidates (Prefiltered).
 SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                      SurfelizeStats* stats = nullptr);
 

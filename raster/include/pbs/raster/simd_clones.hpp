@@ -2,9 +2,10 @@
 // time: the portable build cannot assume AVX2, yet AVX2 gives blends, three-operand forms and
 // vectorised conversions and rounding. PBS_AVX512_CLONES adds a version for x86-64-v4 (AVX-512
 // with the VL, BW and DQ extensions: twice the lanes, and mask registers and 32 vector registers
-// also for 8-lane vectors) for the loops that gain from it. No version contracts to FMA
-// (pbs_raster is built with -ffp-contract=off, since x86-64-v4 includes the FMA extension), and all
-// round every operation as IEEE single or double precision, so they produce bit-identical results.
+// also for 8-lane vectors) for the loops that gain from it. No version contracts to FMA (the
+// modules using them are built with -ffp-contract=off, since x86-64-v4 includes the FMA extension),
+// and all round every operation as IEEE single or double precision, so they produce bit-identical
+// results. Public, so that hot loops outside the rasterizer (surfels' colour filter) clone alike.
 #pragma once
 
 #if defined(__x86_64__) && defined(__GNUC__)
