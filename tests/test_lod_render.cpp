@@ -208,6 +208,7 @@ TEST(RenderLod, EdgeOnSurfelsShrinkSoSilhouettesStaySharp) {
   const Bounds& box = s.hierarchy.worldBounds[0];
   const Camera camera = orbitCamera(box.center(), 0.5 * glm::length(box.size()), Orbit{0.0, 3.0, 12.0}, 256, 256);
   LodOptions shrink;
+  shrink.splat = SplatMode::Nearest;  // blended discs project edge-on by themselves
   shrink.pointSize = 6.0f;
   LodOptions full = shrink;
   full.minSizeFactor = 1.0f;
@@ -219,11 +220,12 @@ TEST(RenderLod, EdgeOnSurfelsShrinkSoSilhouettesStaySharp) {
   EXPECT_LT(std::abs(double(shrunk) - double(exact)), std::abs(double(smeared) - double(exact)));
 }
 
-// The mean absolute difference of the shaded RGB of two images, over all pixels.
+// The mean absolute difference of the shaded RGB of two images, premultiplied by alpha (so a pixel a
+// blended splat covers a tenth of counts a tenth), over all pixels.
 double meanDifference(const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b) {
   double sum = 0.0;
   for (std::size_t i = 0; i < a.size(); ++i) {
-    const glm::vec3 d = glm::abs(glm::vec3(a[i]) - glm::vec3(b[i]));
+    const glm::vec3 d = glm::abs(glm::vec3(a[i]) * a[i].a - glm::vec3(b[i]) * b[i].a);
     sum += (d.x + d.y + d.z) / 3.0;
   }
   return sum / double(a.size());
@@ -250,6 +252,11 @@ TEST(RenderLod, SubPixelPointsKeepSparseSubPixelPartsFromInflating) {
   LodOptions options;
   options.threshold = 1e4;  // the grid draws its surfels, however near
   const std::vector<glm::vec4> exact = renderImage(s, camera, options, SceneSurfels{});
+  const std::vector<glm::vec4> blended = renderImage(s, camera, options, s.surfels);
+  // The paper's points: nearest wins, no culling (a fixed-size prefix that culls half its surfels
+  // samples half as many pixels).
+  options.splat = SplatMode::Nearest;
+  options.backFaceCosine = -1.0f;
   options.pointSize = 1.0f;
   const std::vector<glm::vec4> onePixel = renderImage(s, camera, options, s.surfels);
   options.pointSize = 0.35f;
@@ -260,6 +267,12 @@ TEST(RenderLod, SubPixelPointsKeepSparseSubPixelPartsFromInflating) {
   EXPECT_GT(double(coveredCount(onePixel)), 2.0 * exactCovered) << "one-pixel points inflate the boxes";
   EXPECT_LT(std::abs(double(coveredCount(subPixel)) - exactCovered), 0.25 * exactCovered);
   EXPECT_LT(meanDifference(subPixel, exact), 0.5 * meanDifference(onePixel, exact));
+  // Blended discs add the fraction of a pixel each box covers: their summed alpha is the boxes' area.
+  double blendedCoverage = 0.0;
+  for (const glm::vec4& p : blended) blendedCoverage += p.a;
+  std::printf("covered pixels: exact %.0f, one-pixel %zu, sub-pixel %zu, blended (sum of alpha) %.1f\n", exactCovered,
+              coveredCount(onePixel), coveredCount(subPixel), blendedCoverage);
+  EXPECT_LT(std::abs(blendedCoverage - exactCovered), 0.25 * exactCovered);
 }
 
 // How much a switch point stands out: the largest step change of the error at a switch divided by the
@@ -332,8 +345,10 @@ TEST_P(Transitions, DoNotPopOnASharedScene) {
               splatModeName(GetParam()), banded.switches, banded.worstRatio, popped.switches, popped.worstRatio);
   EXPECT_GT(banded.switches, 0) << "the path must cross switch points";
   // "Larger than the changes around it" with a factor 2 of slack for the error's own step-to-step
-  // noise (measured: about 1.6 with the band, about 5 without it).
-  EXPECT_LE(banded.worstRatio, 2.0);
+  // noise (measured, nearest: about 1.6 with the band, about 3.3–5 without it). Blended splats are
+  // allowed 3: a node's triangles appear whole at the start of its band, under surfels whose soft
+  // edges and rare holes they then fill at once (measured: 2.5 at worst with the band, 5.3 without).
+  EXPECT_LE(banded.worstRatio, GetParam() == SplatMode::Blend ? 3.0 : 2.0);
   EXPECT_GT(popped.worstRatio, 2.0) << "the same criterion must catch abrupt switching";
 }
 

@@ -512,7 +512,7 @@ TEST(SurfelFile, AbsurdCountsAndOffsetsAreRefused) {
   const std::size_t arrayTable = kHeaderBytes;
   const std::size_t arrayTableEnd = arrayTable + 2 * kArrayRecordBytes;
   std::string forged = bytes;
-  putU32(forged, arrayTable + 72, 0xFFFFFFFFu);  // surfel count of array 0
+  putU32(forged, arrayTable + 80, 0xFFFFFFFFu);  // surfel count of array 0
   reseal(forged, arrayTable, arrayTableEnd, kArrayTableSeed);
   writeFile(path, forged);
   EXPECT_NE(errorOf(path).find("node /0: truncated: offset"), std::string::npos) << errorOf(path);

@@ -251,13 +251,14 @@ TEST(Surfelize, PixelColorsAreTheCapturedOnesAndPrefilteredTheirFilter) {
   // The capture and ordering surfelize makes for the root, repeated.
   const CaptureResult captured = captureNode(scene, analyzeSubtree(scene, 0), 0,
                                              {.resolution = options.file.resolution, .directions = options.file.directions});
-  std::vector<glm::vec3> positions;
-  for (const Surfel& s : captured.surfels) positions.push_back(s.position);
+  const std::vector<glm::vec3> positions = orderingPositions(captured.surfels);
   Hash64 seed(options.file.seed);
   seed.string("/0");
   const std::vector<std::uint32_t> order =
       orderPoints(options.file.ordering, positions, options.file.maxSurfels, seed.digest());
-  const std::vector<glm::u8vec4> colors = prefilteredColors(captured.surfels, order);
+  std::vector<Surfel> seen = captured.surfels;
+  for (std::size_t i = 0; i < seen.size(); ++i) seen[i].position = positions[i];
+  const std::vector<glm::u8vec4> colors = prefilteredColors(seen, order);
 
   const std::vector<Surfel>& a = pixel.arrays[0].surfels;
   const std::vector<Surfel>& b = filtered.arrays[0].surfels;

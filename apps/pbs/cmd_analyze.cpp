@@ -17,6 +17,7 @@
 #include <pbs/surfels/point_spectrum.hpp>
 #include <pbs/surfels/surfel_file.hpp>
 #include <pbs/surfels/surfel_nodes.hpp>
+#include <pbs/surfels/surfelize.hpp>
 
 #include <tbb/parallel_for.h>
 
@@ -205,9 +206,8 @@ std::vector<Measured> analyzeScene(const Options& options, nlohmann::json& repor
                      "the scene has " + std::to_string(loaded.scene.roots.size()) + " roots");
   const std::uint32_t root = loaded.scene.roots[options.root];
   const CaptureResult capture = captureNode(loaded.scene, loaded.hierarchy, root, options.capture);
-  std::vector<glm::vec3> points;
-  points.reserve(capture.surfels.size());
-  for (const Surfel& s : capture.surfels) points.push_back(s.position);
+  // Where the ordering sees them: each side of a thin surface apart.
+  const std::vector<glm::vec3> points = orderingPositions(capture.surfels);
   const double area = subtreeSurfaceArea(loaded.scene, loaded.hierarchy, root);
   const std::string path = nodePath(loaded.scene, loaded.hierarchy, root);
   report["mode"] = "scene";
@@ -258,7 +258,7 @@ std::vector<Measured> analyzeFile(const Options& options, nlohmann::json& report
     std::vector<std::vector<glm::vec3>> points(last - first);
     for (std::size_t a = first; a < last; ++a) {
       const std::uint32_t count = options.maxGiven ? std::min(arrays[a].count, options.max) : arrays[a].count;
-      for (const Surfel& s : reader.readPrefix(std::uint32_t(a), count)) points[a - first].push_back(s.position);
+      points[a - first] = orderingPositions(reader.readPrefix(std::uint32_t(a), count));
     }
     tbb::parallel_for(first, last, [&](std::size_t a) {
       Measured& m = measured[a];

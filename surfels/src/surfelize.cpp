@@ -23,23 +23,6 @@
 namespace pbs {
 namespace {
 
-// The positions the ordering and the packing values see. Surfels at one place facing opposite ways are
-// the two sides of a thin surface (a wall, the shell of a cooling tower), and a renderer that culls
-// back faces draws one of them: each side must be spread out on its own, or a prefix holds one side here
-// and the other there, and culling leaves half of it open. So the surfels facing away from a fixed
-// direction are moved beside the others, three extents away, where the two sides never crowd each other
-// out. A closed surface is split into two halves the same way, at the cost of a seam of double density.
-std::vector<glm::vec3> orderingPositions(std::span<const Surfel> surfels) {
-  const glm::vec3 side = glm::normalize(glm::vec3(0.3f, 0.8f, 0.52f));  // no axis: walls are often axis-aligned
-  float extent = 0.0f;
-  for (const Surfel& s : surfels) extent = std::max({extent, std::abs(s.position.x), std::abs(s.position.y), std::abs(s.position.z)});
-  const glm::vec3 shift(extent > 0.0f ? 3.0f * extent : 1.0f, 0.0f, 0.0f);
-  std::vector<glm::vec3> positions(surfels.size());
-  for (std::size_t i = 0; i < surfels.size(); ++i)
-    positions[i] = glm::dot(surfels[i].normal, side) < 0.0f ? surfels[i].position + shift : surfels[i].position;
-  return positions;
-}
-
 // The packing value the renderer sizes prefixes with: d_k² · k for the mean nearest-neighbour distance
 // d_k of the first k ordered points. Spacing shrinks as 1/sqrt(count) on a surface, so packing / r² is
 // the count whose spacing is r, for any r.
@@ -127,6 +110,17 @@ std::vector<std::vector<std::uint32_t>> scheduleArrays(const Hierarchy& hierarch
 }
 
 }  // namespace
+
+std::vector<glm::vec3> orderingPositions(std::span<const Surfel> surfels) {
+  const glm::vec3 side = glm::normalize(glm::vec3(0.3f, 0.8f, 0.52f));  // no axis: walls are often axis-aligned
+  float extent = 0.0f;
+  for (const Surfel& s : surfels) extent = std::max({extent, std::abs(s.position.x), std::abs(s.position.y), std::abs(s.position.z)});
+  const glm::vec3 shift(extent > 0.0f ? 3.0f * extent : 1.0f, 0.0f, 0.0f);
+  std::vector<glm::vec3> positions(surfels.size());
+  for (std::size_t i = 0; i < surfels.size(); ++i)
+    positions[i] = glm::dot(surfels[i].normal, side) < 0.0f ? surfels[i].position + shift : surfels[i].position;
+  return positions;
+}
 
 std::uint64_t surfelizeMemoryEstimate(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                                       int workers) {

@@ -42,7 +42,7 @@ inline void importGltfBytes(std::span<const std::uint8_t> bytes) {
 namespace surfel_layout {
 inline constexpr std::uint64_t kHeaderBytes = 112;
 inline constexpr std::uint64_t kHeaderChecksumOffset = 104;
-inline constexpr std::uint64_t kArrayRecordBytes = 88;
+inline constexpr std::uint64_t kArrayRecordBytes = 96;
 inline constexpr std::uint64_t kChecksumBytes = 8;
 inline constexpr std::uint64_t kHeaderSeed = 0x50425348'45414452ull;
 inline constexpr std::uint64_t kArrayTableSeed = 0x50425341'52524159ull;
@@ -83,8 +83,8 @@ inline void repairSurfelChecksums(std::vector<std::uint8_t>& bytes) {
   if (arraysFit) {
     for (std::uint64_t a = 0; a < arrayCount; ++a) {
       const std::uint8_t* record = b + arrayTable + a * kArrayRecordBytes;
-      const std::uint64_t count = loadU32(record + 72);
-      const std::uint64_t data = loadU64(record + 80);
+      const std::uint64_t count = loadU32(record + 80);
+      const std::uint64_t data = loadU64(record + 88);
       const std::uint64_t chunks = (count + kSurfelsPerChunk - 1) / kSurfelsPerChunk;
       if (!fits(data, count * kSurfelBytes + chunks * kChecksumBytes)) continue;
       for (std::uint64_t c = 0; c < chunks; ++c) {

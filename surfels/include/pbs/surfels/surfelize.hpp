@@ -8,7 +8,9 @@
 
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string_view>
+#include <vector>
 
 namespace pbs {
 
@@ -59,6 +61,16 @@ struct SurfelizeStats {
 // one's prefilteredColors over all of its capture's candidates (Prefiltered).
 SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                      SurfelizeStats* stats = nullptr);
+
+// The positions the ordering, the colour filter and the packing values see for capture candidates.
+// Surfels at one place facing opposite ways are the two sides of a thin surface (a wall, the shell of a
+// cooling tower), and a renderer that culls back faces draws one of them: each side must be spread out
+// on its own, or a prefix holds one side here and the other there, and culling leaves half of it open.
+// So the surfels whose normal faces away from a fixed direction (not an axis: walls often are) are moved
+// beside the others, three extents of the positions away along x, where the two sides never crowd each
+// other out. A closed surface is split into two halves the same way, at the cost of a seam of double
+// density. Stored positions stay the captured ones.
+std::vector<glm::vec3> orderingPositions(std::span<const Surfel> candidates);
 
 // An upper estimate of the memory surfelize needs beyond the scene itself, with `workers` arrays made
 // at once: per worker a capture (G-buffer, every candidate surfel, the ordering's working set) and the
