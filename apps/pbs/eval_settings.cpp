@@ -49,6 +49,10 @@ void apply(const std::string& option, const std::string& key, const std::string&
     if (value != "coverage" && value != "packing")
       throw CLI::ValidationError(option, "rule is coverage or packing, got '" + value + "'");
     setting.lod.prefixRule = value == "packing" ? PrefixRule::Packing : PrefixRule::Coverage;
+  } else if (key == "geometry") {
+    const std::optional<GeometryDrawer> drawer = geometryDrawerFromName(value);
+    if (!drawer) throw CLI::ValidationError(option, "geometry is raster, rays or auto, got '" + value + "'");
+    setting.lod.geometry = *drawer;
   } else if (key == "ordering") {
     setting.ordering = parseOrdering(value);
     if (!setting.ordering)
@@ -96,7 +100,9 @@ bool EvalSetting::drawsLike(const EvalSetting& o) const {
   return isPeer() || (lod == o.lod && ordering == o.ordering && simplify == o.simplify);
 }
 
-std::string sweepKeys() { return "embree, exact, overdraw, threshold, point, band, rule, ordering, simplify"; }
+std::string sweepKeys() {
+  return "embree, exact, overdraw, threshold, point, band, rule, geometry, ordering, simplify";
+}
 
 std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& baseline, const std::string& option) {
   if (text == "surfels") return {baselineSettingNamed("surfels", baseline)};

@@ -6,6 +6,7 @@
 #include "pbs/raster/points.hpp"
 #include "pbs/raster/triangles.hpp"
 #include "pbs/scene/scene_draws.hpp"
+#include "pbs/surfels/lod_geometry.hpp"
 
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -48,7 +49,7 @@ void edgeOnFactors(const SplatArray& splats, std::uint32_t count, const glm::dma
 }  // namespace
 
 LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
-                   Framebuffer& framebuffer, const LodOptions& options) {
+                   Framebuffer& framebuffer, const LodOptions& options, EmbreeNodeCaster* rays) {
   LodStats stats;
   const auto traverseStart = Clock::now();
   const LodDraws draws = traverseLod(scene, hierarchy, surfels, camera, options);
@@ -77,7 +78,8 @@ LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSu
   stats.traverseSeconds = secondsSince(traverseStart);
 
   const auto rasterStart = Clock::now();
-  drawNodeTriangles(scene, hierarchy, draws.geometryNodes, camera, framebuffer, TriangleOptions{.cullBackFaces = false});
+  const GeometryPass geometry =
+      drawLodGeometry(scene, hierarchy, draws.geometryNodes, camera, framebuffer, options.geometry, rays);
   drawPoints(framebuffer, camera, sets, PointOptions{.subPixel = options.pointSize < 1.0f});
   stats.rasterSeconds = secondsSince(rasterStart);
 
@@ -85,6 +87,9 @@ LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSu
   stats.surfels = draws.surfelCount;
   stats.nodesGeometry = draws.geometryNodes.size();
   stats.nodesSurfels = draws.surfels.size();
+  stats.geometryDrawer = geometry.drawer;
+  stats.geometrySeconds = geometry.seconds;
+  stats.bvhBuildSeconds = geometry.bvhBuildSeconds;
   return stats;
 }
 
