@@ -46,14 +46,29 @@ void writeFrame(const std::filesystem::path& file, std::uint32_t width, std::uin
     writeImage8(file, width, height, 4, toRgba8(image));
 }
 
-nlohmann::json frameJson(const FrameResult& frame) {
-  return {{"seconds", frame.seconds},
-          {"traverse_seconds", frame.stats.traverseSeconds},
-          {"raster_seconds", frame.stats.rasterSeconds},
-          {"triangles", frame.stats.triangles},
-          {"surfels", frame.stats.surfels},
-          {"nodes_geometry", frame.stats.nodesGeometry},
-          {"nodes_surfels", frame.stats.nodesSurfels}};
+nlohmann::json frameJson(RenderMode mode, const FrameResult& frame) {
+  nlohmann::json entry = {{"seconds", frame.seconds},
+                          {"traverse_seconds", frame.stats.traverseSeconds},
+                          {"raster_seconds", frame.stats.rasterSeconds},
+                          {"triangles", frame.stats.triangles},
+                          {"surfels", frame.stats.surfels},
+                          {"nodes_geometry", frame.stats.nodesGeometry},
+                          {"nodes_surfels", frame.stats.nodesSurfels}};
+  if (mode == RenderMode::Surfels) {
+    entry["geometry"] = geometryDrawerName(frame.stats.geometryDrawer);
+    entry["geometry_seconds"] = frame.stats.geometrySeconds;
+    entry["bvh_build_seconds"] = frame.stats.bvhBuildSeconds;
+  }
+  return entry;
+}
+
+// "; geometry by rays 3.1 ms (BVH builds 1.2)": how the geometry nodes were drawn, in surfels mode.
+std::string geometryText(RenderMode mode, const LodStats& stats) {
+  if (mode != RenderMode::Surfels) return "";
+  char text[96];
+  std::snprintf(text, sizeof text, "; geometry by %s %.1f ms (BVH builds %.1f)",
+                geometryDrawerName(stats.geometryDrawer), stats.geometrySeconds * 1e3, stats.bvhBuildSeconds * 1e3);
+  return text;
 }
 
 void run(const RenderOptions& options) {
@@ -91,7 +106,7 @@ void run(const RenderOptions& options) {
   for (std::uint32_t f = 0; f < frames; ++f) {
     const FrameResult frame = renderer.render(views[f].camera);
     seconds.push_back(frame.seconds);
-    nlohmann::json entry = frameJson(frame);
+    nlohmann::json entry = frameJson(mode, frame);
     if (!output.empty()) {
       char name[32];
       std::snprintf(name, sizeof name, "frame_%04u.png", f);
@@ -102,19 +117,20 @@ void run(const RenderOptions& options) {
     if (options.frames > 0) {
       report["frames"].push_back(entry);
       if (!options.json)
-        std::printf("frame %u: %.1f ms (traverse %.1f, raster %.1f), %s triangles, %s surfels\n", f,
+        std::printf("frame %u: %.1f ms (traverse %.1f, raster %.1f), %s triangles, %s surfels%s\n", f,
                     frame.seconds * 1e3, frame.stats.traverseSeconds * 1e3, frame.stats.rasterSeconds * 1e3,
-                    withThousands(frame.stats.triangles).c_str(), withThousands(frame.stats.surfels).c_str());
+                    withThousands(frame.stats.triangles).c_str(), withThousands(frame.stats.surfels).c_str(),
+                    geometryText(mode, frame.stats).c_str());
     } else {
       report.update(entry);
       if (!options.json)
         std::printf("%s, %s: %ux%u in %.1f ms (traverse %.1f, raster %.1f): %s triangles of %s nodes, %s surfels of "
-                    "%s nodes%s%s\n",
+                    "%s nodes%s%s%s\n",
                     loaded.name.c_str(), modeName.c_str(), width, height, frame.seconds * 1e3,
                     frame.stats.traverseSeconds * 1e3, frame.stats.rasterSeconds * 1e3,
                     withThousands(frame.stats.triangles).c_str(), withThousands(frame.stats.nodesGeometry).c_str(),
                     withThousands(frame.stats.surfels).c_str(), withThousands(frame.stats.nodesSurfels).c_str(),
-                    output.empty() ? "" : "; wrote ", output.string().c_str());
+                    geometryText(mode, frame.stats).c_str(), output.empty() ? "" : "; wrote ", output.string().c_str());
     }
   }
   if (options.frames > 0) {

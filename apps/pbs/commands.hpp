@@ -41,7 +41,7 @@ void addThreadsOption(CLI::App& command, int& threads);
 void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32_t& directions);
 
 // The LOD options of `pbs render` (and the baseline `pbs eval` sweeps from): --threshold, --band,
-// --overdraw, --point-size, --prefix-rule.
+// --overdraw, --point-size, --prefix-rule, --geometry.
 void addLodOptions(CLI::App& command, LodOptions& lod);
 
 // A samples-per-pixel option (`--samples`, `--reference-samples`): 1, 4, 16, 64 or 256 (supersampling.hpp).

@@ -61,6 +61,14 @@ void addLodOptions(CLI::App& command, LodOptions& lod) {
   const std::map<std::string, PrefixRule> rules = {{"coverage", PrefixRule::Coverage}, {"packing", PrefixRule::Packing}};
   command.add_option("--prefix-rule", lod.prefixRule, "coverage (paper, default) or packing (authors' later rule)")
       ->transform(CLI::CheckedTransformer(rules));
+  std::map<std::string, GeometryDrawer> drawers;
+  for (GeometryDrawer d : {GeometryDrawer::Raster, GeometryDrawer::Rays, GeometryDrawer::Auto})
+    drawers.emplace(geometryDrawerName(d), d);
+  command
+      .add_option("--geometry", lod.geometry,
+                  "what draws the nodes drawn as triangles in surfels mode: raster, rays (Embree) or auto (the "
+                  "cheaper per frame, the default)")
+      ->transform(CLI::CheckedTransformer(drawers));
 }
 
 void addSamplesOption(CLI::App& command, const std::string& name, std::uint32_t& samples, const std::string& help) {

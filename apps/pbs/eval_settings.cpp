@@ -58,6 +58,10 @@ void apply(const std::string& option, const std::string& key, const std::string&
     if (value != "coverage" && value != "packing")
       throw CLI::ValidationError(option, "rule is coverage or packing, got '" + value + "'");
     setting.lod.prefixRule = value == "packing" ? PrefixRule::Packing : PrefixRule::Coverage;
+  } else if (key == "geometry") {
+    const std::optional<GeometryDrawer> drawer = geometryDrawerFromName(value);
+    if (!drawer) throw CLI::ValidationError(option, "geometry is raster, rays or auto, got '" + value + "'");
+    setting.lod.geometry = *drawer;
   } else if (key == "ordering") {
     setting.ordering = parseOrdering(value);
     if (!setting.ordering)
@@ -106,7 +110,7 @@ bool EvalSetting::drawsLike(const EvalSetting& o) const {
 }
 
 std::string sweepKeys() {
-  return "embree, exact, overdraw, threshold, point, splat, cull, gain, band, rule, ordering, simplify";
+  return "embree, exact, overdraw, threshold, point, splat, cull, gain, band, rule, geometry, ordering, simplify";
 }
 
 std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& baseline, const std::string& option) {

@@ -46,4 +46,14 @@ EmbreeGeometry makeEmbreeGeometry(RTCDevice device, RTCGeometryType type) {
   return EmbreeGeometry(rtcNewGeometry(device, type));
 }
 
+EmbreeDevice shareEmbreeDevice(RTCDevice device) {
+  if (device) rtcRetainDevice(device);
+  return EmbreeDevice(device);
+}
+
+EmbreeSceneHandle shareEmbreeScene(RTCScene scene) {
+  if (scene) rtcRetainScene(scene);
+  return EmbreeSceneHandle(scene);
+}
+
 }  // namespace pbs

@@ -25,4 +25,8 @@ EmbreeDevice makeEmbreeDevice();
 EmbreeSceneHandle makeEmbreeScene(RTCDevice device, RTCSceneFlags flags);
 EmbreeGeometry makeEmbreeGeometry(RTCDevice device, RTCGeometryType type);
 
+// A second owner of an existing object: Embree counts references, so each owner releases its own.
+EmbreeDevice shareEmbreeDevice(RTCDevice device);
+EmbreeSceneHandle shareEmbreeScene(RTCScene scene);
+
 }  // namespace pbs

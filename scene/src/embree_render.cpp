@@ -1,18 +1,18 @@
-// Renders an EmbreeScene: coherent 16-ray packets over 4×4 pixel blocks, rows of blocks in parallel.
+// Casting a camera's rays at a top-level Embree scene: coherent 16-ray packets over 4×4 pixel blocks,
+// rows of blocks in parallel.
+#include "embree_instances.hpp"
 #include "embree_rays.hpp"
-#include "embree_scene_impl.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace pbs {
 namespace {
-
-constexpr std::uint32_t kBlock = 4;  // 4×4 pixels, one rtcIntersect16 packet
 
 bool finiteRay(const Ray& ray) {
   const auto finite = [](const glm::dvec3& v) { return !glm::any(glm::isnan(v)) && !glm::any(glm::isinf(v)); };
@@ -21,14 +21,14 @@ bool finiteRay(const Ray& ray) {
 
 }  // namespace
 
-void EmbreeScene::render(const Camera& camera, Framebuffer& framebuffer) const {
+void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffer& framebuffer,
+              std::span<const std::uint8_t> castBlocks) {
   if (framebuffer.width != camera.width || framebuffer.height != camera.height)
-    throw std::invalid_argument("EmbreeScene::render: the framebuffer is not the size of the camera's viewport");
-  const Impl& impl = *impl_;
+    throw std::invalid_argument("Embree rays: the framebuffer is not the size of the camera's viewport");
   const ShadingView view{&camera, camera.clipFromWorld()};
   const WindowRays rays(camera);
-  const std::uint32_t blocksX = (camera.width + kBlock - 1) / kBlock;
-  const std::uint32_t blocksY = (camera.height + kBlock - 1) / kBlock;
+  const std::uint32_t blocksX = (camera.width + kRayBlock - 1) / kRayBlock;
+  const std::uint32_t blocksY = (camera.height + kRayBlock - 1) / kRayBlock;
 
   // Every pixel depends on its own ray only, so any split of the rows gives the same image.
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, blocksY), [&](const tbb::blocked_range<std::uint32_t>& rows) {
@@ -40,12 +40,19 @@ void EmbreeScene::render(const Camera& camera, Framebuffer& framebuffer) const {
     RTCRayHit16 packet{};
     alignas(64) int valid[16];
     std::size_t pixels[16];
+    NormalMatrices normals;
 
     for (std::uint32_t by = rows.begin(); by != rows.end(); ++by) {
       for (std::uint32_t bx = 0; bx < blocksX; ++bx) {
+        if (!castBlocks.empty() && !castBlocks[std::size_t(by) * blocksX + bx]) {
+          for (std::uint32_t py = by * kRayBlock; py < std::min(by * kRayBlock + kRayBlock, camera.height); ++py)
+            for (std::uint32_t px = bx * kRayBlock; px < std::min(bx * kRayBlock + kRayBlock, camera.width); ++px)
+              clearPixel(framebuffer, std::size_t(py) * camera.width + px);
+          continue;
+        }
         for (std::uint32_t lane = 0; lane < 16; ++lane) {
-          const std::uint32_t px = bx * kBlock + lane % kBlock;
-          const std::uint32_t py = by * kBlock + lane / kBlock;
+          const std::uint32_t px = bx * kRayBlock + lane % kRayBlock;
+          const std::uint32_t py = by * kRayBlock + lane / kRayBlock;
           valid[lane] = 0;
           if (px >= camera.width || py >= camera.height) continue;
           pixels[lane] = std::size_t(py) * camera.width + px;
@@ -58,7 +65,7 @@ void EmbreeScene::render(const Camera& camera, Framebuffer& framebuffer) const {
           }
           valid[lane] = -1;
           const Ray& ray = segment.ray;
-          const glm::vec3 origin(ray.origin - impl.origin);
+          const glm::vec3 origin(ray.origin - instances.origin);
           packet.ray.org_x[lane] = origin.x;
           packet.ray.org_y[lane] = origin.y;
           packet.ray.org_z[lane] = origin.z;
@@ -73,15 +80,15 @@ void EmbreeScene::render(const Camera& camera, Framebuffer& framebuffer) const {
           packet.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
           packet.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
         }
-        rtcIntersect16(valid, impl.top.get(), &context, &packet);
+        rtcIntersect16(valid, instances.top.get(), &context, &packet);
         for (std::uint32_t lane = 0; lane < 16; ++lane) {
           if (!valid[lane]) continue;
           if (packet.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) {
             clearPixel(framebuffer, pixels[lane]);
             continue;
           }
-          shadeHit(view, impl.instances[packet.hit.instID[0][lane]], packet.hit.primID[lane], packet.hit.u[lane],
-                   packet.hit.v[lane], framebuffer, pixels[lane]);
+          shadeHit(view, instances.shaded[packet.hit.instID[0][lane]], normals, packet.hit.primID[lane],
+                   packet.hit.u[lane], packet.hit.v[lane], framebuffer, pixels[lane]);
         }
       }
     }

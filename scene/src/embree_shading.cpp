@@ -18,8 +18,8 @@ const MeshPart& partOf(const Mesh& mesh, std::uint32_t triangle) {
 
 }  // namespace
 
-void shadeHit(const ShadingView& view, const ShadedInstance& instance, std::uint32_t triangle, float u, float v,
-              Framebuffer& framebuffer, std::size_t pixel) {
+void shadeHit(const ShadingView& view, const ShadedInstance& instance, NormalMatrices& normals, std::uint32_t triangle,
+              float u, float v, Framebuffer& framebuffer, std::size_t pixel) {
   const Mesh& mesh = *instance.mesh;
   const std::uint32_t i0 = mesh.indices[std::size_t(triangle) * 3 + 0];
   const std::uint32_t i1 = mesh.indices[std::size_t(triangle) * 3 + 1];
@@ -48,8 +48,7 @@ void shadeHit(const ShadingView& view, const ShadedInstance& instance, std::uint
   }
   if (framebuffer.has(kChannelPosition)) framebuffer.position[pixel] = glm::vec3(world - framebuffer.positionOrigin);
   if (framebuffer.has(kChannelNormal)) {
-    // Computed per hit rather than stored per instance; cheap beside the rest of the shading.
-    const glm::dmat3 normalFromObject = glm::transpose(glm::inverse(glm::dmat3(*instance.worldFromObject)));
+    const glm::dmat3& normalFromObject = normals.of(instance);
     // As the rasterizer does it: each vertex normal to world space and unit length, then interpolated.
     const auto worldNormal = [&](std::uint32_t index) {
       const glm::dvec3 n = normalFromObject * glm::dvec3(mesh.normals[index]);

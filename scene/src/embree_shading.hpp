@@ -31,10 +31,27 @@ struct ShadingView {
   glm::dmat4 clipFromWorld{1.0};
 };
 
+// The normal matrix (inverse-transpose) of the instance shaded last: a packet's hits mostly share an
+// instance, and instances are too many to store one each. One per thread.
+class NormalMatrices {
+ public:
+  const glm::dmat3& of(const ShadedInstance& instance) {
+    if (&instance != last_) {
+      matrix_ = glm::transpose(glm::inverse(glm::dmat3(*instance.worldFromObject)));
+      last_ = &instance;
+    }
+    return matrix_;
+  }
+
+ private:
+  const ShadedInstance* last_ = nullptr;
+  glm::dmat3 matrix_{1.0};
+};
+
 // Writes pixel `pixel` of every channel the framebuffer has for a hit on `triangle` of the
 // instance's mesh at barycentrics (u, v) (the point (1−u−v)·p0 + u·p1 + v·p2, Embree's convention).
-void shadeHit(const ShadingView& view, const ShadedInstance& instance, std::uint32_t triangle, float u, float v,
-              Framebuffer& framebuffer, std::size_t pixel);
+void shadeHit(const ShadingView& view, const ShadedInstance& instance, NormalMatrices& normals, std::uint32_t triangle,
+              float u, float v, Framebuffer& framebuffer, std::size_t pixel);
 
 // Writes the cleared values (as makeFramebuffer leaves them) to pixel `pixel` of every channel.
 void clearPixel(Framebuffer& framebuffer, std::size_t pixel);

@@ -51,6 +51,12 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, con
     buildSeconds_ = detail::secondsSince(build);
     sources_.rays = &*ownRays_;
   }
+  if (mode == RenderMode::Surfels && options.lod.geometry != GeometryDrawer::Raster) {
+    if (sources.rays)
+      geometryRays_.emplace(scene, hierarchy, *sources.rays);
+    else
+      geometryRays_.emplace(scene, hierarchy);
+  }
 }
 
 LodStats FrameRenderer::drawPass(const Camera& camera) {
@@ -59,7 +65,10 @@ LodStats FrameRenderer::drawPass(const Camera& camera) {
   if (options_.mode != RenderMode::Embree) clearFramebuffer(gbuffer_, 0);
   LodStats pass;
   switch (options_.mode) {
-    case RenderMode::Surfels: pass = renderLod(scene_, hierarchy_, *sources_.surfels, camera, gbuffer_, options_.lod); break;
+    case RenderMode::Surfels:
+      pass = renderLod(scene_, hierarchy_, *sources_.surfels, camera, gbuffer_, options_.lod,
+                       geometryRays_ ? &*geometryRays_ : nullptr);
+      break;
     case RenderMode::Exact: pass = renderLod(scene_, hierarchy_, none_, camera, gbuffer_, options_.lod); break;
     case RenderMode::Simplified:
       pass = renderSimplifiedLod(scene_, *sources_.simplified, hierarchy_, *sources_.surfels, camera, gbuffer_, options_.lod);
@@ -91,6 +100,8 @@ FrameResult FrameRenderer::render(const Camera& camera) {
       } else {
         result.stats.traverseSeconds += pass.traverseSeconds;
         result.stats.rasterSeconds += pass.rasterSeconds;
+        result.stats.geometrySeconds += pass.geometrySeconds;
+        result.stats.bvhBuildSeconds += pass.bvhBuildSeconds;
       }
       accumulateHeadlight(gbuffer_, shifted, sums);
     }

@@ -8,6 +8,7 @@
 #include "pbs/raster/triangles.hpp"
 #include "pbs/raster/value_names.hpp"
 #include "pbs/scene/scene_draws.hpp"
+#include "pbs/surfels/lod_geometry.hpp"
 
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -108,14 +109,15 @@ std::optional<SplatMode> splatModeFromName(std::string_view name) { return kSpla
 const char* splatModeName(SplatMode mode) { return kSplatNames.name(mode).data(); }
 
 LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
-                   Framebuffer& framebuffer, const LodOptions& options) {
+                   Framebuffer& framebuffer, const LodOptions& options, EmbreeNodeCaster* rays) {
   LodStats stats;
   const auto traverseStart = Clock::now();
   const LodDraws draws = traverseLod(scene, hierarchy, surfels, camera, options);
   stats.traverseSeconds = secondsSince(traverseStart);
 
   const auto rasterStart = Clock::now();
-  drawNodeTriangles(scene, hierarchy, draws.geometryNodes, camera, framebuffer, TriangleOptions{.cullBackFaces = false});
+  const GeometryPass geometry =
+      drawLodGeometry(scene, hierarchy, draws.geometryNodes, camera, framebuffer, options.geometry, rays);
   // A framebuffer with the coverage channel is a blended frame's: every pixel of it is written, splats or not.
   if (options.splat == SplatMode::Blend && framebuffer.has(kChannelCoverage))
     drawBlended(hierarchy, surfels, draws, camera, framebuffer, options);
@@ -127,6 +129,9 @@ LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSu
   stats.surfels = draws.surfelCount;
   stats.nodesGeometry = draws.geometryNodes.size();
   stats.nodesSurfels = draws.surfels.size();
+  stats.geometryDrawer = geometry.drawer;
+  stats.geometrySeconds = geometry.seconds;
+  stats.bvhBuildSeconds = geometry.bvhBuildSeconds;
   return stats;
 }
 

@@ -46,6 +46,7 @@ class EmbreeScene {
   const glm::dvec3& origin() const;
 
  private:
+  friend class EmbreeNodeCaster;  // shares the mesh BVHs
   struct Impl;
   std::unique_ptr<Impl> impl_;  // holds the Embree objects, so no Embree header leaks out of here
 };

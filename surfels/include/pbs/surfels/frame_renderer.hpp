@@ -5,6 +5,7 @@
 #include "pbs/raster/camera.hpp"
 #include "pbs/raster/framebuffer.hpp"
 #include "pbs/scene/embree_caster.hpp"
+#include "pbs/scene/embree_node_caster.hpp"
 #include "pbs/scene/hierarchy.hpp"
 #include "pbs/surfels/lod_render.hpp"
 
@@ -48,7 +49,9 @@ struct FrameResult {
 struct FrameSources {
   const SceneSurfels* surfels = nullptr;  // Surfels and Simplified modes (Simplified takes its decisions from them)
   const Scene* simplified = nullptr;      // Simplified mode: the scene's simplifyScene copy
-  const EmbreeScene* rays = nullptr;      // Embree mode: a BVH built elsewhere and shared; null: built here
+  // Embree mode: a BVH built elsewhere and shared; null: built here. Surfels mode: mesh BVHs the geometry
+  // nodes' rays reuse; null: each built the first time a frame needs it.
+  const EmbreeScene* rays = nullptr;
 };
 
 class FrameRenderer {
@@ -74,6 +77,7 @@ class FrameRenderer {
   SceneSurfels none_;  // exact mode: the LOD traversal with no arrays draws every visible mesh
   Framebuffer gbuffer_;
   std::optional<EmbreeScene> ownRays_;
+  std::optional<EmbreeNodeCaster> geometryRays_;  // Surfels mode, unless LodOptions::geometry is Raster
   double buildSeconds_ = 0.0;
 };
 

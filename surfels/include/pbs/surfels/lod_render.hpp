@@ -8,6 +8,7 @@
 #include "pbs/raster/framebuffer.hpp"
 #include "pbs/scene/hierarchy.hpp"
 #include "pbs/scene/scene.hpp"
+#include "pbs/surfels/geometry_drawer.hpp"
 #include "pbs/surfels/scene_surfels.hpp"
 
 #include <cstdint>
@@ -54,6 +55,8 @@ struct LodOptions {
   // sub-pixel (PointOptions::subPixel): each covers a pixel only where the pixel's centre falls inside it.
   float pointSize = 0.0f;
   PrefixRule prefixRule = PrefixRule::Coverage;
+  // What draws the geometry nodes when renderLod is given a ray caster (lod_geometry.hpp).
+  GeometryDrawer geometry = GeometryDrawer::Auto;
   // A surfel seen at angle θ between its normal and the view direction is drawn max(|cos θ|, this)
   // times the point size, so silhouettes stay sharp (paper, Sec. 3). 1 disables the shrinking.
   float minSizeFactor = 0.25f;
@@ -101,13 +104,22 @@ struct LodStats {
   std::uint64_t surfels = 0;
   std::uint64_t nodesGeometry = 0;
   std::uint64_t nodesSurfels = 0;
+  // The geometry nodes' pass: its drawer (Raster or Rays), its time (part of rasterSeconds) and, of
+  // that, the ray caster's BVH builds of meshes no earlier frame needed.
+  GeometryDrawer geometryDrawer = GeometryDrawer::Raster;
+  double geometrySeconds = 0.0;
+  double bvhBuildSeconds = 0.0;
 };
+// renderLod's `rays`, kept across frames so that each mesh's BVH is built once, lets options.geometry draw
+// the geometry nodes by rays, which overwrite every pixel before the surfels are drawn; without it the
+// rasterizer draws them (lod_geometry.hpp).
+class EmbreeNodeCaster;
 
 // Traverses and draws into `framebuffer` (its channels decide what is written; it is not cleared). Blend
 // mode needs the coverage channel (kChannelCoverage) and writes all of it; into a framebuffer without it,
 // prefixes are drawn nearest-wins.
 // The image does not depend on the thread count.
 LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
-                   Framebuffer& framebuffer, const LodOptions& options);
+                   Framebuffer& framebuffer, const LodOptions& options, EmbreeNodeCaster* rays = nullptr);
 
 }  // namespace pbs

@@ -1,0 +1,71 @@
+// EmbreeNodeCaster: mesh BVHs built on first need and kept, a top level per set of instances.
+#include "pbs/scene/embree_node_caster.hpp"
+
+#include "embree_instances.hpp"
+#include "embree_scene_impl.hpp"
+
+#include <chrono>
+
+namespace pbs {
+
+struct EmbreeNodeCaster::Impl {
+  const Scene* scene = nullptr;
+  const Hierarchy* hierarchy = nullptr;
+  SceneMaterials materials;  // points into the Scene's textures
+  // Declared in creation order so they are released in reverse: instances, meshes, then the device.
+  EmbreeMeshes meshes;
+  EmbreeInstances instances;            // over topNodes; no top scene before the first render
+  std::vector<std::uint32_t> topNodes;  // kept while renders ask for the same (a still camera, samples)
+};
+
+EmbreeNodeCaster::EmbreeNodeCaster(const Scene& scene, const Hierarchy& hierarchy) : impl_(std::make_unique<Impl>()) {
+  impl_->scene = &scene;
+  impl_->hierarchy = &hierarchy;
+  impl_->materials = makeSceneMaterials(scene);
+  impl_->meshes = makeEmbreeMeshes(scene);
+}
+
+EmbreeNodeCaster::EmbreeNodeCaster(const Scene& scene, const Hierarchy& hierarchy, const EmbreeScene& prebuilt)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->scene = &scene;
+  impl_->hierarchy = &hierarchy;
+  impl_->materials = makeSceneMaterials(scene);
+  impl_->meshes = shareEmbreeMeshes(prebuilt.impl_->meshes);
+}
+
+EmbreeNodeCaster::~EmbreeNodeCaster() = default;
+EmbreeNodeCaster::EmbreeNodeCaster(EmbreeNodeCaster&&) noexcept = default;
+EmbreeNodeCaster& EmbreeNodeCaster::operator=(EmbreeNodeCaster&&) noexcept = default;
+
+EmbreeBuilds EmbreeNodeCaster::render(const Camera& camera, std::span<const std::uint32_t> nodes,
+                                      Framebuffer& framebuffer) {
+  Impl& impl = *impl_;
+  const Scene& scene = *impl.scene;
+  const Hierarchy& hierarchy = *impl.hierarchy;
+  std::vector<std::uint32_t> inView;
+  std::vector<Bounds> boxes;
+  for (std::uint32_t node : rayInstanceNodes(scene, hierarchy, nodes)) {
+    const Bounds box = instanceWorldBounds(scene, hierarchy, node);
+    if (outsideClipVolume(camera, box)) continue;
+    inView.push_back(node);
+    boxes.push_back(box);
+  }
+
+  const auto start = std::chrono::steady_clock::now();
+  const MeshBuilds built = buildMeshScenes(impl.meshes, scene, inView);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const EmbreeBuilds builds{built.meshes, built.triangles, built.meshes > 0 ? seconds : 0.0};
+
+  if (!impl.instances.top || inView != impl.topNodes) {
+    impl.instances =
+        makeEmbreeInstances(impl.meshes, scene, hierarchy, impl.materials, inView, nodesCenter(hierarchy, inView));
+    impl.topNodes = inView;
+  }
+  // Rays only where the instances' boxes show: a frame's geometry often covers a small part of it.
+  castRays(impl.instances, camera, framebuffer, footprintBlocks(camera, boxes));
+  return builds;
+}
+
+bool EmbreeNodeCaster::built(std::uint32_t mesh) const { return bool(impl_->meshes.scenes.at(mesh)); }
+
+}  // namespace pbs

@@ -1,0 +1,58 @@
+// Drawing the LOD traversal's geometry nodes the fastest exact way: the tile rasterizer or Embree rays
+// (an EmbreeNodeCaster), chosen per frame by a measured cost model. Both write the rasterizer's
+// G-buffer conventions, so surfels drawn afterwards compose by depth the same way over either.
+#pragma once
+
+#include "pbs/raster/camera.hpp"
+#include "pbs/raster/framebuffer.hpp"
+#include "pbs/scene/embree_node_caster.hpp"
+#include "pbs/scene/hierarchy.hpp"
+#include "pbs/scene/scene.hpp"
+#include "pbs/surfels/geometry_drawer.hpp"
+
+#include <cstdint>
+#include <span>
+
+namespace pbs {
+
+// What drawing a frame's geometry nodes asks of each drawer, in the terms of the cost model.
+struct GeometryWork {
+  std::uint64_t triangles = 0;  // of the mesh instances in view
+  // Σ over those instances of their world box's projected area, each at most the image: with the image
+  // as a bound, the model's estimate of the pixels the geometry covers.
+  double boxPixels = 0.0;
+  std::uint64_t imagePixels = 0;
+  std::uint64_t unbuiltTriangles = 0;  // of the meshes whose ray BVH is still to be built, each mesh once
+};
+
+// The work of drawing `nodes` (those with a mesh; others are skipped) from `camera`; unbuiltTriangles
+// counts the meshes `rays` has not built (all of them without a caster).
+GeometryWork geometryWork(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
+                          const Camera& camera, const EmbreeNodeCaster* rays);
+
+// The cost model's estimates, in seconds on the machine it was measured on (lod_geometry.cpp).
+struct GeometryCosts {
+  double raster = 0.0;
+  double rays = 0.0;
+};
+GeometryCosts estimateGeometryCosts(const GeometryWork& work);
+
+// Raster or Rays, whichever the model estimates cheaper (Raster on a tie, and for no work at all).
+GeometryDrawer chooseGeometryDrawer(const GeometryWork& work);
+
+// What drawLodGeometry did.
+struct GeometryPass {
+  GeometryDrawer drawer = GeometryDrawer::Raster;  // never Auto
+  double seconds = 0.0;                            // the whole pass, BVH builds included
+  double bvhBuildSeconds = 0.0;                    // of which mesh BVHs built for rays
+};
+
+// Draws the meshes of `nodes` (faces not culled) with `drawer`; Auto asks chooseGeometryDrawer. Without a
+// caster the rasterizer draws whatever `drawer` says. The rasterizer draws over the framebuffer; rays
+// overwrite every pixel (a miss leaves the cleared values), so draw this before anything else. The
+// image does not depend on the thread count.
+GeometryPass drawLodGeometry(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
+                             const Camera& camera, Framebuffer& framebuffer, GeometryDrawer drawer,
+                             EmbreeNodeCaster* rays);
+
+}  // namespace pbs

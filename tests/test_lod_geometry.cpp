@@ -1,0 +1,333 @@
+// The LOD renderer's geometry nodes drawn by rays (EmbreeNodeCaster) rather than the rasterizer: the
+// caster against the whole-scene one, its BVH cache, the G-buffer against the rasterizer's up to the
+// ray caster's tolerances, surfels composed by depth over ray-cast geometry, determinism, the per-frame
+// choice between the two drawers, and `--geometry` on the command line.
+#include "cli_scenes.hpp"
+#include "gbuffer_agreement.hpp"
+#include "test_fixtures.hpp"
+#include "test_support.hpp"
+
+#include <pbs/raster/orbit_camera.hpp>
+#include <pbs/raster/thread_arena.hpp>
+#include <pbs/scene/embree_caster.hpp>
+#include <pbs/scene/embree_node_caster.hpp>
+#include <pbs/scene/generate.hpp>
+#include <pbs/scene/gltf_import.hpp>
+#include <pbs/scene/scene_draws.hpp>
+#include <pbs/surfels/frame_renderer.hpp>
+#include <pbs/surfels/lod_geometry.hpp>
+#include <pbs/surfels/lod_render.hpp>
+#include <pbs/surfels/surfelize.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+
+namespace pbs {
+namespace {
+
+using test::placed;
+using test::tessellatedBox;
+
+constexpr ChannelMask kAllChannels = kChannelColor | kChannelPosition | kChannelNormal | kChannelIds;
+
+Camera orbitAround(const Scene& scene, const Hierarchy& hierarchy, double distance, std::uint32_t width = 256,
+                   std::uint32_t height = 256) {
+  Bounds box;
+  for (std::uint32_t root : scene.roots) box.extend(hierarchy.worldBounds[root]);
+  return orbitCamera(box.center(), 0.5 * glm::length(box.size()), Orbit{30.0, 20.0, distance}, width, height);
+}
+
+void expectSameGBuffer(const Framebuffer& a, const Framebuffer& b) {
+  EXPECT_EQ(a.depth, b.depth);
+  EXPECT_EQ(a.color, b.color);
+  EXPECT_EQ(a.position, b.position);
+  EXPECT_EQ(a.normal, b.normal);
+  EXPECT_EQ(a.ids, b.ids);
+}
+
+// ---- EmbreeNodeCaster -----------------------------------------------------------------------------
+
+// A 7 × 7 grid of boxes around a perspective camera: instances behind it, beside it and cut by the near
+// plane, so the caster's culling and its footprint of where rays may hit are both exercised.
+Scene boxGrid() {
+  Scene scene = test::sceneOf(tessellatedBox(6), {});
+  for (int i = 0; i < 49; ++i) {
+    const glm::dvec3 at(2.5 * (i % 7 - 3), 2.5 * (i / 7 - 3), 0.3 * (i % 3));
+    scene.roots.push_back(std::uint32_t(scene.nodes.size()));
+    scene.nodes.push_back(Node{"box", placed(at, 0.4 * i, {0.8, 0.6, 0.7}), {}, 0});
+  }
+  validateScene(scene, "grid");
+  return scene;
+}
+
+TEST(EmbreeNodeCaster, GivesTheWholeSceneCastersImageOfTheSameNodes) {
+  const Scene scene = boxGrid();
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  const Camera camera = perspectiveCamera(glm::lookAt(glm::dvec3(0.3, 0.2, 0.5), glm::dvec3(4.0, 1.0, 0.2),
+                                                      glm::dvec3(0, 1, 0)),
+                                          glm::radians(60.0), 0.2, 12.0, 160, 100);
+  std::vector<std::uint32_t> nodes;  // every other box
+  for (std::uint32_t node = 0; node < scene.nodes.size(); node += 2) nodes.push_back(node);
+  EmbreeNodeCaster caster(scene, hierarchy);
+  Framebuffer lazy = makeFramebuffer(camera.width, camera.height, kAllChannels);
+  caster.render(camera, nodes, lazy);
+  // The same top level as the caster's (same instances, same origin: all of them are in view).
+  std::vector<std::uint32_t> inView;
+  for (std::uint32_t node : nodes)
+    if (!outsideClipVolume(camera, instanceWorldBounds(scene, hierarchy, node))) inView.push_back(node);
+  ASSERT_GT(inView.size(), 3u);
+  ASSERT_LT(inView.size(), nodes.size()) << "some boxes must be culled";
+  Framebuffer whole = makeFramebuffer(camera.width, camera.height, kAllChannels);
+  EmbreeScene(scene, hierarchy, inView).render(camera, whole);
+  expectSameGBuffer(lazy, whole);
+  EXPECT_TRUE(std::none_of(lazy.ids.begin(), lazy.ids.end(),
+                           [](const PixelIds& ids) { return ids != PixelIds{} && ids.node % 2 == 1; }))
+      << "nodes not asked for are not drawn";
+}
+
+TEST(EmbreeNodeCaster, BuildsEachMeshOnceAcrossFrames) {
+  // Three meshes: 0 drawn by nodes 0 and 1, 1 by node 2, 2 by node 3, which lies behind the camera.
+  Scene scene;
+  scene.materials.push_back(Material{"plain", glm::vec4(0.8f, 0.5f, 0.2f, 1.0f), -1});
+  for (std::uint32_t n : {8u, 4u, 2u}) scene.meshes.push_back(tessellatedBox(n));
+  const std::vector<std::pair<glm::dvec3, std::int32_t>> placements{
+      {{0, 0, 0}, 0}, {{3, 0, 0}, 0}, {{-3, 0, 0}, 1}, {{0, 0, 40}, 2}};
+  for (const auto& [at, mesh] : placements) {
+    scene.roots.push_back(std::uint32_t(scene.nodes.size()));
+    scene.nodes.push_back(Node{"box", placed(at, 0.3, {1, 1, 1}), {}, mesh});
+  }
+  validateScene(scene, "three meshes");
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  const Camera camera = perspectiveCamera(glm::lookAt(glm::dvec3(0, 2, 12), glm::dvec3(0, 0, 0), glm::dvec3(0, 1, 0)),
+                                          glm::radians(60.0), 0.5, 100.0, 96, 64);
+  Framebuffer framebuffer = makeFramebuffer(camera.width, camera.height, kChannelIds);
+  EmbreeNodeCaster caster(scene, hierarchy);
+  const auto frame = [&](std::vector<std::uint32_t> nodes) { return caster.render(camera, nodes, framebuffer); };
+
+  EmbreeBuilds builds = frame({0, 1});
+  EXPECT_EQ(builds.meshes, 1u) << "two instances, one mesh";
+  EXPECT_EQ(builds.triangles, scene.meshes[0].triangleCount());
+  EXPECT_TRUE(caster.built(0));
+  EXPECT_FALSE(caster.built(1));
+  builds = frame({0, 1, 2});
+  EXPECT_EQ(builds.meshes, 1u);
+  EXPECT_EQ(builds.triangles, scene.meshes[1].triangleCount());
+  EXPECT_EQ(frame({2, 1, 0}).meshes, 0u) << "kept across frames";
+  EXPECT_EQ(frame({0, 3}).meshes, 0u) << "an instance outside the view builds nothing";
+  EXPECT_FALSE(caster.built(2));
+
+  // Seeded from a whole-scene caster: everything is there already.
+  const EmbreeScene whole(scene, hierarchy);
+  EmbreeNodeCaster seeded(scene, hierarchy, whole);
+  EXPECT_TRUE(seeded.built(2));
+  EXPECT_EQ(seeded.render(camera, std::vector<std::uint32_t>{0, 1, 2}, framebuffer).meshes, 0u);
+  EXPECT_TRUE(
+      std::any_of(framebuffer.ids.begin(), framebuffer.ids.end(), [](const PixelIds& ids) { return ids.node == 2; }));
+}
+
+// ---- Geometry nodes by rays in the LOD renderer ------------------------------------------------------
+
+struct SurfeledScene {
+  Scene scene;
+  Hierarchy hierarchy;
+  SceneSurfels surfels;
+};
+
+SurfeledScene surfeled(Scene scene, std::uint64_t threshold) {
+  SurfeledScene s{std::move(scene), {}, {}};
+  s.hierarchy = analyzeHierarchy(s.scene);
+  SurfelizeOptions options;
+  options.file.threshold = threshold;
+  options.file.maxSurfels = 4000;
+  options.file.resolution = 128;
+  s.surfels = sceneSurfelsOf(surfelize(s.scene, s.hierarchy, options), s.scene, s.hierarchy, "test");
+  return s;
+}
+
+// The task's check: on a city of shared meshes, seen from near to far, the frame drawn with its geometry
+// nodes cast by rays is the rasterized frame up to the tolerances the ray caster is held to against the
+// rasterizer (gbuffer_agreement.hpp); surfels, drawn the same way over both, count as pixels too. No band:
+// in a band a node's surfels lie on its children's triangles, and which of two coincident surfaces wins
+// is decided by the last bits of depth in either renderer.
+TEST(LodGeometry, RaysAgreeWithTheRasterizerUnderTheSurfels) {
+  PBS_SHARED_SCENE(spot, "spot.glb");
+  PBS_SHARED_SCENE(teapot, "teapot.glb");
+  Scene city = generateCity({importGltf(spot).scene, importGltf(teapot).scene}, CityOptions{.levels = 2, .fanout = 4});
+  validateScene(city, "city");
+  const SurfeledScene s = surfeled(std::move(city), 5000);
+  LodOptions options;
+  options.threshold = 48.0;
+  options.band = 0.0;
+  EmbreeNodeCaster caster(s.scene, s.hierarchy);
+  test::AgreementRange range;
+  bool mixed = false;  // a frame with both geometry and surfels
+  for (double distance : {0.6, 1.2, 2.5}) {
+    const Camera camera = orbitAround(s.scene, s.hierarchy, distance, 320, 200);
+    constexpr ChannelMask kCompared = kChannelColor | kChannelNormal | kChannelIds;
+    Framebuffer raster = makeFramebuffer(camera.width, camera.height, kCompared);
+    Framebuffer rays = makeFramebuffer(camera.width, camera.height, kCompared);
+    options.geometry = GeometryDrawer::Raster;
+    const LodStats rasterStats = renderLod(s.scene, s.hierarchy, s.surfels, camera, raster, options, &caster);
+    options.geometry = GeometryDrawer::Rays;
+    const LodStats rayStats = renderLod(s.scene, s.hierarchy, s.surfels, camera, rays, options, &caster);
+    EXPECT_EQ(rasterStats.geometryDrawer, GeometryDrawer::Raster);
+    EXPECT_EQ(rayStats.geometryDrawer, GeometryDrawer::Rays);
+    mixed = mixed || (rayStats.nodesGeometry > 0 && rayStats.nodesSurfels > 0);
+    range.add(test::compareViews(s.scene, s.hierarchy, camera, raster, rays));
+  }
+  EXPECT_TRUE(mixed);
+  range.print("city, geometry by rays under surfels");
+  range.expectWithinThresholds("city");
+}
+
+// A wall (a mesh without surfels, so always geometry) with a small box in front of it and one behind,
+// both drawn as surfels: the one in front shows, the one behind is hidden, whichever drawer drew the wall.
+TEST(LodGeometry, SurfelsComposeByDepthOverRayCastGeometry) {
+  Scene scene;
+  scene.materials.push_back(Material{"plain", glm::vec4(0.6f, 0.6f, 0.6f, 1.0f), -1});
+  Mesh wall = tessellatedBox(2);
+  for (glm::vec3& p : wall.positions) p *= glm::vec3(4.0f, 4.0f, 0.05f);
+  updateMeshBounds(wall);
+  scene.meshes.push_back(std::move(wall));
+  scene.meshes.push_back(tessellatedBox(2));
+  const glm::dmat4 small = glm::scale(glm::dmat4(1.0), glm::dvec3(0.25));
+  scene.nodes.push_back(Node{"wall", glm::dmat4(1.0), {}, 0});
+  scene.nodes.push_back(Node{"front", glm::translate(glm::dmat4(1.0), {-1.5, 0, 1}) * small, {}, 1});
+  scene.nodes.push_back(Node{"behind", glm::translate(glm::dmat4(1.0), {1.5, 0, -1}) * small, {}, 1});
+  scene.roots = {0, 1, 2};
+  validateScene(scene, "wall");
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+
+  // One array of points facing the camera over the small box's front face, used by both small nodes.
+  SceneSurfels surfels;
+  SplatArray points;
+  points.box = scene.meshes[1].bounds;
+  points.coverage = 1.0;
+  for (int i = 0; i < 64; ++i) {
+    points.positions.emplace_back(-0.9f + 1.8f * float(i % 8) / 7.0f, -0.9f + 1.8f * float(i / 8) / 7.0f, 1.0f);
+    points.normals.emplace_back(0.0f, 0.0f, 1.0f);
+    points.colors.emplace_back(255, 0, 0, 255);
+  }
+  surfels.arrays.push_back(points);
+  surfels.arrayOfNode = {kNoSurfels, 0, 0};
+
+  const Camera camera = orthographicCamera(glm::lookAt(glm::dvec3(0, 0, 10), glm::dvec3(0, 0, 0), glm::dvec3(0, 1, 0)),
+                                           -5, 5, -5, 5, 1, 20, 128, 128);
+  const auto pixelOf = [&](const glm::dvec3& world) {
+    const glm::dvec3 window = windowFromClip(camera, camera.clipFromWorld() * glm::dvec4(world, 1.0));
+    return std::size_t(window.y) * camera.width + std::size_t(window.x);
+  };
+  EmbreeNodeCaster caster(scene, hierarchy);
+  for (const GeometryDrawer drawer : {GeometryDrawer::Rays, GeometryDrawer::Raster}) {
+    LodOptions options;
+    options.pointSize = 3.0f;
+    options.minSizeFactor = 1.0f;
+    options.geometry = drawer;
+    Framebuffer framebuffer = makeFramebuffer(camera.width, camera.height, kChannelIds);
+    clearFramebuffer(framebuffer, 0);
+    const LodStats stats = renderLod(scene, hierarchy, surfels, camera, framebuffer, options, &caster);
+    ASSERT_EQ(stats.geometryDrawer, drawer);
+    ASSERT_EQ(stats.nodesGeometry, 1u) << "the wall";
+    ASSERT_EQ(stats.nodesSurfels, 2u) << "the small boxes";
+    EXPECT_EQ(framebuffer.ids[pixelOf({-1.5, 0, 1})].node, 1u) << "the surfels in front of the wall show";
+    EXPECT_EQ(framebuffer.ids[pixelOf({1.5, 0, -1})].node, 0u) << "the wall hides the surfels behind it";
+    EXPECT_EQ(framebuffer.ids[pixelOf({0, 3, 0})].node, 0u);
+  }
+}
+
+TEST(LodGeometry, SameImageForOneAndTwoThreads) {
+  const SurfeledScene s = surfeled(test::twoIdenticalGroups(), 1000);
+  for (const GeometryDrawer drawer : {GeometryDrawer::Rays, GeometryDrawer::Auto}) {
+    std::uint64_t geometryByRays = 0;  // frames whose geometry nodes were cast
+    const auto renderWith = [&](int threads) {
+      std::vector<std::vector<glm::vec4>> images;
+      runWithThreads(threads, [&] {
+        FrameOptions options{.mode = RenderMode::Surfels, .lod = {}, .samples = 4};
+        options.lod.geometry = drawer;
+        options.lod.threshold = 64.0;
+        FrameRenderer renderer(s.scene, s.hierarchy, options, 200, 150, {.surfels = &s.surfels});
+        for (double distance : {1.5, 3.0, 12.0}) {
+          FrameResult frame = renderer.render(orbitAround(s.scene, s.hierarchy, distance, 200, 150));
+          geometryByRays += frame.stats.nodesGeometry > 0 && frame.stats.geometryDrawer == GeometryDrawer::Rays;
+          images.push_back(std::move(frame.image));
+        }
+      });
+      return images;
+    };
+    EXPECT_EQ(renderWith(1), renderWith(2)) << geometryDrawerName(drawer);
+    if (drawer == GeometryDrawer::Rays) {
+      EXPECT_GT(geometryByRays, 0u);
+    }
+  }
+}
+
+// ---- The choice -------------------------------------------------------------------------------------
+
+TEST(LodGeometry, AutoPicksRaysForManySmallTrianglesAndRasterForFewBigOnes) {
+  constexpr std::uint64_t kFullHd = 1920 * 1080;
+  // Millions of triangles over a fifth of the image, their BVHs built: rays.
+  GeometryWork many{.triangles = 5'000'000, .boxPixels = 0.2 * kFullHd, .imagePixels = kFullHd, .unbuiltTriangles = 0};
+  EXPECT_EQ(chooseGeometryDrawer(many), GeometryDrawer::Rays);
+  // A few thousand triangles filling the image twice over: the rasterizer.
+  const GeometryWork few{.triangles = 5'000, .boxPixels = 2.0 * kFullHd, .imagePixels = kFullHd, .unbuiltTriangles = 0};
+  EXPECT_EQ(chooseGeometryDrawer(few), GeometryDrawer::Raster);
+  EXPECT_EQ(chooseGeometryDrawer(GeometryWork{.imagePixels = kFullHd}), GeometryDrawer::Raster) << "nothing to draw";
+  // A BVH still to build is part of what rays cost: enough of it tips the choice.
+  const GeometryCosts built = estimateGeometryCosts(many);
+  many.unbuiltTriangles = many.triangles;
+  EXPECT_GT(estimateGeometryCosts(many).rays, built.rays);
+  EXPECT_EQ(estimateGeometryCosts(many).raster, built.raster);
+
+  // The same through geometryWork on scenes: a finely tessellated box seen small, a 12-triangle one seen
+  // large, each once its BVH is built.
+  for (const auto& [tessellation, distance, expected] :
+       {std::tuple{300u, 8.0, GeometryDrawer::Rays}, std::tuple{1u, 1.2, GeometryDrawer::Raster}}) {
+    const Scene scene = test::sceneOf(tessellatedBox(tessellation), {glm::dmat4(1.0)});
+    const Hierarchy hierarchy = analyzeHierarchy(scene);
+    const Camera camera = orbitAround(scene, hierarchy, distance, 1920, 1080);
+    const std::vector<std::uint32_t> nodes{0};
+    EmbreeNodeCaster caster(scene, hierarchy);
+    GeometryWork work = geometryWork(scene, hierarchy, nodes, camera, &caster);
+    EXPECT_EQ(work.triangles, scene.meshes[0].triangleCount());
+    EXPECT_EQ(work.unbuiltTriangles, work.triangles);
+    EXPECT_EQ(work.imagePixels, kFullHd);
+    EXPECT_GT(work.boxPixels, 0.0);
+    EXPECT_LE(work.boxPixels, double(kFullHd));
+    Framebuffer framebuffer = makeFramebuffer(camera.width, camera.height, 0);
+    caster.render(camera, nodes, framebuffer);
+    work = geometryWork(scene, hierarchy, nodes, camera, &caster);
+    EXPECT_EQ(work.unbuiltTriangles, 0u);
+    EXPECT_EQ(chooseGeometryDrawer(work), expected) << tessellation;
+  }
+}
+
+// ---- The command line -------------------------------------------------------------------------------
+
+TEST(LodGeometryCli, RenderTakesGeometryAndReportsTheDrawerAndBvhBuilds) {
+  test::ScratchDir scratch;
+  const auto [scene, surfels] = test::groupsWithSurfels(scratch);
+  const std::string common =
+      "render " + scene + " --surfels " + surfels + " --size 160x120 --orbit 30,20,1.5 --threshold 8 --frames 2 --json";
+  const auto report = [&](const std::string& drawer) {
+    const test::CommandResult run = test::runPbs(common + " --geometry " + drawer);
+    EXPECT_EQ(run.status, 0) << run.err;
+    return nlohmann::json::parse(run.out);
+  };
+  const nlohmann::json rays = report("rays");
+  ASSERT_EQ(rays["frames"].size(), 2u);
+  for (const nlohmann::json& frame : rays["frames"]) {
+    EXPECT_EQ(frame["geometry"], "rays");
+    EXPECT_GT(frame["nodes_geometry"].get<int>(), 0);
+    EXPECT_LE(frame["bvh_build_seconds"].get<double>(), frame["geometry_seconds"].get<double>());
+  }
+  EXPECT_GT(rays["frames"][0]["bvh_build_seconds"].get<double>(), 0.0) << "the first frame builds the mesh's BVH";
+  EXPECT_EQ(rays["frames"][1]["bvh_build_seconds"].get<double>(), 0.0) << "the second reuses it";
+  for (const nlohmann::json& frame : report("raster")["frames"]) EXPECT_EQ(frame["geometry"], "raster");
+  const nlohmann::json automatic = report("auto");
+  EXPECT_TRUE(automatic["frames"][0]["geometry"] == "raster" || automatic["frames"][0]["geometry"] == "rays");
+  EXPECT_EQ(test::runPbs(common + " --geometry sideways").status, 2);
+}
+
+}  // namespace
+}  // namespace pbs
