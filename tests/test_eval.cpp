@@ -212,12 +212,12 @@ TEST(EvalCli, BadSweepsFailWithUsageErrors) {
 
 // The baseline options (--point-size …) apply to every setting; "KEY=V+KEY=V" changes several at once:
 // a setting that draws like the baseline is measured once, and a tiny threshold descends to geometry
-// everywhere, which is the exact rasterizer's picture.
+// everywhere, which (drawn by the rasterizer) is the exact rasterizer's picture.
 TEST(EvalCli, BaselineOptionsAndCombinedSettings) {
   const EvalRun eval;
   const test::CommandResult run =
       eval.run("--size 96x64 --frames 2 --peers exact=1 --reference-samples 4 --point-size 0.5 --sweep overdraw=4 "
-               "--sweep point=0.5+overdraw=4 --sweep point=2+threshold=0.001 --quiet");
+               "--sweep point=0.5+overdraw=4 --sweep point=2+threshold=0.001+geometry=raster --quiet");
   ASSERT_EQ(run.status, 0) << run.err;
   const std::vector<test::CsvRow> rows = eval.rows();
   ASSERT_EQ(rows.size(), 6u);  // exact=1, surfels and the all-geometry setting, two frames each
@@ -226,7 +226,7 @@ TEST(EvalCli, BaselineOptionsAndCombinedSettings) {
     const test::CsvRow& baseline = rows[2 + frame];
     const test::CsvRow& geometry = rows[4 + frame];
     EXPECT_EQ(baseline.fields.at("setting"), "surfels");
-    EXPECT_EQ(geometry.fields.at("setting"), "point=2+threshold=0.001");
+    EXPECT_EQ(geometry.fields.at("setting"), "point=2+threshold=0.001+geometry=raster");
     EXPECT_GT(baseline.number("surfels"), 0.0);
     EXPECT_EQ(geometry.number("surfels"), 0.0) << "every node above the threshold: all geometry";
     EXPECT_EQ(geometry.fields.at("flip"), exact.fields.at("flip"));
