@@ -4,6 +4,8 @@
 # baked into its own mesh (--unique), each surfelized with the defaults and evaluated on the orbit,
 # approach and flythrough paths against Embree at 64 samples per pixel. Usage:
 #   scripts/evaluate.sh [OUT] [SIZE] [FRAMES]   (defaults: /tmp/pbs-evaluate 960x540 12)
+# PBS_EVAL_PEERS=embree=1,4,16 measures only those peers (the default adds exact=1, the rasterizer, which
+# is never the faster exact renderer on these scenes and takes seconds a frame on the cities at 1920x1080).
 # Scenes and .surfels files already in OUT are reused. Run it on a quiet machine: it reports times.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,6 +17,8 @@ pbs=./build/bin/pbs
 meshes=()
 for mesh in bunny horse rocker-arm fandisk; do meshes+=(--mesh "$scenes/$mesh.glb"); done
 mkdir -p "$out"
+peers=()
+[ -z "${PBS_EVAL_PEERS:-}" ] || peers=(--peers "$PBS_EVAL_PEERS")
 
 # One generated city, instanced and unique; `time -v` gives the peak memory of each step.
 timed() { local log=$1; shift; /usr/bin/time -v "$@" > "$log" 2>&1 || { cat "$log"; exit 1; }; }
@@ -31,6 +35,6 @@ for scene in default city unique; do
   timed "$out/first-frame-surfels-$scene.log" $pbs render "$file" --surfels "$out/$scene.surfels" --size "$size" --json
   for path in orbit approach flythrough; do
     $pbs eval "$file" --surfels "$out/$scene.surfels" -o "$out/$scene-$path" --size "$size" --frames "$frames" \
-      --path "$path" --sweep surfels --quiet | tee "$out/$scene-$path.txt"
+      --path "$path" "${peers[@]}" --sweep surfels --quiet | tee "$out/$scene-$path.txt"
   done
 done

@@ -79,6 +79,21 @@ TEST(SplatArrays, SpacingFollowsThePackingMeasuredAtBothEnds) {
   EXPECT_DOUBLE_EQ(array.spacing(10000), std::sqrt(1.0 / 10000.0));
 }
 
+TEST(SplatArrays, PackingNeverStandsForMoreThanTheSubtreesArea) {
+  SurfelArray array;
+  array.surfels.resize(100);
+  array.packing = 8.0;
+  array.packingEnd = 6.0;
+  array.area = 4.0;  // 100 surfels of packing 8 would stand for κ · 8 = 6.9 > 4
+  EXPECT_DOUBLE_EQ(splatArrayOf(array).packing, 4.0 / kSurfelAreaPerSpacing2);
+  EXPECT_DOUBLE_EQ(splatArrayOf(array).packingEnd, 4.0 / kSurfelAreaPerSpacing2);
+  array.area = 100.0;  // a typical array: the measured values stand
+  EXPECT_DOUBLE_EQ(splatArrayOf(array).packing, 8.0);
+  EXPECT_DOUBLE_EQ(splatArrayOf(array).packingEnd, 6.0);
+  array.area = 0.0;  // no area recorded: nothing to cap by
+  EXPECT_DOUBLE_EQ(splatArrayOf(array).packing, 8.0);
+}
+
 TEST(LodTraversal, PrefixSizedDiscsCloseTheSurfaceAndGrowWhenTheArrayRunsOut) {
   // r = √(packing / k) for the prefix the node's size asks for; the array caps k, so a node seen closer
   // than its array can serve draws larger discs.

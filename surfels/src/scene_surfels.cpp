@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 namespace pbs {
@@ -27,8 +28,14 @@ SplatArray splatArrayOf(const SurfelArray& array) {
   SplatArray splats;
   splats.box = array.box;
   splats.coverage = array.coverage;
-  splats.packing = array.packing;
-  splats.packingEnd = array.packingEnd;
+  // Neither value may make the array stand for more than the subtree's surface area (N surfels of spacing
+  // r cover N · κ r² = κ · packing): an array sparser than its subtree's parts (the 500 M-triangle city's
+  // root, about one surfel per building) measures the gaps between the parts, 6.1 times its area even
+  // at its end, where a typical array of the default scene stands for 0.6 of it (hidden surfaces make
+  // no surfels).
+  const double cap = array.area > 0.0 ? array.area / kSurfelAreaPerSpacing2 : std::numeric_limits<double>::infinity();
+  splats.packing = std::min(array.packing, cap);
+  splats.packingEnd = std::min(array.packingEnd, cap);
   splats.positions.reserve(array.surfels.size());
   splats.normals.reserve(array.surfels.size());
   splats.colors.reserve(array.surfels.size());

@@ -22,8 +22,10 @@ inline constexpr double kSurfelAreaPerSpacing2 = 0.8660254037844386;
 struct SplatArray {
   Bounds box;  // node-frame box; positions are relative to its centre
   double coverage = 0.0;
-  double packing = 0.0;     // the file's packing values (SurfelArray): at k = min(1000, N) surfels …
-  double packingEnd = 0.0;  // … and at all N; 0 when not known
+  // The file's packing values (SurfelArray), at k = min(1000, N) surfels and at all N (0: not known),
+  // each capped so that the array never stands for more than the subtree's surface area (splatArrayOf).
+  double packing = 0.0;
+  double packingEnd = 0.0;
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;
   std::vector<glm::u8vec4> colors;
