@@ -49,6 +49,26 @@ inline Scene sceneOf(Mesh mesh, const std::vector<glm::dmat4>& worlds) {
   return scene;
 }
 
+// An open sheet of 2 · n² triangles over [−1, 1]² with z = height(x, y), one part, no uvs.
+template <class Height>
+Mesh gridSheet(std::uint32_t n, Height&& height) {
+  Mesh mesh;
+  for (std::uint32_t j = 0; j <= n; ++j)
+    for (std::uint32_t i = 0; i <= n; ++i) {
+      const float x = -1.0f + 2.0f * float(i) / float(n), y = -1.0f + 2.0f * float(j) / float(n);
+      mesh.positions.emplace_back(x, y, height(x, y));
+    }
+  for (std::uint32_t j = 0; j < n; ++j)
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const std::uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
+    }
+  mesh.normals = computeVertexNormals(mesh.positions, mesh.indices);
+  mesh.parts.push_back(MeshPart{0, std::uint32_t(mesh.indices.size()), 0});
+  updateMeshBounds(mesh);
+  return mesh;
+}
+
 // A closed, finely tessellated box of 12 · n² triangles with one plain material.
 inline Mesh tessellatedBox(std::uint32_t n) {
   Mesh mesh;

@@ -6,6 +6,7 @@
 #include "gbuffer_agreement.hpp"
 #include "test_fixtures.hpp"
 #include "test_support.hpp"
+#include "surfeled_scene.hpp"
 
 #include <pbs/raster/orbit_camera.hpp>
 #include <pbs/raster/thread_arena.hpp>
@@ -128,22 +129,8 @@ TEST(EmbreeNodeCaster, BuildsEachMeshOnceAcrossFrames) {
 
 // ---- Geometry nodes by rays in the LOD renderer ------------------------------------------------------
 
-struct SurfeledScene {
-  Scene scene;
-  Hierarchy hierarchy;
-  SceneSurfels surfels;
-};
-
-SurfeledScene surfeled(Scene scene, std::uint64_t threshold) {
-  SurfeledScene s{std::move(scene), {}, {}};
-  s.hierarchy = analyzeHierarchy(s.scene);
-  SurfelizeOptions options;
-  options.file.threshold = threshold;
-  options.file.maxSurfels = 4000;
-  options.file.resolution = 128;
-  s.surfels = sceneSurfelsOf(surfelize(s.scene, s.hierarchy, options), s.scene, s.hierarchy, "test");
-  return s;
-}
+using test::SurfeledScene;
+using test::surfeled;
 
 // The task's check: on a city of shared meshes, seen from near to far, the frame drawn with its geometry
 // nodes cast by rays is the rasterized frame up to the tolerances the ray caster is held to against the
@@ -323,7 +310,8 @@ TEST(LodGeometryCli, RenderTakesGeometryAndReportsTheDrawerAndBvhBuilds) {
   }
   EXPECT_GT(rays["frames"][0]["bvh_build_seconds"].get<double>(), 0.0) << "the first frame builds the mesh's BVH";
   EXPECT_EQ(rays["frames"][1]["bvh_build_seconds"].get<double>(), 0.0) << "the second reuses it";
-  for (const nlohmann::json& frame : report("raster")["frames"]) EXPECT_EQ(frame["geometry"], "raster");
+  const nlohmann::json raster = report("raster");  // named: a temporary in a range-for dies before the loop
+  for (const nlohmann::json& frame : raster["frames"]) EXPECT_EQ(frame["geometry"], "raster");
   const nlohmann::json automatic = report("auto");
   EXPECT_TRUE(automatic["frames"][0]["geometry"] == "raster" || automatic["frames"][0]["geometry"] == "rays");
   EXPECT_EQ(test::runPbs(common + " --geometry sideways").status, 2);

@@ -3,6 +3,7 @@
 #include "test_fixtures.hpp"
 #include "cli_scenes.hpp"
 #include "test_support.hpp"
+#include "surfeled_scene.hpp"
 
 #include <pbs/raster/headlight_shading.hpp>
 #include <pbs/raster/orbit_camera.hpp>
@@ -106,23 +107,8 @@ TEST(LodTraversal, PrefixSizedDiscsCloseTheSurfaceAndGrowWhenTheArrayRunsOut) {
   EXPECT_GT(array.spacing(1000), 0.0);
 }
 
-// A scene with surfels from surfelize (small, fast settings).
-struct SurfeledScene {
-  Scene scene;
-  Hierarchy hierarchy;
-  SceneSurfels surfels;
-};
-
-SurfeledScene surfeled(Scene scene, std::uint64_t threshold = 1000) {
-  SurfeledScene s{std::move(scene), {}, {}};
-  s.hierarchy = analyzeHierarchy(s.scene);
-  SurfelizeOptions options;
-  options.file.threshold = threshold;
-  options.file.maxSurfels = 4000;
-  options.file.resolution = 128;
-  s.surfels = sceneSurfelsOf(surfelize(s.scene, s.hierarchy, options), s.scene, s.hierarchy, "test");
-  return s;
-}
+using test::SurfeledScene;
+using test::surfeled;
 
 Camera orbitAround(const SurfeledScene& s, double distance, std::uint32_t size = 256) {
   const Bounds& box = s.hierarchy.worldBounds[s.scene.roots.front()];

@@ -27,21 +27,8 @@ using test::tessellatedBox;
 // A welded, curved n×n grid of 2·n² triangles with uvs, one part: nothing stops meshoptimizer short
 // of a target but the error bound (tessellatedBox's faces meet at seams that hold it back).
 Mesh wavyGrid(std::uint32_t n) {
-  Mesh mesh;
-  for (std::uint32_t j = 0; j <= n; ++j)
-    for (std::uint32_t i = 0; i <= n; ++i) {
-      const float x = -1.0f + 2.0f * float(i) / float(n), y = -1.0f + 2.0f * float(j) / float(n);
-      mesh.positions.emplace_back(x, y, 0.2f * std::sin(3.0f * x) * std::cos(2.0f * y));
-      mesh.uvs.emplace_back(0.5f * (x + 1.0f), 0.5f * (y + 1.0f));
-    }
-  for (std::uint32_t j = 0; j < n; ++j)
-    for (std::uint32_t i = 0; i < n; ++i) {
-      const std::uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
-      mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
-    }
-  mesh.normals = computeVertexNormals(mesh.positions, mesh.indices);
-  mesh.parts.push_back(MeshPart{0, std::uint32_t(mesh.indices.size()), 0});
-  updateMeshBounds(mesh);
+  Mesh mesh = test::gridSheet(n, [](float x, float y) { return 0.2f * std::sin(3.0f * x) * std::cos(2.0f * y); });
+  for (const glm::vec3& p : mesh.positions) mesh.uvs.emplace_back(0.5f * (p.x + 1.0f), 0.5f * (p.y + 1.0f));
   return mesh;
 }
 

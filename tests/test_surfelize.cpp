@@ -172,19 +172,7 @@ TEST(Surfelize, BitIdenticalFileForOneTwoAndFourThreads) {
 // An open sheet (one-sided mesh, drawn two-sided) seen from both sides: a renderer culling back faces
 // draws one side's surfels, so each side's share of every prefix must cover the sheet on its own.
 TEST(Surfelize, EachSideOfAThinSurfaceIsSpreadOnItsOwn) {
-  Mesh sheet;  // unnamed: assigning a name trips a false -Wrestrict of GCC 12 at -O3
-  constexpr std::uint32_t n = 80;  // 12,800 triangles over [-1, 1]² at z = 0
-  for (std::uint32_t j = 0; j <= n; ++j)
-    for (std::uint32_t i = 0; i <= n; ++i)
-      sheet.positions.emplace_back(-1.0f + 2.0f * float(i) / n, -1.0f + 2.0f * float(j) / n, 0.0f);
-  for (std::uint32_t j = 0; j < n; ++j)
-    for (std::uint32_t i = 0; i < n; ++i) {
-      const std::uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
-      sheet.indices.insert(sheet.indices.end(), {a, b, d, a, d, c});
-    }
-  sheet.normals = computeVertexNormals(sheet.positions, sheet.indices);
-  sheet.parts.push_back(MeshPart{0, std::uint32_t(sheet.indices.size()), 0});
-  updateMeshBounds(sheet);
+  Mesh sheet = test::gridSheet(80, [](float, float) { return 0.0f; });  // 12,800 triangles at z = 0
   const Scene scene = test::sceneOf(std::move(sheet), {glm::dmat4(1.0)});
   const SurfelFile file = surfelize(scene, analyzeHierarchy(scene), smallOptions(1000));
   ASSERT_EQ(file.arrays.size(), 1u);
@@ -256,9 +244,7 @@ TEST(Surfelize, PixelColorsAreTheCapturedOnesAndPrefilteredTheirFilter) {
   seed.string("/0");
   const std::vector<std::uint32_t> order =
       orderPoints(options.file.ordering, positions, options.file.maxSurfels, seed.digest());
-  std::vector<Surfel> seen = captured.surfels;
-  for (std::size_t i = 0; i < seen.size(); ++i) seen[i].position = positions[i];
-  const std::vector<glm::u8vec4> colors = prefilteredColors(seen, order);
+  const std::vector<glm::u8vec4> colors = prefilteredColors(positions, captured.surfels, order);
 
   const std::vector<Surfel>& a = pixel.arrays[0].surfels;
   const std::vector<Surfel>& b = filtered.arrays[0].surfels;

@@ -11,16 +11,6 @@
 namespace pbs::blend {
 namespace {
 
-// Rows (W/2·(x + w), H/2·(w − y), (z + w)/2, w) of camera.hpp's window mapping, before the division by w.
-glm::dmat4 windowFromClip(const Camera& camera) {
-  glm::dmat4 m(0.0);
-  m[0][0] = camera.width / 2.0;
-  m[1][1] = -(camera.height / 2.0);
-  m[2][2] = 0.5;
-  m[3] = glm::dvec4(camera.width / 2.0, camera.height / 2.0, 0.5, 1.0);
-  return m;
-}
-
 // Two unit tangents completing the unit normal n to an orthonormal basis, without a branch on its
 // direction (Duff et al. 2017).
 void tangents(const glm::dvec3& n, glm::dvec3& t1, glm::dvec3& t2) {
@@ -85,7 +75,7 @@ FootprintProjector::FootprintProjector(const Camera& camera, const SurfelSplatSe
                                        const BlendOptions& options)
     : set_(set),
       setIndex_(setIndex),
-      windowFromObject_(windowFromClip(camera) * camera.clipFromWorld() * set.worldFromObject),
+      windowFromObject_(windowFromClipMatrix(camera) * camera.clipFromWorld() * set.worldFromObject),
       normalFromObject_(glm::inverseTranspose(glm::dmat3(set.worldFromObject))),
       backFaceCosine_(options.backFaceCosine),
       gain_(options.coverageGain),

@@ -32,6 +32,15 @@ Camera perspectiveCamera(const glm::dmat4& view, double fovY, double near, doubl
   return Camera{view, projection, width, height};
 }
 
+glm::dmat4 windowFromClipMatrix(const Camera& camera) {
+  glm::dmat4 m(0.0);
+  m[0][0] = camera.width / 2.0;
+  m[1][1] = -(camera.height / 2.0);
+  m[2][2] = 0.5;
+  m[3] = glm::dvec4(camera.width / 2.0, camera.height / 2.0, 0.5, 1.0);
+  return m;
+}
+
 glm::dvec3 windowFromClip(const Camera& camera, const glm::dvec4& clip) {
   // Orthographic clip positions have w = 1 exactly, where the division changes nothing: skip it.
   const glm::dvec3 ndc = clip.w == 1.0 ? glm::dvec3(clip) : glm::dvec3(clip) / clip.w;

@@ -243,13 +243,7 @@ void setRect(SquareSplat& splat, const Rects& rects, std::size_t i, float depth,
 
 SplatProjector::SplatProjector(const Camera& camera, const glm::dmat4& clipFromObject, bool subPixel)
     : width_(static_cast<int>(camera.width)), height_(static_cast<int>(camera.height)), subPixel_(subPixel) {
-  // Rows (W/2·(x + w), H/2·(w − y), (z + w)/2, w): divided by w they are camera.hpp's window x, y and depth.
-  glm::dmat4 windowFromClip(0.0);
-  windowFromClip[0][0] = camera.width / 2.0;
-  windowFromClip[1][1] = -(camera.height / 2.0);
-  windowFromClip[2][2] = 0.5;
-  windowFromClip[3] = glm::dvec4(camera.width / 2.0, camera.height / 2.0, 0.5, 1.0);
-  windowFromObject_ = windowFromClip * clipFromObject;
+  windowFromObject_ = windowFromClipMatrix(camera) * clipFromObject;
   affine_ = keepsUnitW(windowFromObject_);
 }
 

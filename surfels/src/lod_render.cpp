@@ -5,9 +5,7 @@
 #include "elapsed.hpp"
 #include "pbs/raster/blended_splats.hpp"
 #include "pbs/raster/points.hpp"
-#include "pbs/raster/triangles.hpp"
 #include "pbs/raster/value_names.hpp"
-#include "pbs/scene/scene_draws.hpp"
 #include "pbs/surfels/lod_geometry.hpp"
 
 #include <glm/gtc/matrix_inverse.hpp>

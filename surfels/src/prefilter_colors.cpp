@@ -62,7 +62,8 @@ class CandidateGrid {
  public:
   // `cellTarget`: the cell size wanted (queries then walk about (2 · radius / cellTarget)² rows), made
   // larger where the cell cap needs it.
-  CandidateGrid(std::span<const Surfel> candidates, double cellTarget);
+  // Candidate i at positions[i] with candidates[i]'s colour.
+  CandidateGrid(std::span<const glm::vec3> positions, std::span<const Surfel> candidates, double cellTarget);
 
   const CandidateColumns& columns() const { return columns_; }
 
@@ -120,12 +121,11 @@ class CandidateGrid {
   CandidateColumns columns_;
 };
 
-CandidateGrid::CandidateGrid(std::span<const Surfel> candidates, double cellTarget) {
-  // The box first (its check is the orderings'), through positions freed before the columns exist.
+CandidateGrid::CandidateGrid(std::span<const glm::vec3> positions, std::span<const Surfel> candidates,
+                             double cellTarget) {
+  // The box first (its check is the orderings').
   std::vector<std::uint32_t> cells(candidates.size());
   {
-    std::vector<glm::vec3> positions(candidates.size());
-    for (std::size_t i = 0; i < positions.size(); ++i) positions[i] = candidates[i].position;
     const OrderableBox box = orderableBox(positions, "prefilteredColors");
     lo_ = glm::dvec3(box.lo);
     const glm::dvec3 extent(box.extent);
@@ -150,12 +150,11 @@ CandidateGrid::CandidateGrid(std::span<const Surfel> candidates, double cellTarg
   for (std::size_t c = 1; c < cellStart_.size(); ++c) cellStart_[c] += cellStart_[c - 1];
   columns_.resize(candidates.size());
   for (std::size_t i = candidates.size(); i-- > 0;) {
-    const Surfel& c = candidates[i];
     const std::uint32_t entry = --cellStart_[cells[i]];
-    columns_.x[entry] = c.position.x;
-    columns_.y[entry] = c.position.y;
-    columns_.z[entry] = c.position.z;
-    for (int channel = 0; channel < 4; ++channel) columns_.rgba[channel][entry] = c.color[channel];
+    columns_.x[entry] = positions[i].x;
+    columns_.y[entry] = positions[i].y;
+    columns_.z[entry] = positions[i].z;
+    for (int channel = 0; channel < 4; ++channel) columns_.rgba[channel][entry] = candidates[i].color[channel];
   }
 }
 
@@ -282,6 +281,16 @@ std::string_view surfelColorsName(SurfelColors colors) { return kColorNames.name
 std::optional<SurfelColors> parseSurfelColors(std::string_view name) { return kColorNames.parse(name); }
 
 std::vector<glm::u8vec4> prefilteredColors(std::span<const Surfel> candidates, std::span<const std::uint32_t> order) {
+  std::vector<glm::vec3> positions(candidates.size());
+  for (std::size_t i = 0; i < positions.size(); ++i) positions[i] = candidates[i].position;
+  return prefilteredColors(positions, candidates, order);
+}
+
+std::vector<glm::u8vec4> prefilteredColors(std::span<const glm::vec3> positions, std::span<const Surfel> candidates,
+                                           std::span<const std::uint32_t> order) {
+  if (positions.size() != candidates.size())
+    throw std::invalid_argument("prefilteredColors: " + std::to_string(positions.size()) + " positions for " +
+                                std::to_string(candidates.size()) + " candidates");
   // The distances among the chosen surfels alone: the same as over all candidates, for a k-sized grid.
   std::vector<glm::vec3> chosen(order.size());
   for (std::size_t i = 0; i < order.size(); ++i) {
@@ -289,7 +298,7 @@ std::vector<glm::u8vec4> prefilteredColors(std::span<const Surfel> candidates, s
       throw std::invalid_argument("prefilteredColors: order entry " + std::to_string(i) + " names candidate " +
                                   std::to_string(order[i]) + " of " + std::to_string(candidates.size()));
     }
-    chosen[i] = candidates[order[i]].position;
+    chosen[i] = positions[order[i]];
   }
   std::vector<std::uint32_t> sequence(order.size());
   for (std::uint32_t i = 0; i < sequence.size(); ++i) sequence[i] = i;
@@ -297,7 +306,7 @@ std::vector<glm::u8vec4> prefilteredColors(std::span<const Surfel> candidates, s
   std::vector<glm::u8vec4> colors(order.size());
   if (order.empty()) return colors;
   const double radius = medianRadius(distances);
-  const CandidateGrid grid(candidates, radius > 0.0 ? radius : std::numeric_limits<double>::infinity());
+  const CandidateGrid grid(positions, candidates, radius > 0.0 ? radius : std::numeric_limits<double>::infinity());
 
   // Surfels in the order of their cells, so that the next one reads mostly the rows the last one
   // brought into the cache (each one's sums do not depend on when they are made).

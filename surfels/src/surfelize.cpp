@@ -80,9 +80,7 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& p
   for (std::uint32_t i : order) array.surfels.push_back(captured.surfels[i]);
   if (options.file.colors == SurfelColors::Prefiltered) {
     // Filtered where the ordering sees the candidates: each side of a thin surface on its own.
-    std::vector<Surfel> seen(captured.surfels.begin(), captured.surfels.end());
-    for (std::size_t i = 0; i < seen.size(); ++i) seen[i].position = positions[i];
-    const std::vector<glm::u8vec4> colors = prefilteredColors(seen, order);
+    const std::vector<glm::u8vec4> colors = prefilteredColors(positions, captured.surfels, order);
     for (std::size_t i = 0; i < colors.size(); ++i) array.surfels[i].color = colors[i];
   }
   array.packing = packingValue(positions, order, std::min(kPackingSample, order.size()));
@@ -127,9 +125,9 @@ std::uint64_t surfelizeMemoryEstimate(const Scene& scene, const Hierarchy& hiera
   const detail::SurfelPlan plan = detail::planSurfelArrays(scene, hierarchy, options.file.threshold);
   const std::uint64_t pixels = std::uint64_t(options.file.resolution) * options.file.resolution;
   constexpr std::uint64_t kGBufferBytes = 4 + 4 + 12 + 12;  // depth, colour, position, normal per pixel
-  // A candidate: the surfel, its position for the ordering, and the ordering's grid and heap entries,
-  // then the colour filter's copy of the surfel (with the ordering's position) and its grid cells.
-  constexpr std::uint64_t kCandidateBytes = sizeof(Surfel) + 12 + std::max<std::uint64_t>(32, sizeof(Surfel) + 8);
+  // A candidate: the surfel, its position for the ordering, and the ordering's grid and heap entries
+  // (freed before the colour filter, whose columns and cells take less).
+  constexpr std::uint64_t kCandidateBytes = sizeof(Surfel) + 12 + 32;
   const std::uint64_t capture = pixels * (kGBufferBytes + options.file.directions * kCandidateBytes);
   const std::uint64_t frame = scene.nodes.size() * (sizeof(glm::dmat4) + sizeof(Bounds) + 24);
   const std::uint64_t arrays =

@@ -41,6 +41,10 @@ inline bool keepsUnitW(const glm::dmat4& m) {
 // Window position (x_w, y_w) and depth of a clip-space point (w ≠ 0).
 glm::dvec3 windowFromClip(const Camera& camera, const glm::dvec4& clip);
 
+// The same as a matrix for code that projects many points: rows (W/2·(x + w), H/2·(w − y), (z + w)/2, w),
+// which divided by w are the window x, y and depth (equal to windowFromClip up to rounding).
+glm::dmat4 windowFromClipMatrix(const Camera& camera);
+
 // The world-space ray through window position (x_w, y_w): for a perspective camera from the eye,
 // for an orthographic one from the near plane along the view direction. `direction` is unit length;
 // a point at ray parameter t has world position origin + t·direction.

@@ -48,4 +48,10 @@ std::vector<float> insertionDistances(std::span<const glm::vec3> points, std::sp
 // Throws as insertionDistances does, naming prefilteredColors.
 std::vector<glm::u8vec4> prefilteredColors(std::span<const Surfel> candidates, std::span<const std::uint32_t> order);
 
+// The same with candidate i seen at positions[i] instead of its own position (the ordering's positions,
+// orderingPositions in surfelize.hpp), its colour still candidates[i]'s. Throws std::invalid_argument when
+// the two differ in length.
+std::vector<glm::u8vec4> prefilteredColors(std::span<const glm::vec3> positions, std::span<const Surfel> candidates,
+                                           std::span<const std::uint32_t> order);
+
 }  // namespace pbs
