@@ -210,6 +210,7 @@ TEST(LodGeometry, SurfelsComposeByDepthOverRayCastGeometry) {
     LodOptions options;
     options.pointSize = 3.0f;
     options.minSizeFactor = 1.0f;
+    options.descendExhausted = false;  // the boxes' one-surfel arrays stay surfels
     options.geometry = drawer;
     Framebuffer framebuffer = makeFramebuffer(camera.width, camera.height, kChannelIds);
     clearFramebuffer(framebuffer, 0);

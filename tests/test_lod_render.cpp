@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -155,6 +156,7 @@ TEST(TraverseLod, InTheBandBothRepresentationsAreDrawn) {
   options.band = 0.5;
   // Put the root just inside the lower half of its band: its prefix stays whole, its children grow in.
   options.threshold = rootSize / 1.1;
+  options.descendExhausted = false;  // the one threshold for every node, whatever its array's length
   const LodDraws draws = traverseLod(s.scene, s.hierarchy, s.surfels, camera, options);
   std::set<std::uint32_t> surfelNodes;
   for (const auto& d : draws.surfels) surfelNodes.insert(d.node);
@@ -163,6 +165,29 @@ TEST(TraverseLod, InTheBandBothRepresentationsAreDrawn) {
   options.band = 0.0;
   const LodDraws abrupt = traverseLod(s.scene, s.hierarchy, s.surfels, camera, options);
   for (const auto& d : abrupt.surfels) EXPECT_NE(d.node, 0u) << "without a band the root is only descended";
+}
+
+// The root under a threshold it would pass by size alone: drawn as surfels while its array meets the
+// demand at the top of the band, descended into once the demand (here scaled by the overdraw) needs more
+// surfels than the array has; with descendExhausted off it stays surfels whatever the demand.
+TEST(TraverseLod, AnArrayTooShortForItsSizeIsDescendedInto) {
+  const SurfeledScene s = surfeled(twoIdenticalGroups());
+  const Camera camera = orbitAround(s, 3.0);
+  const double rootSize = std::sqrt(projectedBoxPixels(camera, s.hierarchy.worldBounds[0]));
+  const SplatArray& root = s.surfels.arrays[s.surfels.arrayOfNode[0]];
+  LodOptions options;
+  options.threshold = 10.0 * rootSize;
+  const double demandPerOverdraw = prefixDemand(root, rootSize, 1.0, 1.0, options) / options.overdraw;
+  ASSERT_GT(demandPerOverdraw, 0.0);
+  const auto rootDrawsSurfels = [&](double demandOverLength, bool descendExhausted) {
+    options.overdraw = demandOverLength * double(root.size()) / demandPerOverdraw;
+    options.descendExhausted = descendExhausted;
+    const LodDraws draws = traverseLod(s.scene, s.hierarchy, s.surfels, camera, options);
+    return std::any_of(draws.surfels.begin(), draws.surfels.end(), [](const auto& d) { return d.node == 0; });
+  };
+  EXPECT_TRUE(rootDrawsSurfels(0.5, true)) << "half the array meets the demand";
+  EXPECT_FALSE(rootDrawsSurfels(2.0, true)) << "twice the array is asked for: descend";
+  EXPECT_TRUE(rootDrawsSurfels(2.0, false)) << "the paper's cap draws the whole array instead";
 }
 
 std::vector<glm::vec4> renderImage(const SurfeledScene& s, const Camera& camera, const LodOptions& options,

@@ -569,6 +569,44 @@ TEST(SurfelFile, FailedWritesLeaveNothing) {
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
 
+// Arrays handed over out of order wait for the earlier ones, then the file is writeSurfelFile's.
+TEST(SurfelFileWriter, ArraysInAnyOrderGiveTheSameBytes) {
+  ScratchDir dir;
+  const SurfelFile file = sampleFile();
+  writeSurfelFile(dir / "whole.surfels", file);
+  {
+    SurfelFileWriter writer(dir / "streamed.surfels", file.sceneFingerprint, file.options, file.nodes, 3);
+    writer.add(2, file.arrays[2]);
+    writer.add(1, file.arrays[1]);
+    EXPECT_EQ(writer.bytesWaiting(), (5 + 0) * kSurfelBytes + 8) << "arrays 1 and 2 wait for array 0";
+    writer.add(0, file.arrays[0]);
+    EXPECT_EQ(writer.bytesWaiting(), 0u);
+    EXPECT_FALSE(std::filesystem::exists(dir / "streamed.surfels")) << "nothing under the name before finish";
+    writer.finish();
+  }
+  EXPECT_EQ(test::readFile(dir / "streamed.surfels"), test::readFile(dir / "whole.surfels"));
+}
+
+// A run that stops before finish (an exception, a missing array) leaves neither file nor temporary.
+TEST(SurfelFileWriter, UnfinishedWritersLeaveNothing) {
+  ScratchDir dir;
+  const SurfelFile file = sampleFile();
+  {
+    SurfelFileWriter writer(dir / "f.surfels", file.sceneFingerprint, file.options, file.nodes, 3);
+    writer.add(0, file.arrays[0]);
+    EXPECT_THROW(writer.add(0, file.arrays[0]), std::invalid_argument) << "each array once";
+    EXPECT_THROW(writer.add(3, file.arrays[1]), std::invalid_argument) << "out of range";
+    SurfelArray bad = file.arrays[1];
+    bad.coverage = std::nan("");
+    EXPECT_THROW(writer.add(1, bad), std::invalid_argument);
+    EXPECT_THROW(writer.finish(), std::logic_error) << "arrays 1 and 2 are missing";
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+  EXPECT_THROW(SurfelFileWriter(dir / "g.surfels", 1, {}, {{"/0", 3}}, 3), std::invalid_argument)
+      << "a node naming a missing array";
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
 // ---- hashing -------------------------------------------------------------------------------------
 
 TEST(Hash64, StreamingMatchesOneShotAndLengthsCount) {

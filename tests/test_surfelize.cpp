@@ -147,13 +147,24 @@ TEST(Surfelize, ProgressCountsEveryArrayOnce) {
   EXPECT_EQ(seen.back().surfels, 6000u);
 }
 
-// The bytes of the .surfels file surfelize gives for `scene` with `threads` threads.
-std::string surfelFileBytes(const Scene& scene, const SurfelizeOptions& options, int threads) {
+enum class Writing { AtTheEnd, AsItGoes };
+
+// The bytes of the .surfels file surfelize gives for `scene` with `threads` threads, written from the
+// whole SurfelFile or by surfelizeToFile.
+std::string surfelFileBytes(const Scene& scene, const SurfelizeOptions& options, int threads,
+                            Writing writing = Writing::AtTheEnd) {
   ScratchDir scratch;
-  runWithThreads(threads, [&] { writeSurfelFile(scratch / "out.surfels", surfelize(scene, analyzeHierarchy(scene), options)); });
-  return test::readFile(scratch / "out.surfels");
+  const std::filesystem::path path = scratch / "out.surfels";
+  runWithThreads(threads, [&] {
+    const Hierarchy hierarchy = analyzeHierarchy(scene);
+    if (writing == Writing::AsItGoes) surfelizeToFile(scene, hierarchy, options, path);
+    else writeSurfelFile(path, surfelize(scene, hierarchy, options));
+  });
+  return test::readFile(path);
 }
 
+// Also: the file written as the arrays finish (in whatever order the threads finish them, children's
+// arrays freed as their parents are captured) is the same bytes.
 TEST(Surfelize, BitIdenticalFileForOneTwoAndFourThreads) {
   const Scene scene = twoIdenticalGroups();
   for (CaptureSource source : {CaptureSource::Triangles, CaptureSource::ChildSurfels, CaptureSource::Auto}) {
@@ -165,6 +176,8 @@ TEST(Surfelize, BitIdenticalFileForOneTwoAndFourThreads) {
       ASSERT_GT(one.size(), 3 * 2000 * kSurfelBytes);
       EXPECT_EQ(one, surfelFileBytes(scene, options, 2));
       EXPECT_EQ(one, surfelFileBytes(scene, options, 4));
+      EXPECT_EQ(one, surfelFileBytes(scene, options, 1, Writing::AsItGoes));
+      EXPECT_EQ(one, surfelFileBytes(scene, options, 4, Writing::AsItGoes));
     }
   }
 }

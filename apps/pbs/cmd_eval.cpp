@@ -185,11 +185,15 @@ void run(const EvalOptions& options) {
   for (const PathView& view : pathViews(loaded, options.path, orbit, options.frames, width, height))
     cameras.push_back(view.camera);
   const auto surfelsOf = [&](const EvalSetting& s) -> const SceneSurfels& { return sources.of(s); };
+  // A frame's kind says how near the view is under the one threshold: an option that descends sooner
+  // (descendExhausted) must not move its own frames to the near kind's laxer targets.
+  LodOptions kindLod = baseline;
+  kindLod.descendExhausted = false;
   const EvalInputs inputs{.referenceSamples = options.referenceSamples,
                           .compare = {.background = options.background, .pixelsPerDegree = options.pixelsPerDegree},
                           .sheetFrame = std::uint32_t(cameras.size() / 2),
                           .kindSurfels = &surfelsOf(settings[baselineIndex]),
-                          .kindLod = baseline};
+                          .kindLod = kindLod};
   ProgressMeter meter("eval", ProgressMeter::styleFor(options.quiet));
   const EvalResults results = runEval(
       loaded.scene, loaded.hierarchy, cameras, settings, inputs, surfelsOf,

@@ -80,9 +80,8 @@ void addSurfelizeCommand(CLI::App& app) {
         meter.update(fraction, progressDetail(p));
       };
       SurfelizeStats stats;
-      const SurfelFile surfels = surfelize(loaded.scene, loaded.hierarchy, settings, &stats);
+      surfelizeToFile(loaded.scene, loaded.hierarchy, settings, options->output, &stats);
       if (stats.arrays > 0) meter.finish(std::to_string(stats.arrays) + " arrays, " + withThousands(stats.surfels) + " surfels");
-      writeSurfelFile(options->output, surfels);
       const std::uint64_t bytes = std::filesystem::file_size(options->output);
       const double seconds = secondsSince(start);
 

@@ -58,6 +58,12 @@ void addLodOptions(CLI::App& command, LodOptions& lod) {
   command.add_option("--coverage-gain", lod.coverageGain, "blend mode: multiplies each splat's coverage")
       ->check(CLI::Range(0.1f, 10.0f))
       ->capture_default_str();
+  const std::map<std::string, bool> exhausted = {{"descend", true}, {"grow", false}};
+  command
+      .add_option("--exhausted", lod.descendExhausted,
+                  "a node whose array is too short for its size: descend (lower its threshold, the default) or "
+                  "grow (draw the whole array with larger points, the paper's cap)")
+      ->transform(CLI::CheckedTransformer(exhausted));
   const std::map<std::string, PrefixRule> rules = {{"coverage", PrefixRule::Coverage}, {"packing", PrefixRule::Packing}};
   command.add_option("--prefix-rule", lod.prefixRule, "coverage (paper, default) or packing (authors' later rule)")
       ->transform(CLI::CheckedTransformer(rules));

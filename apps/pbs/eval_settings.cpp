@@ -52,6 +52,10 @@ void apply(const std::string& option, const std::string& key, const std::string&
     setting.lod.backFaceCosine = float(parseNumber(option, key, value, -1.0, 1.0));
   } else if (key == "gain") {
     setting.lod.coverageGain = float(parseNumber(option, key, value, 0.1, 10.0));
+  } else if (key == "exhausted") {
+    if (value != "descend" && value != "grow")
+      throw CLI::ValidationError(option, "exhausted is descend or grow, got '" + value + "'");
+    setting.lod.descendExhausted = value == "descend";
   } else if (key == "band") {
     setting.lod.band = parseNumber(option, key, value, 0.0, 10.0);
   } else if (key == "rule") {
@@ -110,7 +114,7 @@ bool EvalSetting::drawsLike(const EvalSetting& o) const {
 }
 
 std::string sweepKeys() {
-  return "embree, exact, overdraw, threshold, point, splat, cull, gain, band, rule, geometry, ordering, simplify";
+  return "embree, exact, overdraw, threshold, exhausted, point, splat, cull, gain, band, rule, geometry, ordering, simplify";
 }
 
 std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& baseline, const std::string& option) {

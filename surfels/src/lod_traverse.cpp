@@ -35,12 +35,13 @@ class Traversal {
     if (box.empty() || outsideClipVolume(camera_, box)) return;
     const std::uint32_t array = node < surfels_.arrayOfNode.size() ? surfels_.arrayOfNode[node] : kNoSurfels;
     const double size = std::sqrt(projectedBoxPixels(camera_, box));
-    const double upper = options_.threshold * (1.0 + options_.band);
+    const double threshold = array != kNoSurfels ? thresholdOf(node, array, size) : options_.threshold;
+    const double upper = threshold * (1.0 + options_.band);
     if (array != kNoSurfels && size < upper) {
       // Inside the band the node's prefix first stays whole while the children grow in, then shrinks
       // away ("the prefix of one level decreases after the maximal prefix of the next is rendered").
-      const double t = options_.band > 0.0 ? std::clamp((size - options_.threshold) / (upper - options_.threshold), 0.0, 1.0)
-                                           : (size <= options_.threshold ? 0.0 : 1.0);
+      const double t = options_.band > 0.0 ? std::clamp((size - threshold) / (upper - threshold), 0.0, 1.0)
+                                           : (size <= threshold ? 0.0 : 1.0);
       drawSurfels(node, array, size, growth * std::min(1.0, 2.0 * (1.0 - t)));
       if (t <= 0.0) return;
       descend(node, growth * std::min(1.0, 2.0 * t));
@@ -61,12 +62,33 @@ class Traversal {
     for (std::uint32_t child : scene_.nodes[node].children) visit(child, growth);
   }
 
-  void drawSurfels(std::uint32_t node, std::uint32_t array, double size, double factor) {
+  // The node's threshold: options_.threshold, or lower where the array cannot meet the demand at the
+  // top of the band (descendExhausted). The demand grows with size², so the size at which it equals the
+  // array's length is size · √(length / demand(size)).
+  double thresholdOf(std::uint32_t node, std::uint32_t array, double size) const {
+    if (!options_.descendExhausted || !(size > 0.0)) return options_.threshold;
     const SplatArray& splats = surfels_.arrays[array];
+    const NodeScale at = scaleOf(node, splats);
+    const double demand = prefixDemand(splats, size, at.worldPixel, at.scale, options_);
+    if (!(demand > 0.0)) return options_.threshold;
+    const double sufficient = size * std::sqrt(double(splats.size()) / demand) / (1.0 + options_.band);
+    return std::min(options_.threshold, sufficient);
+  }
+
+  struct NodeScale {
+    double worldPixel = 0.0;  // world size of one pixel at the array's centre
+    double scale = 1.0;       // node frame to world
+  };
+  NodeScale scaleOf(std::uint32_t node, const SplatArray& splats) const {
     const glm::dmat4& world = hierarchy_.world[node];
     const glm::dvec3 center(world * glm::dvec4(splats.box.center(), 1.0));
-    const double worldPixel = worldPixelAt(camera_, center);
-    const double scale = frameScale(world);
+    return {worldPixelAt(camera_, center), frameScale(world)};
+  }
+
+  void drawSurfels(std::uint32_t node, std::uint32_t array, double size, double factor) {
+    const SplatArray& splats = surfels_.arrays[array];
+    const NodeScale at = scaleOf(node, splats);
+    const double worldPixel = at.worldPixel, scale = at.scale;
     const std::uint32_t full = prefixLength(splats, size, worldPixel, scale, options_);
     const auto count = std::uint32_t(std::lround(double(full) * factor));
     if (count == 0) return;
@@ -86,8 +108,8 @@ class Traversal {
 
 }  // namespace
 
-std::uint32_t prefixLength(const SplatArray& array, double projectedSize, double worldPixel, double scale,
-                           const LodOptions& options) {
+double prefixDemand(const SplatArray& array, double projectedSize, double worldPixel, double scale,
+                    const LodOptions& options) {
   double count = 0.0;
   // Points sized from the prefix count surfels as the paper does for its reference point size.
   const bool fixedSize = options.pointSize > 0.0f;
@@ -100,6 +122,12 @@ std::uint32_t prefixLength(const SplatArray& array, double projectedSize, double
     const double radius = pointSize * worldPixel / 2.0 / scale;
     count = radius > 0.0 ? array.packing / (radius * radius) : double(array.size());
   }
+  return count;
+}
+
+std::uint32_t prefixLength(const SplatArray& array, double projectedSize, double worldPixel, double scale,
+                           const LodOptions& options) {
+  const double count = prefixDemand(array, projectedSize, worldPixel, scale, options);
   if (!(count > 0.0)) return 0;
   return std::uint32_t(std::min(std::round(count), double(array.size())));
 }

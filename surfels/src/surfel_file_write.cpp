@@ -1,9 +1,9 @@
-// writeSurfelFile: lays out header, tables and chunked data, writes them beside the target, renames.
+// SurfelFileWriter: data written array by array behind a reserved table space, the tables last, then a
+// rename; writeSurfelFile feeds it a whole file.
 #include "pbs/surfels/surfel_file.hpp"
 
 #include "surfel_file_layout.hpp"
 
-#include <fstream>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -15,92 +15,57 @@ namespace {
 
 using namespace surfel_file;
 
-void checkInput(const SurfelFile& file) {
-  constexpr std::uint64_t kU32Max = std::numeric_limits<std::uint32_t>::max();
-  if (file.arrays.size() > kU32Max) throw std::invalid_argument("surfel file: too many arrays");
-  if (file.nodes.size() > kU32Max) throw std::invalid_argument("surfel file: too many nodes");
-  for (std::size_t a = 0; a < file.arrays.size(); ++a) {
-    if (file.arrays[a].surfels.size() > kU32Max) {
-      throw std::invalid_argument("surfel file: array " + std::to_string(a) + " has more than 2^32 - 1 surfels");
-    }
-    if (const char* value = nonFiniteArrayValue(file.arrays[a]))
-      throw std::invalid_argument("surfel file: array " + std::to_string(a) + ": " + value + " is not finite");
-  }
-  for (const SurfelNodeRecord& node : file.nodes) {
-    if (node.array >= file.arrays.size()) {
+constexpr std::uint64_t kU32Max = std::numeric_limits<std::uint32_t>::max();
+
+void checkNodes(std::span<const SurfelNodeRecord> nodes, std::uint64_t arrayCount) {
+  if (nodes.size() > kU32Max) throw std::invalid_argument("surfel file: too many nodes");
+  for (const SurfelNodeRecord& node : nodes) {
+    if (node.array >= arrayCount) {
       throw std::invalid_argument("surfel file: node " + node.path + " uses array " + std::to_string(node.array) +
-                                  " of " + std::to_string(file.arrays.size()));
+                                  " of " + std::to_string(arrayCount));
     }
     if (node.path.size() > kU32Max) throw std::invalid_argument("surfel file: node path too long");
   }
+}
+
+void checkArray(std::size_t index, const SurfelArray& array) {
+  if (array.surfels.size() > kU32Max)
+    throw std::invalid_argument("surfel file: array " + std::to_string(index) + " has more than 2^32 - 1 surfels");
+  if (const char* value = nonFiniteArrayValue(array))
+    throw std::invalid_argument("surfel file: array " + std::to_string(index) + ": " + value + " is not finite");
 }
 
 void appendChecksum(ByteSink& sink, std::size_t from, std::uint64_t seed) {
   sink.u64(Hash64::of(sink.bytes.data() + from, sink.bytes.size() - from, seed));
 }
 
-// Header, array table and node table, with every offset filled in.
-std::vector<std::uint8_t> layoutTables(const SurfelFile& file) {
-  std::vector<SurfelArrayInfo> infos(file.arrays.size());
-  std::uint64_t nodeTableBytes = 0;
-  for (const SurfelNodeRecord& node : file.nodes) nodeTableBytes += kNodeRecordMinBytes + node.path.size();
-
-  Header header;
-  header.fingerprint = file.sceneFingerprint;
-  header.threshold = file.options.threshold;
-  header.maxSurfels = file.options.maxSurfels;
-  header.resolution = file.options.resolution;
-  header.directions = file.options.directions;
-  header.ordering = static_cast<std::uint32_t>(file.options.ordering);
-  header.colors = static_cast<std::uint32_t>(file.options.colors);
-  header.seed = file.options.seed;
-  header.arrayCount = static_cast<std::uint32_t>(file.arrays.size());
-  header.nodeCount = static_cast<std::uint32_t>(file.nodes.size());
-  header.arrayTableOffset = kHeaderBytes;
-  header.nodeTableOffset = header.arrayTableOffset + infos.size() * kArrayRecordBytes + kChecksumBytes;
-  header.nodeTableBytes = nodeTableBytes;
-  std::uint64_t offset = header.nodeTableOffset + nodeTableBytes + kChecksumBytes;
-  for (std::size_t a = 0; a < infos.size(); ++a) {
-    const SurfelArray& array = file.arrays[a];
-    infos[a] = {array.box,        array.coverage,
-                array.packing,    array.packingEnd,
-                array.area,       static_cast<std::uint32_t>(array.surfels.size()),
-                offset};
-    offset += arrayDataBytes(array.surfels.size());
-  }
-  header.fileBytes = offset;
-
-  ByteSink sink;
-  layoutHeader(sink, header);
-  appendChecksum(sink, 0, kHeaderSeed);
-  const std::size_t arrayTable = sink.bytes.size();
-  for (SurfelArrayInfo& info : infos) layoutArray(sink, info);
-  appendChecksum(sink, arrayTable, kArrayTableSeed);
-  const std::size_t nodeTable = sink.bytes.size();
-  for (SurfelNodeRecord node : file.nodes) layoutNode(sink, node);
-  appendChecksum(sink, nodeTable, kNodeTableSeed);
-  return std::move(sink.bytes);
+std::uint64_t nodeTableBytes(std::span<const SurfelNodeRecord> nodes) {
+  std::uint64_t bytes = 0;
+  for (const SurfelNodeRecord& node : nodes) bytes += kNodeRecordMinBytes + node.path.size();
+  return bytes;
 }
 
-void writeBytes(std::ofstream& out, const std::uint8_t* data, std::size_t size) {
-  out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+// Where the data begins: after the header and both tables with their checksums.
+std::uint64_t dataStart(std::uint64_t arrayCount, std::span<const SurfelNodeRecord> nodes) {
+  return kHeaderBytes + arrayCount * kArrayRecordBytes + kChecksumBytes + nodeTableBytes(nodes) + kChecksumBytes;
 }
 
 // One array's chunks, then its chunk checksums.
-void writeArrayData(std::ofstream& out, const SurfelArray& array) {
-  std::vector<std::uint8_t> chunk;
+std::vector<std::uint8_t> encodeArrayData(const SurfelArray& array) {
+  std::vector<std::uint8_t> data;
+  data.reserve(arrayDataBytes(array.surfels.size()));
   ByteSink checksums;
   for (std::size_t first = 0; first < array.surfels.size(); first += kSurfelsPerChunk) {
+    const std::size_t chunkStart = data.size();
     const std::size_t end = std::min<std::size_t>(first + kSurfelsPerChunk, array.surfels.size());
-    chunk.clear();
     for (std::size_t i = first; i < end; ++i) {
       const PackedSurfel packed = encodeSurfel(array.surfels[i], array.box);
-      chunk.insert(chunk.end(), packed.begin(), packed.end());
+      data.insert(data.end(), packed.begin(), packed.end());
     }
-    checksums.u64(chunkChecksum(chunk, first / kSurfelsPerChunk));
-    writeBytes(out, chunk.data(), chunk.size());
+    checksums.u64(chunkChecksum(std::span(data).subspan(chunkStart), first / kSurfelsPerChunk));
   }
-  writeBytes(out, checksums.bytes.data(), checksums.bytes.size());
+  data.insert(data.end(), checksums.bytes.begin(), checksums.bytes.end());
+  return data;
 }
 
 [[noreturn]] void fail(const std::filesystem::path& path, const std::string& why) {
@@ -109,31 +74,104 @@ void writeArrayData(std::ofstream& out, const SurfelArray& array) {
 
 }  // namespace
 
-void writeSurfelFile(const std::filesystem::path& path, const SurfelFile& file) {
-  checkInput(file);
-  const std::vector<std::uint8_t> tables = layoutTables(file);
+struct SurfelFileWriter::Waiting {
+  std::vector<std::uint8_t> data;
+};
 
-  std::filesystem::path temporary = path;
-  temporary += ".tmp-" + std::to_string(::getpid());
-  try {
-    {
-      std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-      if (!out) fail(path, "cannot create " + temporary.string());
-      writeBytes(out, tables.data(), tables.size());
-      for (const SurfelArray& array : file.arrays) writeArrayData(out, array);
-      out.flush();
-      if (!out) fail(path, "write failed");
-      out.close();
-      if (out.fail()) fail(path, "close failed");
-    }
-    std::error_code ec;
-    std::filesystem::rename(temporary, path, ec);
-    if (ec) fail(path, "rename failed: " + ec.message());
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
+SurfelFileWriter::SurfelFileWriter(const std::filesystem::path& path, std::uint64_t sceneFingerprint,
+                                   const SurfelFileOptions& options, std::vector<SurfelNodeRecord> nodes,
+                                   std::uint32_t arrayCount)
+    : path_(path), fingerprint_(sceneFingerprint), options_(options), nodes_(std::move(nodes)), infos_(arrayCount),
+      waiting_(arrayCount), added_(arrayCount, false) {
+  checkNodes(nodes_, arrayCount);
+  temporary_ = path_;
+  temporary_ += ".tmp-" + std::to_string(::getpid());
+  out_.open(temporary_, std::ios::binary | std::ios::trunc);
+  if (!out_) fail(path_, "cannot create " + temporary_.string());
+  dataEnd_ = dataStart(arrayCount, nodes_);
+  out_.seekp(std::streamoff(dataEnd_));
+  if (!out_) fail(path_, "cannot seek in " + temporary_.string());
+}
+
+SurfelFileWriter::~SurfelFileWriter() {
+  if (finished_) return;
+  out_.close();
+  std::error_code ignored;
+  std::filesystem::remove(temporary_, ignored);
+}
+
+void SurfelFileWriter::add(std::uint32_t index, const SurfelArray& array) {
+  if (index >= infos_.size() || added_[index])
+    throw std::invalid_argument("surfel file: array " + std::to_string(index) + " added twice or out of range");
+  checkArray(index, array);
+  added_[index] = true;
+  infos_[index] = {array.box,  array.coverage, array.packing, array.packingEnd,
+                   array.area, std::uint32_t(array.surfels.size()), 0};
+  waiting_[index] = std::make_unique<Waiting>(Waiting{encodeArrayData(array)});
+  bytesWaiting_ += waiting_[index]->data.size();
+  writeReadyArrays();
+}
+
+void SurfelFileWriter::writeReadyArrays() {
+  for (; written_ < infos_.size() && waiting_[written_]; ++written_) {
+    const std::vector<std::uint8_t>& data = waiting_[written_]->data;
+    out_.write(reinterpret_cast<const char*>(data.data()), std::streamsize(data.size()));
+    if (!out_) fail(path_, "write failed");
+    infos_[written_].dataOffset = dataEnd_;
+    dataEnd_ += data.size();
+    bytesWaiting_ -= data.size();
+    waiting_[written_].reset();
   }
+}
+
+void SurfelFileWriter::finish() {
+  if (written_ != infos_.size()) throw std::logic_error("SurfelFileWriter::finish: arrays are missing");
+  Header header;
+  header.fingerprint = fingerprint_;
+  header.threshold = options_.threshold;
+  header.maxSurfels = options_.maxSurfels;
+  header.resolution = options_.resolution;
+  header.directions = options_.directions;
+  header.ordering = static_cast<std::uint32_t>(options_.ordering);
+  header.colors = static_cast<std::uint32_t>(options_.colors);
+  header.seed = options_.seed;
+  header.arrayCount = static_cast<std::uint32_t>(infos_.size());
+  header.nodeCount = static_cast<std::uint32_t>(nodes_.size());
+  header.arrayTableOffset = kHeaderBytes;
+  header.nodeTableOffset = header.arrayTableOffset + infos_.size() * kArrayRecordBytes + kChecksumBytes;
+  header.nodeTableBytes = nodeTableBytes(nodes_);
+  header.fileBytes = dataEnd_;
+
+  ByteSink sink;
+  layoutHeader(sink, header);
+  appendChecksum(sink, 0, kHeaderSeed);
+  const std::size_t arrayTable = sink.bytes.size();
+  for (SurfelArrayInfo& info : infos_) layoutArray(sink, info);
+  appendChecksum(sink, arrayTable, kArrayTableSeed);
+  const std::size_t nodeTable = sink.bytes.size();
+  for (SurfelNodeRecord& node : nodes_) layoutNode(sink, node);
+  appendChecksum(sink, nodeTable, kNodeTableSeed);
+
+  out_.seekp(0);
+  out_.write(reinterpret_cast<const char*>(sink.bytes.data()), std::streamsize(sink.bytes.size()));
+  out_.flush();
+  if (!out_) fail(path_, "write failed");
+  out_.close();
+  if (out_.fail()) fail(path_, "close failed");
+  std::error_code ec;
+  std::filesystem::rename(temporary_, path_, ec);
+  if (ec) fail(path_, "rename failed: " + ec.message());
+  finished_ = true;
+}
+
+void writeSurfelFile(const std::filesystem::path& path, const SurfelFile& file) {
+  if (file.arrays.size() > kU32Max) throw std::invalid_argument("surfel file: too many arrays");
+  // Every check before the first byte: a bad file writes nothing at all.
+  checkNodes(file.nodes, file.arrays.size());
+  for (std::size_t a = 0; a < file.arrays.size(); ++a) checkArray(a, file.arrays[a]);
+  SurfelFileWriter writer(path, file.sceneFingerprint, file.options, file.nodes, std::uint32_t(file.arrays.size()));
+  for (std::size_t a = 0; a < file.arrays.size(); ++a) writer.add(std::uint32_t(a), file.arrays[a]);
+  writer.finish();
 }
 
 }  // namespace pbs

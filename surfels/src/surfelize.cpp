@@ -107,6 +107,88 @@ std::vector<std::vector<std::uint32_t>> scheduleArrays(const Hierarchy& hierarch
   return groups;
 }
 
+// How many captures may draw each array: one per parent node of a representative that uses it (as
+// children's surfels). None when captures draw triangles only.
+std::vector<std::uint32_t> parentCaptures(const Scene& scene, const detail::SurfelPlan& plan, CaptureSource source) {
+  std::vector<std::uint32_t> count(plan.representative.size(), 0);
+  if (source == CaptureSource::Triangles) return count;
+  for (std::uint32_t node : plan.representative)
+    for (std::uint32_t child : scene.nodes[node].children)
+      if (plan.arrayOfNode[child] != kNoSurfels) ++count[plan.arrayOfNode[child]];
+  return count;
+}
+
+// The arrays of surfelize, each handed to `finished(index, array)` as it is made (one call at a time,
+// in the order they finish). With `release`, an array is freed once handed over and no capture still
+// to come may draw it.
+struct ArrayMaker {
+  const Scene& scene;
+  const Hierarchy& hierarchy;
+  const SurfelizeOptions& options;
+  detail::SurfelPlan plan = detail::planSurfelArrays(scene, hierarchy, options.file.threshold);
+  std::vector<std::string> paths = plan.nodes.empty() ? std::vector<std::string>() : nodePaths(scene, hierarchy);
+
+  std::vector<SurfelNodeRecord> nodeRecords() const {
+    std::vector<SurfelNodeRecord> records;
+    for (std::uint32_t node : plan.nodes) records.push_back({paths[node], plan.arrayOfNode[node]});
+    return records;
+  }
+
+  template <class Finished>
+  std::vector<SurfelArray> make(bool release, SurfelizeStats* stats, const Finished& finished) {
+    std::vector<SurfelArray> arrays(plan.representative.size());
+    const std::vector<double> areas = plan.nodes.empty() ? std::vector<double>() : ownFrameSurfaceAreas(scene, hierarchy);
+    std::vector<std::uint32_t> capturesLeft = parentCaptures(scene, plan, options.source);
+    const auto releaseIfDone = [&](std::uint32_t a) {
+      if (release && capturesLeft[a] == 0) std::vector<Surfel>().swap(arrays[a].surfels);
+    };
+
+    SurfelizeProgress progress;
+    progress.arraysTotal = std::uint32_t(plan.representative.size());
+    for (std::uint32_t node : plan.representative) progress.trianglesTotal += hierarchy.subtreeTriangles[node];
+    std::uint64_t candidates = 0;
+    std::mutex finishedMutex;
+
+    for (const std::vector<std::uint32_t>& group : scheduleArrays(hierarchy, plan, options.source)) {
+      // Workers take the next array in the group's order; each array is computed by one worker (its
+      // capture runs in parallel inside), and its result goes to its own slot, so the schedule cannot
+      // change the arrays.
+      std::atomic<std::size_t> next{0};
+      const int workers = std::max(1, std::min(tbb::this_task_arena::max_concurrency(), int(group.size())));
+      tbb::parallel_for(0, workers, [&](int) {
+        for (std::size_t i = next++; i < group.size(); i = next++) {
+          const std::uint32_t a = group[i];
+          const std::uint32_t node = plan.representative[a];
+          MadeArray made = makeArray(scene, node, paths[node], areas[node], options, plan, arrays);
+          const std::lock_guard lock(finishedMutex);
+          arrays[a] = std::move(made.array);
+          candidates += made.candidates;
+          ++progress.arraysDone;
+          progress.surfels += arrays[a].surfels.size();
+          progress.trianglesDone += hierarchy.subtreeTriangles[node];
+          finished(a, arrays[a]);
+          releaseIfDone(a);
+          for (std::uint32_t child : scene.nodes[node].children) {
+            const std::uint32_t used = plan.arrayOfNode[child];
+            if (used == kNoSurfels || capturesLeft[used] == 0) continue;
+            --capturesLeft[used];
+            releaseIfDone(used);
+          }
+          if (options.onProgress) options.onProgress(progress);
+        }
+      });
+    }
+
+    if (stats) {
+      stats->nodesWithSurfels = plan.nodes.size();
+      stats->arrays = arrays.size();
+      stats->surfels = progress.surfels;
+      stats->candidates = candidates;
+    }
+    return arrays;
+  }
+};
+
 }  // namespace
 
 std::vector<glm::vec3> orderingPositions(std::span<const Surfel> surfels) {
@@ -146,50 +228,22 @@ std::string_view captureSourceName(CaptureSource source) {
 
 SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                      SurfelizeStats* stats) {
-  const detail::SurfelPlan plan = detail::planSurfelArrays(scene, hierarchy, options.file.threshold);
+  ArrayMaker maker{scene, hierarchy, options};
   SurfelFile file;
   file.sceneFingerprint = sceneFingerprint(scene);
   file.options = options.file;
-  file.arrays.resize(plan.representative.size());
-  const std::vector<std::string> paths = plan.nodes.empty() ? std::vector<std::string>() : nodePaths(scene, hierarchy);
-  const std::vector<double> areas = plan.nodes.empty() ? std::vector<double>() : ownFrameSurfaceAreas(scene, hierarchy);
-  for (std::uint32_t node : plan.nodes) file.nodes.push_back({paths[node], plan.arrayOfNode[node]});
-
-  SurfelizeProgress progress;
-  progress.arraysTotal = std::uint32_t(plan.representative.size());
-  for (std::uint32_t node : plan.representative) progress.trianglesTotal += hierarchy.subtreeTriangles[node];
-  std::uint64_t candidates = 0;
-  std::mutex progressMutex;
-
-  for (const std::vector<std::uint32_t>& group : scheduleArrays(hierarchy, plan, options.source)) {
-    // Workers take the next array in the group's order; each array is computed by one worker (its
-    // capture runs in parallel inside), and its result goes to its own slot, so the schedule cannot
-    // change the file.
-    std::atomic<std::size_t> next{0};
-    const int workers = std::max(1, std::min(tbb::this_task_arena::max_concurrency(), int(group.size())));
-    tbb::parallel_for(0, workers, [&](int) {
-      for (std::size_t i = next++; i < group.size(); i = next++) {
-        const std::uint32_t a = group[i];
-        const std::uint32_t node = plan.representative[a];
-        MadeArray made = makeArray(scene, node, paths[node], areas[node], options, plan, file.arrays);
-        const std::lock_guard lock(progressMutex);
-        file.arrays[a] = std::move(made.array);
-        candidates += made.candidates;
-        ++progress.arraysDone;
-        progress.surfels += file.arrays[a].surfels.size();
-        progress.trianglesDone += hierarchy.subtreeTriangles[plan.representative[a]];
-        if (options.onProgress) options.onProgress(progress);
-      }
-    });
-  }
-
-  if (stats) {
-    stats->nodesWithSurfels = plan.nodes.size();
-    stats->arrays = file.arrays.size();
-    stats->surfels = progress.surfels;
-    stats->candidates = candidates;
-  }
+  file.nodes = maker.nodeRecords();
+  file.arrays = maker.make(false, stats, [](std::uint32_t, const SurfelArray&) {});
   return file;
+}
+
+void surfelizeToFile(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
+                     const std::filesystem::path& path, SurfelizeStats* stats) {
+  ArrayMaker maker{scene, hierarchy, options};
+  SurfelFileWriter writer(path, sceneFingerprint(scene), options.file, maker.nodeRecords(),
+                          std::uint32_t(maker.plan.representative.size()));
+  maker.make(true, stats, [&](std::uint32_t a, const SurfelArray& array) { writer.add(a, array); });
+  writer.finish();
 }
 
 }  // namespace pbs

@@ -65,6 +65,12 @@ struct LodOptions {
   float backFaceCosine = -0.2f;
   // Blend mode: multiplies each splat's coverage (BlendOptions::coverageGain).
   float coverageGain = 1.0f;
+  // A node whose whole array is shorter than the prefix its size asks for at the top of the band is
+  // descended into sooner: its threshold drops to the size at which the array just suffices there. An
+  // array spread thinner than that blends neighbouring surfaces' colours into each other (red bands on
+  // a white tank turn pink) and opens holes. false keeps the one threshold for every node and draws an
+  // exhausted array whole with larger points (the paper's cap).
+  bool descendExhausted = true;
 
   bool operator==(const LodOptions&) const = default;
 };
@@ -91,9 +97,13 @@ struct LodDraws {
 LodDraws traverseLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
                      const LodOptions& options);
 
-// The prefix length for a node of projected size `projectedSize` (pixels) whose array is `array`, seen
-// at `worldPixel` (world size of one pixel at the node) with node-to-world scale `scale`; clamped to the
-// array and rounded to nearest.
+// The number of surfels a node of projected size `projectedSize` (pixels) whose array is `array` asks
+// for, seen at `worldPixel` (world size of one pixel at the node) with node-to-world scale `scale`: by
+// options.prefixRule, not clamped to the array. It grows with projectedSize², under either rule.
+double prefixDemand(const SplatArray& array, double projectedSize, double worldPixel, double scale,
+                    const LodOptions& options);
+
+// prefixDemand clamped to the array and rounded to nearest.
 std::uint32_t prefixLength(const SplatArray& array, double projectedSize, double worldPixel, double scale,
                            const LodOptions& options);
 

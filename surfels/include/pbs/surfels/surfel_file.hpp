@@ -77,13 +77,6 @@ struct SurfelFile {
   std::vector<SurfelNodeRecord> nodes;  // in preorder of the scene
 };
 
-// Writes `file` to a temporary name beside `path`, then renames it over `path`: readers see the old
-// file or the whole new one, never a part. Throws std::runtime_error naming the path on I/O failure
-// (the temporary is removed), std::invalid_argument for a node naming a missing array or an array
-// whose box, coverage, packing or area is NaN or infinite (nothing is written; the reader refuses
-// such values too).
-void writeSurfelFile(const std::filesystem::path& path, const SurfelFile& file);
-
 // The per-array values of the array table, without the surfels.
 struct SurfelArrayInfo {
   Bounds box;
@@ -93,6 +86,55 @@ struct SurfelArrayInfo {
   double area = 0.0;
   std::uint32_t count = 0;
   std::uint64_t dataOffset = 0;
+};
+
+// Writes `file` to a temporary name beside `path`, then renames it over `path`: readers see the old
+// file or the whole new one, never a part. Throws std::runtime_error naming the path on I/O failure
+// (the temporary is removed), std::invalid_argument for a node naming a missing array or an array
+// whose box, coverage, packing or area is NaN or infinite (nothing is written; the reader refuses
+// such values too).
+void writeSurfelFile(const std::filesystem::path& path, const SurfelFile& file);
+
+// Writes a .surfels file while its arrays are still being made: each array's data goes to the temporary
+// file as soon as every array before it is there (an array that arrives early waits, encoded, for
+// those before it), so memory holds only the arrays that wait, not the whole file. finish() writes
+// the tables in front of the data and renames the temporary over `path`; a writer destroyed before
+// finish() removes its temporary, so a failed run leaves no file under `path`. The bytes are the same
+// as writeSurfelFile's (which is this writer fed every array in order). One call at a time. Errors as
+// for writeSurfelFile: std::invalid_argument for a bad node (constructor) or array (add), then
+// nothing more is written; std::runtime_error for I/O.
+class SurfelFileWriter {
+ public:
+  SurfelFileWriter(const std::filesystem::path& path, std::uint64_t sceneFingerprint, const SurfelFileOptions& options,
+                   std::vector<SurfelNodeRecord> nodes, std::uint32_t arrayCount);
+  ~SurfelFileWriter();
+  SurfelFileWriter(const SurfelFileWriter&) = delete;
+  SurfelFileWriter& operator=(const SurfelFileWriter&) = delete;
+
+  // Array `index` (each index once, in any order).
+  void add(std::uint32_t index, const SurfelArray& array);
+  // Throws std::logic_error unless every array was added.
+  void finish();
+
+  // Encoded bytes held for arrays waiting on an earlier one.
+  std::uint64_t bytesWaiting() const { return bytesWaiting_; }
+
+ private:
+  struct Waiting;
+  void writeReadyArrays();
+
+  std::filesystem::path path_, temporary_;
+  std::ofstream out_;
+  std::uint64_t fingerprint_;
+  SurfelFileOptions options_;
+  std::vector<SurfelNodeRecord> nodes_;
+  std::vector<SurfelArrayInfo> infos_;
+  std::vector<std::unique_ptr<Waiting>> waiting_;  // by index, until written
+  std::vector<bool> added_;
+  std::uint32_t written_ = 0;  // arrays [0, written_) are in the file
+  std::uint64_t dataEnd_ = 0;  // where the next array's data goes
+  std::uint64_t bytesWaiting_ = 0;
+  bool finished_ = false;
 };
 
 // Random access to a .surfels file. Opening reads and checks the header and both tables (magic,

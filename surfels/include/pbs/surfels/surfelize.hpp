@@ -7,6 +7,7 @@
 #include "pbs/surfels/surfel_file.hpp"
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <span>
 #include <string_view>
@@ -61,6 +62,13 @@ struct SurfelizeStats {
 // one's prefilteredColors over all of its capture's candidates (Prefiltered).
 SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                      SurfelizeStats* stats = nullptr);
+
+// surfelize straight into the .surfels file at `path`, byte for byte writeSurfelFile(path, surfelize(…)):
+// each array goes to the file (SurfelFileWriter) as soon as the arrays before it are there, and its
+// surfels are freed once no capture still to come may draw them, so memory follows the arrays being
+// made, not the scene. On an error nothing is left under `path`.
+void surfelizeToFile(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
+                     const std::filesystem::path& path, SurfelizeStats* stats = nullptr);
 
 // The positions the ordering, the colour filter and the packing values see for capture candidates.
 // Surfels at one place facing opposite ways are the two sides of a thin surface (a wall, the shell of a
