@@ -35,6 +35,7 @@ struct RenderOptions {
   std::uint32_t samples = 1;
   bool json = false;
   std::uint64_t maxMemory = 0;
+  std::uint64_t cacheMb = 1024;
   int threads = 0;
 };
 
@@ -56,6 +57,7 @@ nlohmann::json frameJson(RenderMode mode, const FrameResult& frame) {
                           {"nodes_surfels", frame.stats.nodesSurfels}};
   if (mode == RenderMode::Surfels) {
     entry["geometry"] = geometryDrawerName(frame.stats.geometryDrawer);
+    entry["surfel_load_seconds"] = frame.surfelLoadSeconds;
     entry["geometry_seconds"] = frame.stats.geometrySeconds;
     entry["bvh_build_seconds"] = frame.stats.bvhBuildSeconds;
   }
@@ -79,20 +81,17 @@ void run(const RenderOptions& options) {
   if (mode == RenderMode::Surfels && options.surfels.empty())
     throw CLI::ValidationError("--mode surfels", "needs --surfels FILE (make one with pbs surfelize)");
   // Per pixel: the G-buffer (depth, colour, normal), the shaded image and its 8-bit copy, the sums of
-  // a supersampled frame; per stored
-  // surfel (16 bytes in the file): the file's bytes, the decoded file and the drawable arrays.
+  // a supersampled frame; the surfels read on demand, up to the cache's budget.
   std::uint64_t estimate = std::uint64_t(width) * height * (4 + 4 + 12 + 16 + 4 + (options.samples > 1 ? 16 : 0));
-  std::error_code noFile;
-  if (mode == RenderMode::Surfels)
-    if (const std::uintmax_t bytes = std::filesystem::file_size(options.surfels, noFile); !noFile)
-      estimate += bytes / kSurfelBytes * (kSurfelBytes + sizeof(Surfel) + 28);
+  const std::uint64_t cacheBytes = options.cacheMb << 20;
+  if (mode == RenderMode::Surfels) estimate += cacheBytes;
   requireMemory(estimate, "rendering " + std::to_string(width) + "x" + std::to_string(height), options.maxMemory);
 
   const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
-  std::optional<SceneSurfels> surfels;
-  if (mode == RenderMode::Surfels) surfels = loadSceneSurfels(options.surfels, loaded.scene, loaded.hierarchy);
+  std::optional<SurfelCache> surfels;
+  if (mode == RenderMode::Surfels) surfels.emplace(options.surfels, loaded.scene, loaded.hierarchy, cacheBytes);
   FrameRenderer renderer(loaded.scene, loaded.hierarchy, {.mode = mode, .lod = options.lod, .samples = options.samples},
-                         width, height, {.surfels = surfels ? &*surfels : nullptr});
+                         width, height, {.cache = surfels ? &*surfels : nullptr});
 
   const std::vector<PathView> views = pathViews(loaded, options.path, orbit, options.frames, width, height);
   const std::uint32_t frames = std::uint32_t(views.size());
@@ -138,6 +137,10 @@ void run(const RenderOptions& options) {
     report["median_seconds"] = medianSeconds;
     if (!options.json) std::printf("%u frames: median %.1f ms\n", frames, medianSeconds * 1e3);
   }
+  if (surfels) {
+    report["surfel_bytes_read"] = surfels->stats().bytesRead;
+    report["surfel_peak_bytes_loaded"] = surfels->stats().peakBytesLoaded;
+  }
   if (options.json) std::cout << report.dump(2) << "\n";
 }
 
@@ -165,6 +168,11 @@ void addRenderCommand(CLI::App& app) {
   command->add_option("--frames", options->frames, "render N frames along the --path (default: one view, its first)")
       ->check(CLI::Range(1u, 100000u));
   command->add_flag("--json", options->json, "print JSON (per-frame figures with --frames)");
+  command->add_option("--cache-mb", options->cacheMb,
+                      "surfels are read from the file as frames draw them; the least recently drawn arrays are "
+                      "dropped beyond this many MB")
+      ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 30))
+      ->capture_default_str();
   addMaxMemoryOption(*command, options->maxMemory);
   addThreadsOption(*command, options->threads);
   command->callback([options] { runWithThreads(options->threads, [&] { run(*options); }); });

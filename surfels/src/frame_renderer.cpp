@@ -39,7 +39,8 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, con
       sources_(sources),
       gbuffer_(makeFramebuffer(width, height, kChannelColor | kChannelNormal | coverageChannel(options))) {
   const RenderMode mode = options.mode;
-  if ((mode == RenderMode::Surfels || mode == RenderMode::Simplified) && !sources.surfels)
+  if (mode == RenderMode::Surfels && sources.cache) sources_.surfels = &sources.cache->surfels();
+  if ((mode == RenderMode::Surfels || mode == RenderMode::Simplified) && !sources_.surfels)
     throw std::invalid_argument("surfels and simplified modes need a surfel file");
   if (mode == RenderMode::Simplified && !sources.simplified)
     throw std::invalid_argument("simplified mode needs the simplified scene");
@@ -59,13 +60,18 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, con
   }
 }
 
-LodStats FrameRenderer::drawPass(const Camera& camera) {
+LodStats FrameRenderer::drawPass(const Camera& camera, double& loadSeconds) {
   // Embree overwrites every pixel itself. The rasterizer clears depth alone: shading reads colour and
   // normal only where depth says a pixel is covered.
   if (options_.mode != RenderMode::Embree) clearFramebuffer(gbuffer_, 0);
   LodStats pass;
   switch (options_.mode) {
     case RenderMode::Surfels:
+      if (sources_.cache) {
+        const auto load = detail::Clock::now();
+        sources_.cache->load(traverseLod(scene_, hierarchy_, *sources_.surfels, camera, options_.lod));
+        loadSeconds += detail::secondsSince(load);
+      }
       pass = renderLod(scene_, hierarchy_, *sources_.surfels, camera, gbuffer_, options_.lod,
                        geometryRays_ ? &*geometryRays_ : nullptr);
       break;
@@ -87,13 +93,13 @@ FrameResult FrameRenderer::render(const Camera& camera) {
   FrameResult result;
   const auto start = detail::Clock::now();
   if (options_.samples == 1) {
-    result.stats = drawPass(camera);
+    result.stats = drawPass(camera, result.surfelLoadSeconds);
     result.image = shadeHeadlight(gbuffer_, camera);
   } else {
     SampleSums sums{std::vector<glm::vec4>(gbuffer_.pixelCount(), glm::vec4(0.0f)), 0};
     for (const glm::dvec2& sample : subpixelSamples(options_.samples)) {
       const Camera shifted = subpixelCamera(camera, sample);
-      const LodStats pass = drawPass(shifted);
+      const LodStats pass = drawPass(shifted, result.surfelLoadSeconds);
       // Counts are the first pass's (every pass draws about the same); times add up.
       if (sums.samples == 0) {
         result.stats = pass;

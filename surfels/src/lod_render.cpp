@@ -14,6 +14,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace pbs {
 namespace {
@@ -112,6 +114,11 @@ LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSu
   const auto traverseStart = Clock::now();
   const LodDraws draws = traverseLod(scene, hierarchy, surfels, camera, options);
   stats.traverseSeconds = secondsSince(traverseStart);
+  for (const LodDraws::Surfels& draw : draws.surfels)
+    if (surfels.arrays[draw.array].loaded() < draw.count)
+      throw std::logic_error("renderLod: array " + std::to_string(draw.array) + " draws " + std::to_string(draw.count) +
+                             " surfels of which " + std::to_string(surfels.arrays[draw.array].loaded()) +
+                             " are loaded (SurfelCache::load first)");
 
   const auto rasterStart = Clock::now();
   const GeometryPass geometry =

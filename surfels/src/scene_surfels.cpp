@@ -24,27 +24,61 @@ double SplatArray::spacing(std::size_t count) const {
   return std::sqrt(value / double(count));
 }
 
-SplatArray splatArrayOf(const SurfelArray& array) {
+namespace {
+
+// The drawable array's values from the file's: neither packing value may make the array stand for more
+// than the subtree's surface area (N surfels of spacing r cover N · κ r² = κ · packing): an array sparser
+// than its subtree's parts (the 500 M-triangle city's root, about one surfel per building) measures the
+// gaps between the parts, 6.1 times its area even at its end, where a typical array of the default
+// scene stands for 0.6 of it (hidden surfaces make no surfels).
+template <class FileArray>
+SplatArray unloadedSplatArray(const FileArray& array, std::size_t length) {
   SplatArray splats;
   splats.box = array.box;
   splats.coverage = array.coverage;
-  // Neither value may make the array stand for more than the subtree's surface area (N surfels of spacing
-  // r cover N · κ r² = κ · packing): an array sparser than its subtree's parts (the 500 M-triangle city's
-  // root, about one surfel per building) measures the gaps between the parts, 6.1 times its area even
-  // at its end, where a typical array of the default scene stands for 0.6 of it (hidden surfaces make
-  // no surfels).
   const double cap = array.area > 0.0 ? array.area / kSurfelAreaPerSpacing2 : std::numeric_limits<double>::infinity();
   splats.packing = std::min(array.packing, cap);
   splats.packingEnd = std::min(array.packingEnd, cap);
-  splats.positions.reserve(array.surfels.size());
-  splats.normals.reserve(array.surfels.size());
-  splats.colors.reserve(array.surfels.size());
-  for (const Surfel& surfel : array.surfels) {
-    splats.positions.push_back(surfel.position);
-    splats.normals.push_back(surfel.normal);
-    splats.colors.push_back(surfel.color);
-  }
+  splats.length = length;
   return splats;
+}
+
+}  // namespace
+
+void appendSurfels(SplatArray& array, std::span<const Surfel> surfels) {
+  const std::size_t size = array.loaded() + surfels.size();
+  array.positions.reserve(size);
+  array.normals.reserve(size);
+  array.colors.reserve(size);
+  for (const Surfel& surfel : surfels) {
+    array.positions.push_back(surfel.position);
+    array.normals.push_back(surfel.normal);
+    array.colors.push_back(surfel.color);
+  }
+}
+
+SplatArray splatArrayOf(const SurfelArray& array) {
+  SplatArray splats = unloadedSplatArray(array, array.surfels.size());
+  appendSurfels(splats, array.surfels);
+  return splats;
+}
+
+SplatArray splatArrayOf(const SurfelArrayInfo& info) { return unloadedSplatArray(info, info.count); }
+
+std::vector<std::uint32_t> arrayOfNodes(std::span<const SurfelNodeRecord> records, const Scene& scene,
+                                        const Hierarchy& hierarchy, const std::string& source) {
+  std::vector<std::uint32_t> arrayOfNode(scene.nodes.size(), kNoSurfels);
+  if (records.empty()) return arrayOfNode;
+  std::vector<std::string> paths = nodePaths(scene, hierarchy);
+  std::unordered_map<std::string, std::uint32_t> nodeOfPath;
+  nodeOfPath.reserve(hierarchy.preorder.size());
+  for (std::uint32_t n : hierarchy.preorder) nodeOfPath.emplace(std::move(paths[n]), n);
+  for (const SurfelNodeRecord& record : records) {
+    const auto found = nodeOfPath.find(record.path);
+    if (found == nodeOfPath.end()) throw InputError(source, "node " + record.path, "no such node in the scene");
+    arrayOfNode[found->second] = record.array;
+  }
+  return arrayOfNode;
 }
 
 SceneSurfels sceneSurfelsOf(const SurfelFile& file, const Scene& scene, const Hierarchy& hierarchy,
@@ -52,17 +86,7 @@ SceneSurfels sceneSurfelsOf(const SurfelFile& file, const Scene& scene, const Hi
   SceneSurfels result;
   result.arrays.reserve(file.arrays.size());
   for (const SurfelArray& array : file.arrays) result.arrays.push_back(splatArrayOf(array));
-  result.arrayOfNode.assign(scene.nodes.size(), kNoSurfels);
-  if (file.nodes.empty()) return result;
-  std::vector<std::string> paths = nodePaths(scene, hierarchy);
-  std::unordered_map<std::string, std::uint32_t> nodeOfPath;
-  nodeOfPath.reserve(hierarchy.preorder.size());
-  for (std::uint32_t n : hierarchy.preorder) nodeOfPath.emplace(std::move(paths[n]), n);
-  for (const SurfelNodeRecord& record : file.nodes) {
-    const auto found = nodeOfPath.find(record.path);
-    if (found == nodeOfPath.end()) throw InputError(source, "node " + record.path, "no such node in the scene");
-    result.arrayOfNode[found->second] = record.array;
-  }
+  result.arrayOfNode = arrayOfNodes(file.nodes, scene, hierarchy, source);
   return result;
 }
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 
 namespace pbs {
@@ -157,12 +158,19 @@ void SurfelFileReader::requireScene(std::uint64_t fingerprint) const {
 }
 
 std::vector<Surfel> SurfelFileReader::readPrefix(std::uint32_t array, std::uint32_t count) {
+  return readRange(array, 0, count);
+}
+
+std::vector<Surfel> SurfelFileReader::readRange(std::uint32_t array, std::uint32_t first, std::uint32_t count) {
   if (array >= arrays_.size()) {
     throw std::out_of_range("surfel file " + path_.string() + ": array " + number(array) + " of " +
                             number(arrays_.size()));
   }
+  if (first % kSurfelsPerChunk != 0)
+    throw std::invalid_argument("surfel file: a range starts at a chunk, not at surfel " + number(first));
   const SurfelArrayInfo& info = arrays_[array];
-  const std::uint32_t wanted = std::min(count, info.count);
+  if (first >= info.count) return {};
+  const std::uint32_t wanted = std::min(count, info.count - first);
   if (wanted == 0) return {};
 
   auto element = [&] {
@@ -180,19 +188,22 @@ std::vector<Surfel> SurfelFileReader::readPrefix(std::uint32_t array, std::uint3
   };
 
   // Whole chunks, since a checksum covers a whole chunk; the last chunk of an array may be short.
+  const std::uint64_t firstChunk = first / kSurfelsPerChunk;
   const std::uint64_t chunks = chunkCount(wanted);
-  const std::uint64_t surfelsRead = std::min<std::uint64_t>(chunks * kSurfelsPerChunk, info.count);
+  const std::uint64_t surfelsRead = std::min<std::uint64_t>(chunks * kSurfelsPerChunk, info.count - first);
   std::vector<std::uint8_t> data(surfelsRead * kSurfelBytes);
   std::vector<std::uint8_t> checksums(chunks * kChecksumBytes);
-  read(info.dataOffset, data);
-  read(info.dataOffset + std::uint64_t(info.count) * kSurfelBytes, checksums);
+  read(info.dataOffset + std::uint64_t(first) * kSurfelBytes, data);
+  read(info.dataOffset + std::uint64_t(info.count) * kSurfelBytes + firstChunk * kChecksumBytes, checksums);
 
   for (std::uint64_t c = 0; c < chunks; ++c) {
-    const std::uint64_t first = c * kSurfelsPerChunk * kSurfelBytes;
-    const std::uint64_t size = std::min<std::uint64_t>(kSurfelsPerChunk * kSurfelBytes, data.size() - first);
-    if (chunkChecksum(std::span(data).subspan(first, size), c) != readU64(checksums.data() + c * kChecksumBytes)) {
+    const std::uint64_t at = c * kSurfelsPerChunk * kSurfelBytes;
+    const std::uint64_t size = std::min<std::uint64_t>(kSurfelsPerChunk * kSurfelBytes, data.size() - at);
+    if (chunkChecksum(std::span(data).subspan(at, size), firstChunk + c) !=
+        readU64(checksums.data() + c * kChecksumBytes)) {
       throw InputError(path_.string(), element(),
-                       "checksum mismatch in surfel chunk " + number(c) + " (array " + number(array) + ")");
+                       "checksum mismatch in surfel chunk " + number(firstChunk + c) + " (array " + number(array) +
+                           ")");
     }
   }
 

@@ -13,12 +13,13 @@
 #include "pbs/surfels/prefilter_colors.hpp"
 #include "pbs/surfels/surfel_nodes.hpp"
 
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
-#include <atomic>
+#include <functional>
 #include <mutex>
+#include <queue>
 
 namespace pbs {
 namespace {
@@ -88,34 +89,19 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& p
   return made;
 }
 
-// Groups of arrays that can be made at the same time: all of them at once, or when children's surfels
-// may be drawn one height at a time (children are lower than their parents). Each group lists the largest subtree first,
-// so the longest captures start early and the small ones fill the gaps at the end.
-std::vector<std::vector<std::uint32_t>> scheduleArrays(const Hierarchy& hierarchy, const detail::SurfelPlan& plan,
-                                                       CaptureSource source) {
-  const std::size_t arrays = plan.representative.size();
-  std::vector<std::vector<std::uint32_t>> groups;
-  for (std::uint32_t a = 0; a < arrays; ++a) {
-    const std::size_t group = source != CaptureSource::Triangles ? plan.height[a] : 0;
-    if (groups.size() <= group) groups.resize(group + 1);
-    groups[group].push_back(a);
+// Per array: the distinct arrays of its representative's children, which its capture may draw (none when
+// captures draw triangles only). Their indices are lower (planSurfelArrays).
+std::vector<std::vector<std::uint32_t>> childArrays(const Scene& scene, const detail::SurfelPlan& plan,
+                                                    CaptureSource source) {
+  std::vector<std::vector<std::uint32_t>> children(plan.representative.size());
+  if (source == CaptureSource::Triangles) return children;
+  for (std::size_t a = 0; a < children.size(); ++a) {
+    for (std::uint32_t child : scene.nodes[plan.representative[a]].children)
+      if (plan.arrayOfNode[child] != kNoSurfels) children[a].push_back(plan.arrayOfNode[child]);
+    std::sort(children[a].begin(), children[a].end());
+    children[a].erase(std::unique(children[a].begin(), children[a].end()), children[a].end());
   }
-  for (auto& group : groups)
-    std::stable_sort(group.begin(), group.end(), [&](std::uint32_t x, std::uint32_t y) {
-      return hierarchy.subtreeTriangles[plan.representative[x]] > hierarchy.subtreeTriangles[plan.representative[y]];
-    });
-  return groups;
-}
-
-// How many captures may draw each array: one per parent node of a representative that uses it (as
-// children's surfels). None when captures draw triangles only.
-std::vector<std::uint32_t> parentCaptures(const Scene& scene, const detail::SurfelPlan& plan, CaptureSource source) {
-  std::vector<std::uint32_t> count(plan.representative.size(), 0);
-  if (source == CaptureSource::Triangles) return count;
-  for (std::uint32_t node : plan.representative)
-    for (std::uint32_t child : scene.nodes[node].children)
-      if (plan.arrayOfNode[child] != kNoSurfels) ++count[plan.arrayOfNode[child]];
-  return count;
+  return children;
 }
 
 // The arrays of surfelize, each handed to `finished(index, array)` as it is made (one call at a time,
@@ -134,33 +120,65 @@ struct ArrayMaker {
     return records;
   }
 
+  // Workers take the lowest-numbered array whose children's arrays are made (children first, so in
+  // about index order: few finished arrays wait for their parents or for the file). Each array is made
+  // by one worker (its capture runs in parallel inside) into its own slot, so the schedule cannot
+  // change the arrays.
   template <class Finished>
   std::vector<SurfelArray> make(bool release, SurfelizeStats* stats, const Finished& finished) {
-    std::vector<SurfelArray> arrays(plan.representative.size());
+    const std::size_t count = plan.representative.size();
+    std::vector<SurfelArray> arrays(count);
     const std::vector<double> areas = plan.nodes.empty() ? std::vector<double>() : ownFrameSurfaceAreas(scene, hierarchy);
-    std::vector<std::uint32_t> capturesLeft = parentCaptures(scene, plan, options.source);
+    const std::vector<std::vector<std::uint32_t>> children = childArrays(scene, plan, options.source);
+    std::vector<std::vector<std::uint32_t>> parents(count);
+    std::vector<std::uint32_t> childrenLeft(count), capturesLeft(count, 0);
+    for (std::uint32_t a = 0; a < count; ++a) {
+      childrenLeft[a] = std::uint32_t(children[a].size());
+      for (std::uint32_t child : children[a]) parents[child].push_back(a), ++capturesLeft[child];
+    }
+    std::priority_queue<std::uint32_t, std::vector<std::uint32_t>, std::greater<>> ready;
+    for (std::uint32_t a = 0; a < count; ++a)
+      if (childrenLeft[a] == 0) ready.push(a);
     const auto releaseIfDone = [&](std::uint32_t a) {
       if (release && capturesLeft[a] == 0) std::vector<Surfel>().swap(arrays[a].surfels);
     };
 
     SurfelizeProgress progress;
-    progress.arraysTotal = std::uint32_t(plan.representative.size());
+    progress.arraysTotal = std::uint32_t(count);
     for (std::uint32_t node : plan.representative) progress.trianglesTotal += hierarchy.subtreeTriangles[node];
     std::uint64_t candidates = 0;
-    std::mutex finishedMutex;
-
-    for (const std::vector<std::uint32_t>& group : scheduleArrays(hierarchy, plan, options.source)) {
-      // Workers take the next array in the group's order; each array is computed by one worker (its
-      // capture runs in parallel inside), and its result goes to its own slot, so the schedule cannot
-      // change the arrays.
-      std::atomic<std::size_t> next{0};
-      const int workers = std::max(1, std::min(tbb::this_task_arena::max_concurrency(), int(group.size())));
-      tbb::parallel_for(0, workers, [&](int) {
-        for (std::size_t i = next++; i < group.size(); i = next++) {
-          const std::uint32_t a = group[i];
+    // Under `mutex`: the ready queue, the counts above, the progress, `finished`. No task ever waits
+    // on another (a thread waiting inside a capture's parallel loop may run a task on top of it): a
+    // task takes ready arrays until there are none, and a finished array that readies more starts
+    // tasks for them, up to `workers`.
+    std::mutex mutex;
+    std::size_t running = 0;
+    bool failed = false;  // a task threw: the others stop taking arrays
+    const std::size_t workers = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
+    tbb::task_group tasks;
+    std::function<void()> work;
+    const auto startTasks = [&](std::size_t busy) {  // under `mutex`; `busy` running tasks take no more
+      for (std::size_t spare = ready.size() > busy ? ready.size() - busy : 0; spare > 0 && running < workers; --spare) {
+        ++running;
+        tasks.run(work);
+      }
+    };
+    work = [&] {
+      for (;;) {
+        std::uint32_t a = 0;
+        {
+          const std::lock_guard lock(mutex);
+          if (failed || ready.empty()) {
+            --running;
+            return;
+          }
+          a = ready.top();
+          ready.pop();
+        }
+        try {
           const std::uint32_t node = plan.representative[a];
           MadeArray made = makeArray(scene, node, paths[node], areas[node], options, plan, arrays);
-          const std::lock_guard lock(finishedMutex);
+          const std::lock_guard lock(mutex);
           arrays[a] = std::move(made.array);
           candidates += made.candidates;
           ++progress.arraysDone;
@@ -168,16 +186,27 @@ struct ArrayMaker {
           progress.trianglesDone += hierarchy.subtreeTriangles[node];
           finished(a, arrays[a]);
           releaseIfDone(a);
-          for (std::uint32_t child : scene.nodes[node].children) {
-            const std::uint32_t used = plan.arrayOfNode[child];
-            if (used == kNoSurfels || capturesLeft[used] == 0) continue;
-            --capturesLeft[used];
-            releaseIfDone(used);
+          for (std::uint32_t child : children[a]) {
+            --capturesLeft[child];
+            releaseIfDone(child);
           }
+          for (std::uint32_t parent : parents[a])
+            if (--childrenLeft[parent] == 0) ready.push(parent);
           if (options.onProgress) options.onProgress(progress);
+          startTasks(1);  // this task takes the next ready array itself
+        } catch (...) {
+          const std::lock_guard lock(mutex);
+          failed = true;
+          --running;
+          throw;
         }
-      });
+      }
+    };
+    {
+      const std::lock_guard lock(mutex);
+      startTasks(0);
     }
+    tasks.wait();
 
     if (stats) {
       stats->nodesWithSurfels = plan.nodes.size();

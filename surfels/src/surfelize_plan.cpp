@@ -14,21 +14,19 @@ SurfelPlan planSurfelArrays(const Scene& scene, const Hierarchy& hierarchy, std:
   plan.arrayOfNode.assign(scene.nodes.size(), kNoSurfels);
   if (plan.nodes.empty()) return plan;  // nothing to share, nothing to classify
 
-  std::vector<std::uint32_t> nodeHeight(scene.nodes.size(), 0);
-  for (auto it = hierarchy.preorder.rbegin(); it != hierarchy.preorder.rend(); ++it)
-    for (std::uint32_t child : scene.nodes[*it].children)
-      nodeHeight[*it] = std::max(nodeHeight[*it], nodeHeight[child] + 1);
-
   const std::vector<std::uint32_t> classes = subtreeClasses(scene, hierarchy);
-  std::vector<std::uint32_t> arrayOfClass(classes.empty() ? 0 : *std::max_element(classes.begin(), classes.end()) + 1,
-                                          kNoSurfels);
+  const std::size_t classCount = classes.empty() ? 0 : *std::max_element(classes.begin(), classes.end()) + 1;
+  // Numbers: children first. Every node's descendants come before it in reverse preorder, and a node
+  // of an array's class has children of its children's classes, so those are numbered sooner.
+  std::vector<std::uint32_t> arrayOfClass(classCount, kNoSurfels);
+  std::uint32_t arrays = 0;
+  for (auto node = plan.nodes.rbegin(); node != plan.nodes.rend(); ++node)
+    if (std::uint32_t& array = arrayOfClass[classes[*node]]; array == kNoSurfels) array = arrays++;
+  // Representatives: the first node of each class in preorder (its path seeds the ordering).
+  plan.representative.assign(arrays, kNoSurfels);
   for (std::uint32_t node : plan.nodes) {
-    std::uint32_t& array = arrayOfClass[classes[node]];
-    if (array == kNoSurfels) {
-      array = std::uint32_t(plan.representative.size());
-      plan.representative.push_back(node);
-      plan.height.push_back(nodeHeight[node]);
-    }
+    const std::uint32_t array = arrayOfClass[classes[node]];
+    if (plan.representative[array] == kNoSurfels) plan.representative[array] = node;
     plan.arrayOfNode[node] = array;
   }
   return plan;

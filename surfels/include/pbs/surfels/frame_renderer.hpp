@@ -8,6 +8,7 @@
 #include "pbs/scene/embree_node_caster.hpp"
 #include "pbs/scene/hierarchy.hpp"
 #include "pbs/surfels/lod_render.hpp"
+#include "pbs/surfels/surfel_cache.hpp"
 
 #include <glm/glm.hpp>
 
@@ -41,6 +42,7 @@ struct FrameResult {
   // (0 or 1 at one sample), colour (0, 0, 0) where it is 0.
   std::vector<glm::vec4> image;
   double seconds = 0.0;  // every pass: clear, traverse, raster or rays, shading; plus the resolve
+  double surfelLoadSeconds = 0.0;  // of those, reading prefixes on demand (FrameSources::cache)
   // Traversal and raster times summed over the passes; the counts are those of one pass.
   LodStats stats;
 };
@@ -48,6 +50,9 @@ struct FrameResult {
 // What a mode draws from besides the scene; each must outlive the renderer.
 struct FrameSources {
   const SceneSurfels* surfels = nullptr;  // Surfels and Simplified modes (Simplified takes its decisions from them)
+  // Surfels mode, instead of `surfels`: a file read as frames draw it; each pass first loads the prefixes
+  // it will draw.
+  SurfelCache* cache = nullptr;
   const Scene* simplified = nullptr;      // Simplified mode: the scene's simplifyScene copy
   // Embree mode: a BVH built elsewhere and shared; null: built here. Surfels mode: mesh BVHs the geometry
   // nodes' rays reuse; null: each built the first time a frame needs it.
@@ -67,8 +72,8 @@ class FrameRenderer {
   double buildSeconds() const { return buildSeconds_; }  // 0 unless this renderer built the BVH
 
  private:
-  // One pass at the camera's pixel centres into gbuffer_.
-  LodStats drawPass(const Camera& camera);
+  // One pass at the camera's pixel centres into gbuffer_; adds its prefix loading to `loadSeconds`.
+  LodStats drawPass(const Camera& camera, double& loadSeconds);
 
   const Scene& scene_;
   const Hierarchy& hierarchy_;

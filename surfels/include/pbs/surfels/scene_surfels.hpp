@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <vector>
 
 namespace pbs {
@@ -26,11 +27,15 @@ struct SplatArray {
   // each capped so that the array never stands for more than the subtree's surface area (splatArrayOf).
   double packing = 0.0;
   double packingEnd = 0.0;
+  // The array's length. The surfels below hold its first loaded() of them: all of them when the file
+  // was read whole, the prefixes frames asked for when it is read on demand (SurfelCache).
+  std::size_t length = 0;
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;
   std::vector<glm::u8vec4> colors;
 
-  std::size_t size() const { return positions.size(); }
+  std::size_t size() const { return length; }
+  std::size_t loaded() const { return positions.size(); }
   // Mean spacing of the first `count` surfels, from the packing values (packing = d_k² · k): the
   // distance between neighbours that a prefix of that length leaves, in the node frame. Between the two
   // measured lengths the packing is interpolated as a power of k: where a subtree's parts lie far apart
@@ -41,6 +46,12 @@ struct SplatArray {
 };
 
 SplatArray splatArrayOf(const SurfelArray& array);
+// An array of `info.count` surfels with none loaded yet.
+SplatArray splatArrayOf(const SurfelArrayInfo& info);
+// Appends decoded surfels to the loaded prefix (they must be the ones that follow it).
+void appendSurfels(SplatArray& array, std::span<const Surfel> surfels);
+// Bytes one loaded surfel takes in a SplatArray.
+inline constexpr std::size_t kSplatBytesPerSurfel = 2 * sizeof(glm::vec3) + sizeof(glm::u8vec4);
 
 inline constexpr std::uint32_t kNoSurfels = 0xffffffffu;
 
@@ -53,6 +64,10 @@ struct SceneSurfels {
 // InputError naming `source` and the node when a path does not exist in the scene.
 SceneSurfels sceneSurfelsOf(const SurfelFile& file, const Scene& scene, const Hierarchy& hierarchy,
                             const std::string& source);
+
+// The same match alone: per scene node the array its record names, or kNoSurfels.
+std::vector<std::uint32_t> arrayOfNodes(std::span<const SurfelNodeRecord> records, const Scene& scene,
+                                        const Hierarchy& hierarchy, const std::string& source);
 
 // Reads the whole file (every checksum checked), requires it to belong to `scene` (its fingerprint),
 // and matches it as above. Errors are InputErrors naming the file.

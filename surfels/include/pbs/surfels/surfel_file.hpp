@@ -158,6 +158,10 @@ class SurfelFileReader {
   // The first min(count, arrays()[array].count) surfels of an array, decoded (positions relative to the
   // box centre). Throws std::out_of_range for an array index out of range.
   std::vector<Surfel> readPrefix(std::uint32_t array, std::uint32_t count);
+  // Surfels [first, first + count) of an array, clamped to it; `first` must start a chunk (a multiple of
+  // kSurfelsPerChunk; std::invalid_argument otherwise). Reads and checks only the chunks holding them:
+  // a prefix that grows reads only its new chunks.
+  std::vector<Surfel> readRange(std::uint32_t array, std::uint32_t first, std::uint32_t count);
 
   // Bytes read from the file by readPrefix calls so far (the data of the chunks and their checksums):
   // lets a test check that a prefix costs only its own bytes.

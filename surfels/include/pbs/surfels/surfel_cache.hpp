@@ -1,0 +1,58 @@
+// A .surfels file read as frames need it: opened by its tables alone, each array's chunks read the
+// first time a frame draws that much of its prefix, and the arrays drawn longest ago dropped when the
+// loaded surfels pass a byte budget. Memory follows what is drawn, not the size of the file, and the
+// frames are the same bits as with the whole file read (the same surfels, decoded the same way).
+#pragma once
+
+#include "pbs/scene/hierarchy.hpp"
+#include "pbs/scene/scene.hpp"
+#include "pbs/surfels/lod_render.hpp"
+#include "pbs/surfels/scene_surfels.hpp"
+#include "pbs/surfels/surfel_file.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+namespace pbs {
+
+struct SurfelCacheStats {
+  std::uint64_t bytesRead = 0;     // from the file: chunks and their checksums
+  std::uint64_t bytesLoaded = 0;   // decoded surfels held now (kSplatBytesPerSurfel each)
+  std::uint64_t peakBytesLoaded = 0;
+  std::uint64_t arraysDropped = 0;  // to keep within the budget
+};
+
+class SurfelCache {
+ public:
+  // Reads and checks the header and tables, requires the file to belong to `scene` (its fingerprint)
+  // and matches its nodes to the scene's; InputErrors name the file. `budgetBytes` bounds the loaded
+  // surfels between frames; a frame that needs more than the budget still gets all of it.
+  SurfelCache(const std::filesystem::path& file, const Scene& scene, const Hierarchy& hierarchy,
+              std::uint64_t budgetBytes);
+
+  // Every array with its length and packing values; of the surfels, only what load() brought in.
+  const SceneSurfels& surfels() const { return surfels_; }
+
+  // Makes every prefix that `draws` draws loaded, reading whole chunks, and one chunk more of a prefix
+  // that grew since the array was last drawn (it is likely to grow again: the camera approaches).
+  // Then, while over the budget, drops the arrays drawn longest ago that `draws` does not use. A
+  // corrupt chunk throws InputError naming the node.
+  void load(const LodDraws& draws);
+
+  const SurfelCacheStats& stats() const { return stats_; }
+
+ private:
+  void loadPrefix(std::uint32_t array, std::size_t count);
+  void dropOverBudget();
+
+  SurfelFileReader reader_;
+  SceneSurfels surfels_;
+  std::uint64_t budget_;
+  std::uint64_t frame_ = 0;
+  std::vector<std::uint64_t> lastDrawn_;     // per array: the load() call that last drew it (0: never)
+  std::vector<std::size_t> lastCount_;       // per array: the prefix it drew then
+  SurfelCacheStats stats_;
+};
+
+}  // namespace pbs

@@ -1,0 +1,72 @@
+// SurfelCache: prefixes read chunk by chunk as frames draw them, the least recently drawn dropped.
+#include "pbs/surfels/surfel_cache.hpp"
+
+#include "pbs/scene/scene_fingerprint.hpp"
+
+#include <algorithm>
+#include <utility>
+
+namespace pbs {
+
+SurfelCache::SurfelCache(const std::filesystem::path& file, const Scene& scene, const Hierarchy& hierarchy,
+                         std::uint64_t budgetBytes)
+    : reader_(file), budget_(budgetBytes) {
+  reader_.requireScene(sceneFingerprint(scene));
+  surfels_.arrays.reserve(reader_.arrays().size());
+  for (const SurfelArrayInfo& info : reader_.arrays()) surfels_.arrays.push_back(splatArrayOf(info));
+  surfels_.arrayOfNode = arrayOfNodes(reader_.nodes(), scene, hierarchy, file.string());
+  lastDrawn_.assign(surfels_.arrays.size(), 0);
+  lastCount_.assign(surfels_.arrays.size(), 0);
+}
+
+void SurfelCache::load(const LodDraws& draws) {
+  ++frame_;
+  // The prefix each array drew in the frame before this one, for the read-ahead.
+  std::vector<std::pair<std::uint32_t, std::size_t>> grown;
+  for (const LodDraws::Surfels& draw : draws.surfels) {
+    const std::uint32_t a = draw.array;
+    if (lastDrawn_[a] != frame_) {
+      if (lastDrawn_[a] + 1 == frame_ && draw.count > lastCount_[a]) grown.emplace_back(a, draw.count);
+      lastDrawn_[a] = frame_;
+      lastCount_[a] = 0;
+    }
+    lastCount_[a] = std::max<std::size_t>(lastCount_[a], draw.count);
+    loadPrefix(a, draw.count);
+  }
+  for (const auto& [a, count] : grown) loadPrefix(a, std::max(count, lastCount_[a]) + kSurfelsPerChunk);
+  stats_.bytesRead = reader_.dataBytesRead();
+  dropOverBudget();
+}
+
+void SurfelCache::loadPrefix(std::uint32_t array, std::size_t count) {
+  SplatArray& splats = surfels_.arrays[array];
+  // Whole chunks: the file checks a chunk at a time, and the next read starts where this one ends.
+  const std::size_t chunks = (count + kSurfelsPerChunk - 1) / kSurfelsPerChunk;
+  const std::size_t wanted = std::min(splats.size(), chunks * kSurfelsPerChunk);
+  if (wanted <= splats.loaded()) return;
+  const std::size_t from = splats.loaded();
+  const std::vector<Surfel> read =
+      reader_.readRange(array, std::uint32_t(from), std::uint32_t(wanted - from));
+  appendSurfels(splats, read);
+  stats_.bytesLoaded += read.size() * kSplatBytesPerSurfel;
+  stats_.peakBytesLoaded = std::max(stats_.peakBytesLoaded, stats_.bytesLoaded);
+}
+
+void SurfelCache::dropOverBudget() {
+  if (stats_.bytesLoaded <= budget_) return;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> candidates;  // (last drawn, array), oldest first
+  for (std::uint32_t a = 0; a < surfels_.arrays.size(); ++a)
+    if (lastDrawn_[a] != frame_ && surfels_.arrays[a].loaded() > 0) candidates.emplace_back(lastDrawn_[a], a);
+  std::sort(candidates.begin(), candidates.end());
+  for (const auto& [drawn, a] : candidates) {
+    if (stats_.bytesLoaded <= budget_) break;
+    SplatArray& splats = surfels_.arrays[a];
+    stats_.bytesLoaded -= splats.loaded() * kSplatBytesPerSurfel;
+    std::vector<glm::vec3>().swap(splats.positions);
+    std::vector<glm::vec3>().swap(splats.normals);
+    std::vector<glm::u8vec4>().swap(splats.colors);
+    ++stats_.arraysDropped;
+  }
+}
+
+}  // namespace pbs

@@ -1,0 +1,149 @@
+// SurfelCache and the reads it makes: the same frames, bit for bit, as with the whole file read, from
+// only the chunks the frames draw; a budget that drops the arrays drawn longest ago; readRange.
+#include "surfeled_scene.hpp"
+#include "test_fixtures.hpp"
+#include "test_support.hpp"
+
+#include <pbs/scene/input_error.hpp>
+#include <pbs/scene/scene_fingerprint.hpp>
+#include <pbs/surfels/camera_paths.hpp>
+#include <pbs/surfels/frame_renderer.hpp>
+#include <pbs/surfels/surfel_cache.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cstring>
+#include <filesystem>
+
+namespace pbs {
+namespace {
+
+using test::ScratchDir;
+
+// The two-groups scene surfelized (arrays of 4000 surfels: four chunks) and written to `file`.
+test::SurfeledScene writtenScene(const std::filesystem::path& file) {
+  test::SurfeledScene s = test::surfeled(test::twoIdenticalGroups());
+  SurfelizeOptions options;
+  options.file.threshold = 1000;
+  options.file.maxSurfels = 4000;
+  options.file.resolution = 128;
+  surfelizeToFile(s.scene, s.hierarchy, options, file);
+  return s;
+}
+
+// The approach path: far frames draw short prefixes, near ones long prefixes or geometry.
+std::vector<Camera> approach(const test::SurfeledScene& s, std::uint32_t frames) {
+  std::vector<Camera> cameras;
+  for (const PathView& view : cameraPath(CameraPath::Approach, s.hierarchy, s.scene.roots, Orbit{30.0, 20.0, 4.0},
+                                         frames, 160, 120))
+    cameras.push_back(view.camera);
+  return cameras;
+}
+
+bool sameBits(const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec4)) == 0;
+}
+
+// With a budget of one byte every array not drawn by the current frame is dropped after it, so later
+// frames read again what earlier ones dropped: the images must not notice.
+TEST(SurfelCache, FramesAreTheWholeFilesBitForBitWhateverTheBudget) {
+  ScratchDir scratch;
+  const test::SurfeledScene s = writtenScene(scratch / "g.surfels");
+  const SceneSurfels whole = loadSceneSurfels(scratch / "g.surfels", s.scene, s.hierarchy);
+  LodOptions lod;
+  lod.descendExhausted = false;  // the groups as surfels even where they fill much of the view
+  const FrameOptions options{.mode = RenderMode::Surfels, .lod = lod};
+  FrameRenderer reference(s.scene, s.hierarchy, options, 160, 120, {.surfels = &whole});
+  for (const std::uint64_t budget : {std::uint64_t(1), std::uint64_t(1) << 30}) {
+    SurfelCache cache(scratch / "g.surfels", s.scene, s.hierarchy, budget);
+    FrameRenderer streamed(s.scene, s.hierarchy, options, 160, 120, {.cache = &cache});
+    std::uint64_t surfelsDrawn = 0;
+    for (const Camera& camera : approach(s, 6)) {
+      const FrameResult a = reference.render(camera), b = streamed.render(camera);
+      EXPECT_TRUE(sameBits(a.image, b.image)) << "budget " << budget;
+      surfelsDrawn += b.stats.surfels;
+      if (budget == 1) {
+        std::uint64_t loaded = 0;
+        for (const SplatArray& array : cache.surfels().arrays) loaded += array.loaded();
+        EXPECT_EQ(loaded * kSplatBytesPerSurfel, cache.stats().bytesLoaded);
+        EXPECT_LE(cache.stats().bytesLoaded, (b.stats.surfels + 2 * b.stats.nodesSurfels * kSurfelsPerChunk) *
+                                                 kSplatBytesPerSurfel)
+            << "only what this frame draws, in whole chunks and one chunk ahead";
+      }
+    }
+    ASSERT_GT(surfelsDrawn, 0u);
+    if (budget == 1) EXPECT_GT(cache.stats().arraysDropped, 0u);
+    else EXPECT_EQ(cache.stats().arraysDropped, 0u);
+  }
+}
+
+// A far view draws short prefixes: the cache reads their chunks, not the file.
+TEST(SurfelCache, AFarViewReadsOnlyItsPrefixesChunks) {
+  ScratchDir scratch;
+  const test::SurfeledScene s = writtenScene(scratch / "g.surfels");
+  SurfelCache cache(scratch / "g.surfels", s.scene, s.hierarchy, std::uint64_t(1) << 30);
+  for (const SplatArray& array : cache.surfels().arrays) EXPECT_EQ(array.loaded(), 0u) << "tables only at first";
+  FrameRenderer renderer(s.scene, s.hierarchy, {.mode = RenderMode::Surfels}, 160, 120, {.cache = &cache});
+  const FrameResult far = renderer.render(approach(s, 6).front());
+  ASSERT_GT(far.stats.surfels, 0u);
+  std::uint64_t fileSurfels = 0;
+  for (const SplatArray& array : cache.surfels().arrays) fileSurfels += array.size();
+  const std::uint64_t chunksDrawn = (far.stats.surfels + kSurfelsPerChunk - 1) / kSurfelsPerChunk;
+  EXPECT_LE(cache.stats().bytesRead, (chunksDrawn + far.stats.nodesSurfels) * (kSurfelsPerChunk * kSurfelBytes + 8));
+  EXPECT_LT(cache.stats().bytesRead, fileSurfels * kSurfelBytes / 2) << "well under the file's data";
+}
+
+TEST(SurfelCache, AnotherScenesFileIsRefused) {
+  ScratchDir scratch;
+  writtenScene(scratch / "g.surfels");
+  Scene other = test::twoIdenticalGroups();
+  other.meshes[0].positions[0].x += 0.5f;
+  const Hierarchy hierarchy = analyzeHierarchy(other);
+  ASSERT_NE(sceneFingerprint(other), sceneFingerprint(test::twoIdenticalGroups()));
+  EXPECT_THROW(SurfelCache(scratch / "g.surfels", other, hierarchy, 1 << 20), InputError);
+}
+
+TEST(SurfelFileReader, RangesAreSlicesOfThePrefix) {
+  ScratchDir scratch;
+  writtenScene(scratch / "g.surfels");
+  SurfelFileReader reader(scratch / "g.surfels");
+  ASSERT_FALSE(reader.arrays().empty());
+  const std::uint32_t count = reader.arrays()[0].count;
+  ASSERT_GT(count, 2 * kSurfelsPerChunk);
+  const std::vector<Surfel> whole = reader.readPrefix(0, count);
+  const std::uint64_t before = reader.dataBytesRead();
+  const std::vector<Surfel> second = reader.readRange(0, kSurfelsPerChunk, kSurfelsPerChunk);
+  EXPECT_EQ(reader.dataBytesRead() - before, kSurfelsPerChunk * kSurfelBytes + 8) << "one chunk and its checksum";
+  ASSERT_EQ(second.size(), kSurfelsPerChunk);
+  for (std::size_t i = 0; i < second.size(); ++i) {
+    EXPECT_EQ(second[i].position, whole[kSurfelsPerChunk + i].position);
+    EXPECT_EQ(second[i].color, whole[kSurfelsPerChunk + i].color);
+  }
+  EXPECT_EQ(reader.readRange(0, 2 * kSurfelsPerChunk, count).size(), count - 2 * kSurfelsPerChunk) << "clamped";
+  EXPECT_TRUE(reader.readRange(0, count + kSurfelsPerChunk - count % kSurfelsPerChunk, 10).empty());
+  EXPECT_THROW(reader.readRange(0, 5, 10), std::invalid_argument);
+}
+
+// The command reads on demand: a tiny cache draws the same frames as a large one.
+TEST(SurfelCacheCli, RenderWithATinyCacheDrawsTheSameFrames) {
+  ScratchDir scratch;
+  const auto [scene, surfels] = test::groupsWithSurfels(scratch);
+  const std::string common =
+      "render " + scene + " --surfels " + surfels + " --size 160x120 --path approach --frames 4 --exhausted grow --json -o ";
+  const test::CommandResult tiny = test::runPbs(common + "'" + (scratch / "tiny").string() + "' --cache-mb 1");
+  const test::CommandResult large = test::runPbs(common + "'" + (scratch / "large").string() + "'");
+  ASSERT_EQ(tiny.status, 0) << tiny.err;
+  ASSERT_EQ(large.status, 0) << large.err;
+  for (int f = 0; f < 4; ++f) {
+    const std::string name = "frame_000" + std::to_string(f) + ".png";
+    EXPECT_EQ(test::readFile(scratch / "tiny" / name), test::readFile(scratch / "large" / name)) << name;
+  }
+  const nlohmann::json report = nlohmann::json::parse(tiny.out);
+  EXPECT_GT(report["surfel_bytes_read"].get<std::uint64_t>(), 0u);
+  EXPECT_LE(report["surfel_bytes_read"].get<std::uint64_t>(),
+            std::filesystem::file_size(scratch / "groups.surfels"));
+  EXPECT_EQ(test::runPbs(common + "x --cache-mb 0").status, 2);
+}
+
+}  // namespace
+}  // namespace pbs
