@@ -113,7 +113,9 @@ TEST(FigureCli, ViewsSheetAndNearDrawsMoreGeometryThanFar) {
   EXPECT_GT(csv.rows[0].number("triangles_drawn"), csv.rows[2].number("triangles_drawn"));
   EXPECT_GT(csv.rows[2].number("surfels_drawn"), 0.0) << "far away, surfels stand in for geometry";
   for (std::size_t row = 0; row < 3; ++row) {
-    EXPECT_TRUE(std::isfinite(csv.rows[row].number("psnr"))) << csv.rows[row].fields.at("view");
+    // Infinite where the view draws only geometry (an array too short for the group is descended into):
+    // the same picture as the exact one.
+    EXPECT_FALSE(std::isnan(csv.rows[row].number("psnr"))) << csv.rows[row].fields.at("view");
     EXPECT_GT(csv.rows[row].number("exact_ms"), 0.0);
     EXPECT_GT(csv.rows[row].number("surfels_ms"), 0.0);
   }
