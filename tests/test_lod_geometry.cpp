@@ -196,6 +196,7 @@ TEST(LodGeometry, SurfelsComposeByDepthOverRayCastGeometry) {
     points.normals.emplace_back(0.0f, 0.0f, 1.0f);
     points.colors.emplace_back(255, 0, 0, 255);
   }
+  points.length = points.positions.size();
   surfels.arrays.push_back(points);
   surfels.arrayOfNode = {kNoSurfels, 0, 0};
 

@@ -33,6 +33,7 @@ SplatArray arrayOf(std::size_t size, double coverage, double packing) {
   SplatArray array;
   array.coverage = coverage;
   array.packing = packing;
+  array.length = size;
   array.positions.assign(size, glm::vec3(0.0f));
   array.normals.assign(size, glm::vec3(0.0f, 0.0f, 1.0f));
   array.colors.assign(size, glm::u8vec4(255));

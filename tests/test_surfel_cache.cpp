@@ -1,5 +1,6 @@
 // SurfelCache and the reads it makes: the same frames, bit for bit, as with the whole file read, from
 // only the chunks the frames draw; a budget that drops the arrays drawn longest ago; readRange.
+#include "cli_scenes.hpp"
 #include "surfeled_scene.hpp"
 #include "test_fixtures.hpp"
 #include "test_support.hpp"
@@ -32,10 +33,10 @@ test::SurfeledScene writtenScene(const std::filesystem::path& file) {
 }
 
 // The approach path: far frames draw short prefixes, near ones long prefixes or geometry.
-std::vector<Camera> approach(const test::SurfeledScene& s, std::uint32_t frames) {
+std::vector<Camera> approach(const test::SurfeledScene& s, std::uint32_t frames, double startDistance = 4.0) {
   std::vector<Camera> cameras;
-  for (const PathView& view : cameraPath(CameraPath::Approach, s.hierarchy, s.scene.roots, Orbit{30.0, 20.0, 4.0},
-                                         frames, 160, 120))
+  for (const PathView& view : cameraPath(CameraPath::Approach, s.hierarchy, s.scene.roots,
+                                         Orbit{30.0, 20.0, startDistance}, frames, 160, 120))
     cameras.push_back(view.camera);
   return cameras;
 }
@@ -84,7 +85,7 @@ TEST(SurfelCache, AFarViewReadsOnlyItsPrefixesChunks) {
   SurfelCache cache(scratch / "g.surfels", s.scene, s.hierarchy, std::uint64_t(1) << 30);
   for (const SplatArray& array : cache.surfels().arrays) EXPECT_EQ(array.loaded(), 0u) << "tables only at first";
   FrameRenderer renderer(s.scene, s.hierarchy, {.mode = RenderMode::Surfels}, 160, 120, {.cache = &cache});
-  const FrameResult far = renderer.render(approach(s, 6).front());
+  const FrameResult far = renderer.render(approach(s, 2, 40.0).front());
   ASSERT_GT(far.stats.surfels, 0u);
   std::uint64_t fileSurfels = 0;
   for (const SplatArray& array : cache.surfels().arrays) fileSurfels += array.size();

@@ -96,7 +96,8 @@ TEST(Surfelize, InstancesShareArraysAndNodesGetStablePaths) {
   ASSERT_EQ(file.arrays.size(), 3u);
   ASSERT_EQ(file.nodes.size(), 7u);
   const std::vector<std::string> paths = {"/0", "/0/0", "/0/0/0", "/0/0/1", "/0/1", "/0/1/0", "/0/1/1"};
-  const std::vector<std::uint32_t> arrays = {0, 1, 2, 2, 1, 2, 2};
+  // Numbered children first: the boxes, the groups, the root.
+  const std::vector<std::uint32_t> arrays = {2, 1, 0, 0, 1, 0, 0};
   for (std::size_t i = 0; i < paths.size(); ++i) {
     EXPECT_EQ(file.nodes[i].path, paths[i]);
     EXPECT_EQ(file.nodes[i].array, arrays[i]) << paths[i];
@@ -113,12 +114,12 @@ TEST(Surfelize, InstancesShareArraysAndNodesGetStablePaths) {
   EXPECT_EQ(stats.surfels, surfels);
   // The shared box array lies in the mesh's own frame: on the surface of the box [-1, 1]³ (positions
   // are relative to the box centre, 0 here), whichever instance it was captured for.
-  for (const Surfel& s : file.arrays[2].surfels) {
+  for (const Surfel& s : file.arrays[0].surfels) {
     const glm::vec3 a = glm::abs(s.position);
     EXPECT_NEAR(std::max({a.x, a.y, a.z}), 1.0f, 1e-4f);
   }
   // A box of area 6 · 2² = 24 in its own frame; group A holds two boxes, one scaled by (1, 2, 0.5).
-  EXPECT_NEAR(file.arrays[2].area, 24.0, 1e-9);
+  EXPECT_NEAR(file.arrays[0].area, 24.0, 1e-9);
   EXPECT_NEAR(file.arrays[1].area, 24.0 + 2 * (2 * 1 + 1 * 0.5 + 2 * 0.5) * 4, 1e-6);
 }
 

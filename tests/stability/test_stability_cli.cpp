@@ -98,7 +98,7 @@ TEST(StabilityCli, SurfelFileWithANaNIsOneErrorLine) {
   const auto image = scratch / "x.png";
   const test::CommandResult result =
       runPbs("render " + scene + " --surfels " + surfelsQuoted + " --size 16x16 -o " + quoted(image));
-  expectErrorLine(result, surfels, "node /0", "coverage is not finite");
+  expectErrorLine(result, surfels, "node /0/0/0", "coverage is not finite");  // array 0: the boxes (children first)
   EXPECT_FALSE(std::filesystem::exists(image));
 }
 
