@@ -22,9 +22,9 @@ float squaredDistance(const glm::vec3& a, const glm::vec3& b) {
 }
 
 // Random candidates with random opaque-ish colours: on the unit square (a surface, as captures give),
-// in the unit cube (a volume), or on the square with one far outlier (a box far wider than the points'
-// spacing: the grid's cell cap decides).
-enum class Layout { Plane, Cube, Outlier };
+// in the unit cube (a volume), on the square with one far outlier, or in twelve tight clusters far
+// apart (a city block's buildings); in the last two the box is far wider than the points' spacing.
+enum class Layout { Plane, Cube, Outlier, Clusters };
 
 std::vector<Surfel> randomCandidates(std::size_t count, Layout layout, std::uint64_t seed) {
   SeededRandom rng(seed);
@@ -35,6 +35,12 @@ std::vector<Surfel> randomCandidates(std::size_t count, Layout layout, std::uint
     s.color = glm::u8vec4(rng.below(256), rng.below(256), rng.below(256), 26 + rng.below(230));
   }
   if (layout == Layout::Outlier) candidates.back().position = glm::vec3(1e6f, -3e5f, 2e5f);
+  if (layout == Layout::Clusters) {
+    std::vector<glm::vec3> centres(12);
+    for (glm::vec3& c : centres) c = glm::vec3(rng.unit(), rng.unit(), rng.unit()) * 1000.0f;
+    for (std::size_t i = 0; i < count; ++i)
+      candidates[i].position = centres[i % centres.size()] + 0.01f * candidates[i].position;
+  }
   return candidates;
 }
 
@@ -86,7 +92,7 @@ void expectRoundedMeans(const std::vector<glm::u8vec4>& colors, const std::vecto
 }
 
 TEST(InsertionDistances, MatchBruteForceForEveryOrdering) {
-  for (Layout layout : {Layout::Plane, Layout::Cube, Layout::Outlier}) {
+  for (Layout layout : {Layout::Plane, Layout::Cube, Layout::Outlier, Layout::Clusters}) {
     const std::vector<glm::vec3> points = positionsOf(randomCandidates(3000, layout, 11));
     for (SurfelOrdering ordering : kOrderings) {
       SCOPED_TRACE(std::string(orderingName(ordering)) + ", layout " + std::to_string(int(layout)));
@@ -116,7 +122,7 @@ TEST(InsertionDistances, EmptyRepeatedAndOutOfRange) {
 }
 
 TEST(PrefilteredColors, MatchBruteForce) {
-  for (Layout layout : {Layout::Plane, Layout::Cube, Layout::Outlier}) {
+  for (Layout layout : {Layout::Plane, Layout::Cube, Layout::Outlier, Layout::Clusters}) {
     const std::vector<Surfel> candidates = randomCandidates(1500, layout, 3);
     const std::vector<glm::vec3> points = positionsOf(candidates);
     for (SurfelOrdering ordering : kOrderings) {
