@@ -238,6 +238,8 @@ TEST(EvalCli, BaselineOptionsAndCombinedSettings) {
   EXPECT_EQ(eval.run("--sweep point=1,2+threshold=3").status, 2) << "one value per key when combined";
   EXPECT_EQ(eval.run("--sweep point=1+").status, 2);
   EXPECT_EQ(eval.run("--sweep point=1+size=3").status, 2);
+  EXPECT_EQ(eval.run("--sweep geometry=sideways").status, 2);
+  EXPECT_EQ(eval.run("--sweep exhausted=sometimes").status, 2);
 }
 
 TEST(EvalCli, SimplifiedMeshesAreMeasuredLikeSurfels) {
