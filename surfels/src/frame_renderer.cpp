@@ -66,15 +66,23 @@ LodStats FrameRenderer::drawPass(const Camera& camera, double& loadSeconds) {
   if (options_.mode != RenderMode::Embree) clearFramebuffer(gbuffer_, 0);
   LodStats pass;
   switch (options_.mode) {
-    case RenderMode::Surfels:
-      if (sources_.cache) {
-        const auto load = detail::Clock::now();
-        sources_.cache->load(traverseLod(scene_, hierarchy_, *sources_.surfels, camera, options_.lod));
-        loadSeconds += detail::secondsSince(load);
+    case RenderMode::Surfels: {
+      EmbreeNodeCaster* rays = geometryRays_ ? &*geometryRays_ : nullptr;
+      if (!sources_.cache) {
+        pass = renderLod(scene_, hierarchy_, *sources_.surfels, camera, gbuffer_, options_.lod, rays);
+        break;
       }
-      pass = renderLod(scene_, hierarchy_, *sources_.surfels, camera, gbuffer_, options_.lod,
-                       geometryRays_ ? &*geometryRays_ : nullptr);
+      // One traversal: the cache loads what it draws, then it is drawn.
+      const auto traverse = detail::Clock::now();
+      const LodDraws draws = traverseLod(scene_, hierarchy_, *sources_.surfels, camera, options_.lod);
+      const double traverseSeconds = detail::secondsSince(traverse);
+      const auto load = detail::Clock::now();
+      sources_.cache->load(draws);
+      loadSeconds += detail::secondsSince(load);
+      pass = drawLod(scene_, hierarchy_, *sources_.surfels, draws, camera, gbuffer_, options_.lod, rays);
+      pass.traverseSeconds = traverseSeconds;
       break;
+    }
     case RenderMode::Exact: pass = renderLod(scene_, hierarchy_, none_, camera, gbuffer_, options_.lod); break;
     case RenderMode::Simplified:
       pass = renderSimplifiedLod(scene_, *sources_.simplified, hierarchy_, *sources_.surfels, camera, gbuffer_, options_.lod);

@@ -110,10 +110,17 @@ const char* splatModeName(SplatMode mode) { return kSplatNames.name(mode).data()
 
 LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
                    Framebuffer& framebuffer, const LodOptions& options, EmbreeNodeCaster* rays) {
-  LodStats stats;
   const auto traverseStart = Clock::now();
   const LodDraws draws = traverseLod(scene, hierarchy, surfels, camera, options);
-  stats.traverseSeconds = secondsSince(traverseStart);
+  const double traverseSeconds = secondsSince(traverseStart);
+  LodStats stats = drawLod(scene, hierarchy, surfels, draws, camera, framebuffer, options, rays);
+  stats.traverseSeconds = traverseSeconds;
+  return stats;
+}
+
+LodStats drawLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const LodDraws& draws,
+                 const Camera& camera, Framebuffer& framebuffer, const LodOptions& options, EmbreeNodeCaster* rays) {
+  LodStats stats;
   for (const LodDraws::Surfels& draw : draws.surfels)
     if (surfels.arrays[draw.array].loaded() < draw.count)
       throw std::logic_error("renderLod: array " + std::to_string(draw.array) + " draws " + std::to_string(draw.count) +

@@ -35,14 +35,15 @@ class Traversal {
     if (box.empty() || outsideClipVolume(camera_, box)) return;
     const std::uint32_t array = node < surfels_.arrayOfNode.size() ? surfels_.arrayOfNode[node] : kNoSurfels;
     const double size = std::sqrt(projectedBoxPixels(camera_, box));
-    const double threshold = array != kNoSurfels ? thresholdOf(node, array, size) : options_.threshold;
+    const NodeScale at = array != kNoSurfels ? scaleOf(node, surfels_.arrays[array]) : NodeScale{};
+    const double threshold = array != kNoSurfels ? thresholdOf(array, at, size) : options_.threshold;
     const double upper = threshold * (1.0 + options_.band);
     if (array != kNoSurfels && size < upper) {
       // Inside the band the node's prefix first stays whole while the children grow in, then shrinks
       // away ("the prefix of one level decreases after the maximal prefix of the next is rendered").
       const double t = options_.band > 0.0 ? std::clamp((size - threshold) / (upper - threshold), 0.0, 1.0)
                                            : (size <= threshold ? 0.0 : 1.0);
-      drawSurfels(node, array, size, growth * std::min(1.0, 2.0 * (1.0 - t)));
+      drawSurfels(node, array, at, size, growth * std::min(1.0, 2.0 * (1.0 - t)));
       if (t <= 0.0) return;
       descend(node, growth * std::min(1.0, 2.0 * t));
       return;
@@ -62,19 +63,6 @@ class Traversal {
     for (std::uint32_t child : scene_.nodes[node].children) visit(child, growth);
   }
 
-  // The node's threshold: options_.threshold, or lower where the array cannot meet the demand at the
-  // top of the band (descendExhausted). The demand grows with size², so the size at which it equals the
-  // array's length is size · √(length / demand(size)).
-  double thresholdOf(std::uint32_t node, std::uint32_t array, double size) const {
-    if (!options_.descendExhausted || !(size > 0.0)) return options_.threshold;
-    const SplatArray& splats = surfels_.arrays[array];
-    const NodeScale at = scaleOf(node, splats);
-    const double demand = prefixDemand(splats, size, at.worldPixel, at.scale, options_);
-    if (!(demand > 0.0)) return options_.threshold;
-    const double sufficient = size * std::sqrt(double(splats.size()) / demand) / (1.0 + options_.band);
-    return std::min(options_.threshold, sufficient);
-  }
-
   struct NodeScale {
     double worldPixel = 0.0;  // world size of one pixel at the array's centre
     double scale = 1.0;       // node frame to world
@@ -85,9 +73,20 @@ class Traversal {
     return {worldPixelAt(camera_, center), frameScale(world)};
   }
 
-  void drawSurfels(std::uint32_t node, std::uint32_t array, double size, double factor) {
+  // The node's threshold: options_.threshold, or lower where the array cannot meet the demand at the
+  // top of the band (descendExhausted). The demand grows with size², so the size at which it equals the
+  // array's length is size · √(length / demand(size)).
+  double thresholdOf(std::uint32_t array, const NodeScale& at, double size) const {
+    if (!options_.descendExhausted || !(size > 0.0)) return options_.threshold;
     const SplatArray& splats = surfels_.arrays[array];
-    const NodeScale at = scaleOf(node, splats);
+    const double demand = prefixDemand(splats, size, at.worldPixel, at.scale, options_);
+    if (!(demand > 0.0)) return options_.threshold;
+    const double sufficient = size * std::sqrt(double(splats.size()) / demand) / (1.0 + options_.band);
+    return std::min(options_.threshold, sufficient);
+  }
+
+  void drawSurfels(std::uint32_t node, std::uint32_t array, const NodeScale& at, double size, double factor) {
+    const SplatArray& splats = surfels_.arrays[array];
     const double worldPixel = at.worldPixel, scale = at.scale;
     const std::uint32_t full = prefixLength(splats, size, worldPixel, scale, options_);
     const auto count = std::uint32_t(std::lround(double(full) * factor));

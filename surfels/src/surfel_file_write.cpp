@@ -74,15 +74,11 @@ std::vector<std::uint8_t> encodeArrayData(const SurfelArray& array) {
 
 }  // namespace
 
-struct SurfelFileWriter::Waiting {
-  std::vector<std::uint8_t> data;
-};
-
 SurfelFileWriter::SurfelFileWriter(const std::filesystem::path& path, std::uint64_t sceneFingerprint,
                                    const SurfelFileOptions& options, std::vector<SurfelNodeRecord> nodes,
                                    std::uint32_t arrayCount)
     : path_(path), fingerprint_(sceneFingerprint), options_(options), nodes_(std::move(nodes)), infos_(arrayCount),
-      waiting_(arrayCount), added_(arrayCount, false) {
+      waiting_(arrayCount) {
   checkNodes(nodes_, arrayCount);
   temporary_ = path_;
   temporary_ += ".tmp-" + std::to_string(::getpid());
@@ -101,20 +97,19 @@ SurfelFileWriter::~SurfelFileWriter() {
 }
 
 void SurfelFileWriter::add(std::uint32_t index, const SurfelArray& array) {
-  if (index >= infos_.size() || added_[index])
+  if (index >= infos_.size() || index < written_ || waiting_[index])
     throw std::invalid_argument("surfel file: array " + std::to_string(index) + " added twice or out of range");
   checkArray(index, array);
-  added_[index] = true;
   infos_[index] = {array.box,  array.coverage, array.packing, array.packingEnd,
                    array.area, std::uint32_t(array.surfels.size()), 0};
-  waiting_[index] = std::make_unique<Waiting>(Waiting{encodeArrayData(array)});
-  bytesWaiting_ += waiting_[index]->data.size();
+  waiting_[index] = encodeArrayData(array);
+  bytesWaiting_ += waiting_[index]->size();
   writeReadyArrays();
 }
 
 void SurfelFileWriter::writeReadyArrays() {
   for (; written_ < infos_.size() && waiting_[written_]; ++written_) {
-    const std::vector<std::uint8_t>& data = waiting_[written_]->data;
+    const std::vector<std::uint8_t>& data = *waiting_[written_];
     out_.write(reinterpret_cast<const char*>(data.data()), std::streamsize(data.size()));
     if (!out_) fail(path_, "write failed");
     infos_[written_].dataOffset = dataEnd_;

@@ -132,4 +132,11 @@ class EmbreeNodeCaster;
 LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
                    Framebuffer& framebuffer, const LodOptions& options, EmbreeNodeCaster* rays = nullptr);
 
+// renderLod's drawing half, for `draws` that traverseLod made with the same arguments (a caller that
+// loads the drawn prefixes first traverses once). Every drawn prefix must be loaded (std::logic_error).
+// The stats' traverseSeconds is 0.
+LodStats drawLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const LodDraws& draws,
+                 const Camera& camera, Framebuffer& framebuffer, const LodOptions& options,
+                 EmbreeNodeCaster* rays = nullptr);
+
 }  // namespace pbs

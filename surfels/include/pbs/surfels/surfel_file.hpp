@@ -26,6 +26,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -120,7 +121,6 @@ class SurfelFileWriter {
   std::uint64_t bytesWaiting() const { return bytesWaiting_; }
 
  private:
-  struct Waiting;
   void writeReadyArrays();
 
   std::filesystem::path path_, temporary_;
@@ -129,8 +129,7 @@ class SurfelFileWriter {
   SurfelFileOptions options_;
   std::vector<SurfelNodeRecord> nodes_;
   std::vector<SurfelArrayInfo> infos_;
-  std::vector<std::unique_ptr<Waiting>> waiting_;  // by index, until written
-  std::vector<bool> added_;
+  std::vector<std::optional<std::vector<std::uint8_t>>> waiting_;  // encoded data by index, until written
   std::uint32_t written_ = 0;  // arrays [0, written_) are in the file
   std::uint64_t dataEnd_ = 0;  // where the next array's data goes
   std::uint64_t bytesWaiting_ = 0;
