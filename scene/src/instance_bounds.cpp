@@ -1,6 +1,6 @@
-// Branch-and-bound over point clusters for exact transformed bounds: a cluster's box bounds what
-// its points can reach along an axis, one real point of each cluster gives a value that is reached,
-// and only clusters whose bound beats the best reached value are read point by point.
+// Branch-and-bound over point clusters for exact transformed bounds: a cluster's (or a group's) box
+// bounds what its points can reach along an axis, the points of the most promising cluster give a value
+// that is reached, and only the clusters whose bound beats it are read point by point.
 #include "instance_bounds.hpp"
 
 #include <algorithm>
@@ -33,21 +33,56 @@ double pointValue(const glm::dvec3& a, double t, const glm::vec3& p) {
   return a.x * double(p.x) + a.y * double(p.y) + a.z * double(p.z) + t;
 }
 
-// max over all points of a·p + t, exactly.
+// max of a·p + t over the points of cluster k.
+double clusterMaximum(const ClusteredPoints& c, std::size_t k, const glm::dvec3& a, double t) {
+  double best = -std::numeric_limits<double>::infinity();
+  const std::size_t end = std::min(c.points.size(), (k + 1) * ClusteredPoints::kClusterSize);
+  for (std::size_t i = k * ClusteredPoints::kClusterSize; i < end; ++i) best = std::max(best, pointValue(a, t, c.points[i]));
+  return best;
+}
+
+// max over all points of a·p + t, exactly. The cluster with the largest box bound in the group with the
+// largest one is read first: its points nearly always hold the maximum, so the bound that follows prunes
+// all but a few groups and clusters.
 double exactMaximum(const ClusteredPoints& c, const glm::dvec3& a, double t) {
-  const std::size_t clusters = c.clusterMin.size();
-  double reached = -std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < clusters; ++k)
-    reached = std::max(reached, pointValue(a, t, c.points[k * ClusteredPoints::kClusterSize]));
-  // The box support and the point values round differently; a small slack keeps the pruning safe.
-  const double slack = 1e-9 * (std::abs(reached) + std::abs(t) + 1.0);
-  double best = reached;
-  for (std::size_t k = 0; k < clusters; ++k) {
-    if (boxSupport(a, t, c.clusterMin[k], c.clusterMax[k]) + slack < best) continue;
-    const std::size_t end = std::min(c.points.size(), (k + 1) * ClusteredPoints::kClusterSize);
-    for (std::size_t i = k * ClusteredPoints::kClusterSize; i < end; ++i) best = std::max(best, pointValue(a, t, c.points[i]));
+  const std::size_t groups = c.groupMin.size(), clusters = c.clusterMin.size();
+  constexpr std::size_t kGroup = ClusteredPoints::kGroupSize;
+  auto clusterSupport = [&](std::size_t k) { return boxSupport(a, t, c.clusterMin[k], c.clusterMax[k]); };
+  auto groupSupport = [&](std::size_t g) { return boxSupport(a, t, c.groupMin[g], c.groupMax[g]); };
+  auto clustersOf = [&](std::size_t g) { return std::pair(g * kGroup, std::min(clusters, (g + 1) * kGroup)); };
+
+  std::size_t seedGroup = 0;
+  for (std::size_t g = 1; g < groups; ++g)
+    if (groupSupport(g) > groupSupport(seedGroup)) seedGroup = g;
+  const auto [seedFirst, seedEnd] = clustersOf(seedGroup);
+  std::size_t seed = seedFirst;
+  for (std::size_t k = seedFirst + 1; k < seedEnd; ++k)
+    if (clusterSupport(k) > clusterSupport(seed)) seed = k;
+  double best = clusterMaximum(c, seed, a, t);
+  // The box bounds and the point values round differently; a small slack keeps the pruning safe.
+  const double slack = 1e-9 * (std::abs(best) + std::abs(t) + 1.0);
+  for (std::size_t g = 0; g < groups; ++g) {
+    if (groupSupport(g) + slack < best) continue;
+    const auto [first, end] = clustersOf(g);
+    for (std::size_t k = first; k < end; ++k)
+      if (k != seed && clusterSupport(k) + slack >= best) best = std::max(best, clusterMaximum(c, k, a, t));
   }
   return best;
+}
+
+// The box of each run of `run` consecutive boxes [lo[i], hi[i]] (points: lo = hi).
+void boxesOfRuns(const std::vector<glm::vec3>& lo, const std::vector<glm::vec3>& hi, std::size_t run,
+                 std::vector<glm::vec3>& runMin, std::vector<glm::vec3>& runMax) {
+  for (std::size_t first = 0; first < lo.size(); first += run) {
+    const std::size_t end = std::min(lo.size(), first + run);
+    glm::vec3 rlo = lo[first], rhi = hi[first];
+    for (std::size_t i = first + 1; i < end; ++i) {
+      rlo = glm::min(rlo, lo[i]);
+      rhi = glm::max(rhi, hi[i]);
+    }
+    runMin.push_back(rlo);
+    runMax.push_back(rhi);
+  }
 }
 
 }  // namespace
@@ -71,16 +106,8 @@ ClusteredPoints clusterPoints(std::span<const glm::vec3> positions) {
   std::sort(keyed.begin(), keyed.end());  // ties by index: deterministic
   c.points.reserve(positions.size());
   for (const auto& [code, index] : keyed) c.points.push_back(positions[index]);
-  for (std::size_t first = 0; first < c.points.size(); first += ClusteredPoints::kClusterSize) {
-    const std::size_t end = std::min(c.points.size(), first + ClusteredPoints::kClusterSize);
-    glm::vec3 clo = c.points[first], chi = c.points[first];
-    for (std::size_t i = first + 1; i < end; ++i) {
-      clo = glm::min(clo, c.points[i]);
-      chi = glm::max(chi, c.points[i]);
-    }
-    c.clusterMin.push_back(clo);
-    c.clusterMax.push_back(chi);
-  }
+  boxesOfRuns(c.points, c.points, ClusteredPoints::kClusterSize, c.clusterMin, c.clusterMax);
+  boxesOfRuns(c.clusterMin, c.clusterMax, ClusteredPoints::kGroupSize, c.groupMin, c.groupMax);
   return c;
 }
 

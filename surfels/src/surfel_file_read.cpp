@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -132,19 +133,23 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
   // Every array's data inside the file, after the tables.
   const std::uint64_t dataStart =
       std::max(header.arrayTableOffset + arrayTable.size(), header.nodeTableOffset + nodeTable.size());
+  // Errors name the first node using the array: one pass finds them all (a search per array would be
+  // arrays × nodes, seconds on a city).
+  constexpr std::size_t kUnused = std::numeric_limits<std::size_t>::max();
+  std::vector<std::size_t> firstUser(arrays_.size(), kUnused);
+  for (std::size_t n = nodes_.size(); n-- > 0;) firstUser[nodes_[n].array] = n;
   for (std::uint32_t a = 0; a < arrays_.size(); ++a) {
     const SurfelArrayInfo& info = arrays_[a];
     const std::uint64_t bytes = arrayDataBytes(info.count);
-    auto user = std::find_if(nodes_.begin(), nodes_.end(), [a](const SurfelNodeRecord& n) { return n.array == a; });
-    const std::string element = user != nodes_.end() ? "node " + user->path : "array " + number(a);
+    auto element = [&] { return firstUser[a] != kUnused ? "node " + nodes_[firstUser[a]].path : "array " + number(a); };
     if (info.dataOffset < dataStart && bytes > 0) {
-      throw InputError(file, element, "data offset " + number(info.dataOffset) + " inside the tables");
+      throw InputError(file, element(), "data offset " + number(info.dataOffset) + " inside the tables");
     }
     if (info.dataOffset > fileSize || bytes > fileSize - info.dataOffset) {
-      throw InputError(file, element, beyond(info.dataOffset, bytes, fileSize));
+      throw InputError(file, element(), beyond(info.dataOffset, bytes, fileSize));
     }
     if (const char* value = nonFiniteArrayValue(info))
-      throw InputError(file, element, std::string(value) + " is not finite");
+      throw InputError(file, element(), std::string(value) + " is not finite");
   }
 }
 
