@@ -1,13 +1,22 @@
 // A scene with surfels from surfelize at small, fast settings, for tests that render it.
 #pragma once
 
+#include <pbs/raster/camera.hpp>
 #include <pbs/scene/hierarchy.hpp>
 #include <pbs/scene/scene.hpp>
+#include <pbs/surfels/camera_paths.hpp>
 #include <pbs/surfels/scene_surfels.hpp>
 #include <pbs/surfels/surfelize.hpp>
 
+#include "test_fixtures.hpp"
+
+#include <glm/glm.hpp>
+
 #include <cstdint>
+#include <cstring>
+#include <filesystem>
 #include <utility>
+#include <vector>
 
 namespace pbs::test {
 
@@ -27,6 +36,31 @@ inline SurfeledScene surfeled(Scene scene, std::uint64_t threshold = 1000) {
   options.file.resolution = 128;
   s.surfels = sceneSurfelsOf(surfelize(s.scene, s.hierarchy, options), s.scene, s.hierarchy, "test");
   return s;
+}
+
+// The two-groups scene surfelized (arrays of 4000 surfels: four chunks) and written to `file`, for
+// tests of what reads the file as frames need it.
+inline SurfeledScene writtenSurfeledScene(const std::filesystem::path& file) {
+  SurfeledScene s = surfeled(twoIdenticalGroups());
+  SurfelizeOptions options;
+  options.file.threshold = 1000;
+  options.file.maxSurfels = 4000;
+  options.file.resolution = 128;
+  surfelizeToFile(s.scene, s.hierarchy, options, file);
+  return s;
+}
+
+// The approach path at 160×120: far frames draw short prefixes, near ones long prefixes or geometry.
+inline std::vector<Camera> approachCameras(const SurfeledScene& s, std::uint32_t frames, double startDistance = 4.0) {
+  std::vector<Camera> cameras;
+  for (const PathView& view : cameraPath(CameraPath::Approach, s.hierarchy, s.scene.roots,
+                                         Orbit{30.0, 20.0, startDistance}, frames, 160, 120))
+    cameras.push_back(view.camera);
+  return cameras;
+}
+
+inline bool sameBits(const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec4)) == 0;
 }
 
 }  // namespace pbs::test

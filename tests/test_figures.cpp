@@ -122,6 +122,36 @@ TEST(FigureCli, ViewsSheetAndNearDrawsMoreGeometryThanFar) {
   const auto json = nlohmann::json::parse(test::readFile(out / "views.json"));
   EXPECT_EQ(json["views"].size(), 3u);
 }
+// The stream figure on the groups: at the faster link the prefixes arrive within the plotted time and
+// the error falls to that of the frame with everything loaded; no series gets more bytes than its link.
+TEST(FigureCli, StreamErrorFallsAsPrefixesArrive) {
+  ScratchDir scratch;
+  const auto [scene, surfels] = test::groupsWithSurfels(scratch);
+  const std::filesystem::path out = scratch / "stream";
+  const test::CommandResult run =
+      test::runPbs("figure stream " + scene + " --surfels " + surfels + " -o '" + out.string() +
+                   "' --size 160x100 --orbit 30,20,1.5 --bandwidths 0.5,0.02 --seconds 2 --steps 8 "
+                   "--reference-samples 4 --exhausted grow --quiet");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(pngSize(out / "stream.png"), std::make_pair(3u * 160u, 3u * 100u)) << "3 times × prefixes | arrays | reference";
+  EXPECT_EQ(test::readFile(out / "stream.svg").rfind("<svg", 0), 0u);
+  const test::CsvTable csv = readCsv(out / "stream.csv");
+  ASSERT_EQ(csv.rows.size(), 2u * 2u * 8u) << "two bandwidths × two orders × 8 steps";
+  EXPECT_EQ(csv.rows[0].number("megabytes_per_second"), 0.02) << "slowest first";
+  const auto json = nlohmann::json::parse(test::readFile(out / "stream.json"));
+  const double loaded = json["every_prefix_loaded"]["flip_foreground"].get<double>();
+  for (const auto& series : json["series"]) {
+    const auto& steps = series["steps"];
+    const double rate = series["megabytes_per_second"].get<double>() * 1e6;
+    for (const auto& step : steps)
+      EXPECT_LE(step["bytes"].get<double>(), rate * step["seconds"].get<double>() + 1e-6);
+    EXPECT_LE(steps.back()["flip_foreground"].get<double>(), steps.front()["flip_foreground"].get<double>());
+    if (series["megabytes_per_second"].get<double>() == 0.5) {
+      EXPECT_EQ(steps.back()["missing_bytes"].get<std::uint64_t>(), 0u) << series["order"];
+      EXPECT_NEAR(steps.back()["flip_foreground"].get<double>(), loaded, 1e-12) << series["order"];
+    }
+  }
+}
 
 }  // namespace
 }  // namespace pbs

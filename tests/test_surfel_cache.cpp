@@ -21,35 +21,11 @@ namespace {
 
 using test::ScratchDir;
 
-// The two-groups scene surfelized (arrays of 4000 surfels: four chunks) and written to `file`.
-test::SurfeledScene writtenScene(const std::filesystem::path& file) {
-  test::SurfeledScene s = test::surfeled(test::twoIdenticalGroups());
-  SurfelizeOptions options;
-  options.file.threshold = 1000;
-  options.file.maxSurfels = 4000;
-  options.file.resolution = 128;
-  surfelizeToFile(s.scene, s.hierarchy, options, file);
-  return s;
-}
-
-// The approach path: far frames draw short prefixes, near ones long prefixes or geometry.
-std::vector<Camera> approach(const test::SurfeledScene& s, std::uint32_t frames, double startDistance = 4.0) {
-  std::vector<Camera> cameras;
-  for (const PathView& view : cameraPath(CameraPath::Approach, s.hierarchy, s.scene.roots,
-                                         Orbit{30.0, 20.0, startDistance}, frames, 160, 120))
-    cameras.push_back(view.camera);
-  return cameras;
-}
-
-bool sameBits(const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec4)) == 0;
-}
-
 // With a budget of one byte every array not drawn by the current frame is dropped after it, so later
 // frames read again what earlier ones dropped: the images must not notice.
 TEST(SurfelCache, FramesAreTheWholeFilesBitForBitWhateverTheBudget) {
   ScratchDir scratch;
-  const test::SurfeledScene s = writtenScene(scratch / "g.surfels");
+  const test::SurfeledScene s = test::writtenSurfeledScene(scratch / "g.surfels");
   const SceneSurfels whole = loadSceneSurfels(scratch / "g.surfels", s.scene, s.hierarchy);
   LodOptions lod;
   lod.descendExhausted = false;  // the groups as surfels even where they fill much of the view
@@ -59,9 +35,9 @@ TEST(SurfelCache, FramesAreTheWholeFilesBitForBitWhateverTheBudget) {
     SurfelCache cache(scratch / "g.surfels", s.scene, s.hierarchy, budget);
     FrameRenderer streamed(s.scene, s.hierarchy, options, 160, 120, {.cache = &cache});
     std::uint64_t surfelsDrawn = 0;
-    for (const Camera& camera : approach(s, 6)) {
+    for (const Camera& camera : test::approachCameras(s, 6)) {
       const FrameResult a = reference.render(camera), b = streamed.render(camera);
-      EXPECT_TRUE(sameBits(a.image, b.image)) << "budget " << budget;
+      EXPECT_TRUE(test::sameBits(a.image, b.image)) << "budget " << budget;
       surfelsDrawn += b.stats.surfels;
       if (budget == 1) {
         std::uint64_t loaded = 0;
@@ -81,11 +57,11 @@ TEST(SurfelCache, FramesAreTheWholeFilesBitForBitWhateverTheBudget) {
 // A far view draws short prefixes: the cache reads their chunks, not the file.
 TEST(SurfelCache, AFarViewReadsOnlyItsPrefixesChunks) {
   ScratchDir scratch;
-  const test::SurfeledScene s = writtenScene(scratch / "g.surfels");
+  const test::SurfeledScene s = test::writtenSurfeledScene(scratch / "g.surfels");
   SurfelCache cache(scratch / "g.surfels", s.scene, s.hierarchy, std::uint64_t(1) << 30);
   for (const SplatArray& array : cache.surfels().arrays) EXPECT_EQ(array.loaded(), 0u) << "tables only at first";
   FrameRenderer renderer(s.scene, s.hierarchy, {.mode = RenderMode::Surfels}, 160, 120, {.cache = &cache});
-  const FrameResult far = renderer.render(approach(s, 2, 40.0).front());
+  const FrameResult far = renderer.render(test::approachCameras(s, 2, 40.0).front());
   ASSERT_GT(far.stats.surfels, 0u);
   std::uint64_t fileSurfels = 0;
   for (const SplatArray& array : cache.surfels().arrays) fileSurfels += array.size();
@@ -96,7 +72,7 @@ TEST(SurfelCache, AFarViewReadsOnlyItsPrefixesChunks) {
 
 TEST(SurfelCache, AnotherScenesFileIsRefused) {
   ScratchDir scratch;
-  writtenScene(scratch / "g.surfels");
+  test::writtenSurfeledScene(scratch / "g.surfels");
   Scene other = test::twoIdenticalGroups();
   other.meshes[0].positions[0].x += 0.5f;
   const Hierarchy hierarchy = analyzeHierarchy(other);
@@ -106,7 +82,7 @@ TEST(SurfelCache, AnotherScenesFileIsRefused) {
 
 TEST(SurfelFileReader, RangesAreSlicesOfThePrefix) {
   ScratchDir scratch;
-  writtenScene(scratch / "g.surfels");
+  test::writtenSurfeledScene(scratch / "g.surfels");
   SurfelFileReader reader(scratch / "g.surfels");
   ASSERT_FALSE(reader.arrays().empty());
   const std::uint32_t count = reader.arrays()[0].count;

@@ -1,9 +1,11 @@
-// `pbs figure scaling|views|paths -o DIR`: the evaluation's figures, each written by one command: frame
-// time against scene size (figure_scaling.hpp), exact against surfels from near to far (figure_views.hpp),
-// and the camera paths seen from above (figure_paths.hpp).
+// `pbs figure scaling|views|paths|stream -o DIR`: the evaluation's figures, each written by one command:
+// frame time against scene size (figure_scaling.hpp), exact against surfels from near to far
+// (figure_views.hpp), the camera paths seen from above (figure_paths.hpp), and a view's error while its
+// surfels stream in (figure_stream.hpp).
 #include "commands.hpp"
 #include "figure_paths.hpp"
 #include "figure_scaling.hpp"
+#include "figure_stream.hpp"
 #include "figure_views.hpp"
 #include "orbit_views.hpp"
 
@@ -129,6 +131,49 @@ void addPaths(CLI::App& figure) {
   });
 }
 
+void addStream(CLI::App& figure) {
+  struct Options {
+    StreamFigureOptions stream;
+    std::string output;
+    std::string orbit = "30,20,2.5";
+    std::string size = "1920x1080";
+    int threads = 0;
+  };
+  auto options = std::make_shared<Options>();
+  StreamFigureOptions& stream = options->stream;
+  CLI::App* command = figure.add_subcommand(
+      "stream", "a view while its surfels stream in over a simulated link: FLIP against a converged reference over "
+                "time at two bandwidths, prefixes chunk by chunk beside whole arrays one by one");
+  command->add_option("scene", stream.scene, "a .gltf/.glb file, or 'default'")->required();
+  command->add_option("--surfels", stream.surfels, "the scene's .surfels file (from pbs surfelize)")->required();
+  command->add_option("-o,--output", options->output,
+                      "folder for stream.svg, stream.png, stream.csv, stream.json (created if missing)")
+      ->required();
+  command->add_option("--bandwidths", stream.bandwidths, "MB/s (10^6 bytes a second) of the links compared")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command->add_option("--seconds", stream.seconds, "simulated time the plot spans")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command->add_option("--steps", stream.steps, "frames per series, evenly spread over --seconds")
+      ->check(CLI::Range(4u, 10000u))
+      ->capture_default_str();
+  command->add_option("--orbit", options->orbit, "AZ,EL,DIST: degrees, degrees, bounding radii (the view)")
+      ->capture_default_str();
+  command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
+  addSamplesOption(*command, "--reference-samples", stream.referenceSamples,
+                   "Embree's samples per pixel for the reference");
+  addLodOptions(*command, stream.lod);
+  command->add_flag("-q,--quiet", stream.quiet, "no progress on stderr");
+  addThreadsOption(*command, options->threads);
+  command->callback([options] {
+    options->stream.orbit = parseOrbit(options->orbit);
+    std::tie(options->stream.width, options->stream.height) = parseSize(options->size);
+    runWithThreads(options->threads, [&] { writeStreamFigure(options->stream, options->output); });
+  });
+}
+
 }  // namespace
 
 void addFigureCommand(CLI::App& app) {
@@ -137,6 +182,7 @@ void addFigureCommand(CLI::App& app) {
   addScaling(*figure);
   addViews(*figure);
   addPaths(*figure);
+  addStream(*figure);
 }
 
 }  // namespace pbs::cli

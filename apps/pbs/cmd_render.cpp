@@ -36,6 +36,9 @@ struct RenderOptions {
   bool json = false;
   std::uint64_t maxMemory = 0;
   std::uint64_t cacheMb = 1024;
+  double streamMBps = 0.0;  // 0: read from the file as frames need it
+  double streamFps = 30.0;
+  std::string streamOrder = "prefixes";
   int threads = 0;
 };
 
@@ -64,6 +67,21 @@ nlohmann::json frameJson(RenderMode mode, const FrameResult& frame) {
   return entry;
 }
 
+nlohmann::json streamJson(const StreamStats& stream) {
+  return {{"stream_seconds", stream.seconds},
+          {"stream_bytes", stream.bytes},
+          {"stream_missing_bytes", stream.missingBytes},
+          {"stream_missing_pixels", stream.missingPixels}};
+}
+
+// "; streamed 12.3 MB by 0.50 s, 4.1 MB missing": where the simulated link stands.
+std::string streamText(const StreamStats& stream) {
+  char text[96];
+  std::snprintf(text, sizeof text, "; streamed %.1f MB by %.2f s, %.1f MB missing", stream.bytes / 1e6, stream.seconds,
+                stream.missingBytes / 1e6);
+  return text;
+}
+
 // "; geometry by rays 3.1 ms (BVH builds 1.2)": how the geometry nodes were drawn, in surfels mode.
 std::string geometryText(RenderMode mode, const LodStats& stats) {
   if (mode != RenderMode::Surfels) return "";
@@ -90,8 +108,16 @@ void run(const RenderOptions& options) {
   const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
   std::optional<SurfelCache> surfels;
   if (mode == RenderMode::Surfels) surfels.emplace(options.surfels, loaded.scene, loaded.hierarchy, cacheBytes);
+  if (options.streamMBps > 0.0 && !surfels)
+    throw CLI::ValidationError("--stream", "streams a .surfels file: give --surfels FILE (surfels mode)");
+  std::optional<SurfelStream> stream;
+  if (options.streamMBps > 0.0)
+    stream.emplace(*surfels, loaded.scene, loaded.hierarchy, options.lod,
+                   StreamOptions{.bytesPerSecond = options.streamMBps * 1e6,
+                                 .order = *streamOrderFromName(options.streamOrder)});
   FrameRenderer renderer(loaded.scene, loaded.hierarchy, {.mode = mode, .lod = options.lod, .samples = options.samples},
-                         width, height, {.cache = surfels ? &*surfels : nullptr});
+                         width, height,
+                         {.cache = surfels ? &*surfels : nullptr, .stream = stream ? &*stream : nullptr});
 
   const std::vector<PathView> views = pathViews(loaded, options.path, orbit, options.frames, width, height);
   const std::uint32_t frames = std::uint32_t(views.size());
@@ -103,9 +129,12 @@ void run(const RenderOptions& options) {
   if (mode == RenderMode::Embree) report["build_seconds"] = renderer.buildSeconds();
   std::vector<double> seconds;
   for (std::uint32_t f = 0; f < frames; ++f) {
+    // Frame f shows what the link delivered by (f + 1) / fps.
+    if (stream) stream->advance(views[f].camera, 1.0 / options.streamFps);
     const FrameResult frame = renderer.render(views[f].camera);
     seconds.push_back(frame.seconds);
     nlohmann::json entry = frameJson(mode, frame);
+    if (stream) entry.update(streamJson(stream->stats()));
     if (!output.empty()) {
       char name[32];
       std::snprintf(name, sizeof name, "frame_%04u.png", f);
@@ -116,20 +145,21 @@ void run(const RenderOptions& options) {
     if (options.frames > 0) {
       report["frames"].push_back(entry);
       if (!options.json)
-        std::printf("frame %u: %.1f ms (traverse %.1f, raster %.1f), %s triangles, %s surfels%s\n", f,
+        std::printf("frame %u: %.1f ms (traverse %.1f, raster %.1f), %s triangles, %s surfels%s%s\n", f,
                     frame.seconds * 1e3, frame.stats.traverseSeconds * 1e3, frame.stats.rasterSeconds * 1e3,
                     withThousands(frame.stats.triangles).c_str(), withThousands(frame.stats.surfels).c_str(),
-                    geometryText(mode, frame.stats).c_str());
+                    geometryText(mode, frame.stats).c_str(), stream ? streamText(stream->stats()).c_str() : "");
     } else {
       report.update(entry);
       if (!options.json)
         std::printf("%s, %s: %ux%u in %.1f ms (traverse %.1f, raster %.1f): %s triangles of %s nodes, %s surfels of "
-                    "%s nodes%s%s%s\n",
+                    "%s nodes%s%s%s%s\n",
                     loaded.name.c_str(), modeName.c_str(), width, height, frame.seconds * 1e3,
                     frame.stats.traverseSeconds * 1e3, frame.stats.rasterSeconds * 1e3,
                     withThousands(frame.stats.triangles).c_str(), withThousands(frame.stats.nodesGeometry).c_str(),
                     withThousands(frame.stats.surfels).c_str(), withThousands(frame.stats.nodesSurfels).c_str(),
-                    geometryText(mode, frame.stats).c_str(), output.empty() ? "" : "; wrote ", output.string().c_str());
+                    geometryText(mode, frame.stats).c_str(), stream ? streamText(stream->stats()).c_str() : "",
+                    output.empty() ? "" : "; wrote ", output.string().c_str());
     }
   }
   if (options.frames > 0) {
@@ -172,6 +202,20 @@ void addRenderCommand(CLI::App& app) {
                       "surfels are read from the file as frames draw them; the least recently drawn arrays are "
                       "dropped beyond this many MB")
       ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 30))
+      ->capture_default_str();
+  command->add_option("--stream", options->streamMBps,
+                      "MB/s: as if the .surfels file and the meshes came over a link of this many megabytes (10^6 "
+                      "bytes) a second; each frame draws what has arrived (prefixes cut short, geometry only where "
+                      "its mesh arrived), the link fetching what the view lacks most first")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--stream-fps", options->streamFps,
+                      "frames a second on the stream's clock: frame f shows what arrived by (f + 1) / fps")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  command->add_option("--stream-order", options->streamOrder,
+                      "prefixes: a chunk at a time of the prefix that lacks most pixels; arrays: whole arrays one by "
+                      "one, each drawn once complete")
+      ->check(CLI::IsMember({"prefixes", "arrays"}))
       ->capture_default_str();
   addMaxMemoryOption(*command, options->maxMemory);
   addThreadsOption(*command, options->threads);

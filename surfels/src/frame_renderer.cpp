@@ -40,6 +40,8 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, con
       gbuffer_(makeFramebuffer(width, height, kChannelColor | kChannelNormal | coverageChannel(options))) {
   const RenderMode mode = options.mode;
   if (mode == RenderMode::Surfels && sources.cache) sources_.surfels = &sources.cache->surfels();
+  if (sources.stream && (mode != RenderMode::Surfels || !sources.cache))
+    throw std::invalid_argument("a stream draws in surfels mode from its surfel cache");
   if ((mode == RenderMode::Surfels || mode == RenderMode::Simplified) && !sources_.surfels)
     throw std::invalid_argument("surfels and simplified modes need a surfel file");
   if (mode == RenderMode::Simplified && !sources.simplified)
@@ -76,6 +78,12 @@ LodStats FrameRenderer::drawPass(const Camera& camera, double& loadSeconds) {
       const auto traverse = detail::Clock::now();
       const LodDraws draws = traverseLod(scene_, hierarchy_, *sources_.surfels, camera, options_.lod);
       const double traverseSeconds = detail::secondsSince(traverse);
+      if (sources_.stream) {
+        pass = drawLod(scene_, hierarchy_, *sources_.surfels, sources_.stream->arrived(draws, camera), camera, gbuffer_,
+                       options_.lod, rays);
+        pass.traverseSeconds = traverseSeconds;
+        break;
+      }
       const auto load = detail::Clock::now();
       sources_.cache->load(draws);
       loadSeconds += detail::secondsSince(load);

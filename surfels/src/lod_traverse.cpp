@@ -51,6 +51,13 @@ class Traversal {
     descend(node, growth);
   }
 
+  // The node's array at full weight, sized by its projected size as if it were inside the threshold.
+  void drawWhole(std::uint32_t node) {
+    const std::uint32_t array = surfels_.arrayOfNode[node];
+    const double size = std::sqrt(projectedBoxPixels(camera_, hierarchy_.worldBounds[node]));
+    drawSurfels(node, array, scaleOf(node, surfels_.arrays[array]), size, 1.0);
+  }
+
   LodDraws draws;
 
  private:
@@ -136,6 +143,16 @@ LodDraws traverseLod(const Scene& scene, const Hierarchy& hierarchy, const Scene
   Traversal traversal(scene, hierarchy, surfels, camera, options);
   for (std::uint32_t root : scene.roots) traversal.visit(root, 1.0);
   return std::move(traversal.draws);
+}
+
+std::optional<LodDraws::Surfels> wholeArrayDraw(const Scene& scene, const Hierarchy& hierarchy,
+                                                const SceneSurfels& surfels, const Camera& camera,
+                                                const LodOptions& options, std::uint32_t node) {
+  if (node >= surfels.arrayOfNode.size() || surfels.arrayOfNode[node] == kNoSurfels) return std::nullopt;
+  Traversal traversal(scene, hierarchy, surfels, camera, options);
+  traversal.drawWhole(node);
+  if (traversal.draws.surfels.empty()) return std::nullopt;
+  return traversal.draws.surfels.front();
 }
 
 }  // namespace pbs

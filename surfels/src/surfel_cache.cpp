@@ -19,22 +19,30 @@ SurfelCache::SurfelCache(const std::filesystem::path& file, const Scene& scene, 
   lastCount_.assign(surfels_.arrays.size(), 0);
 }
 
-void SurfelCache::load(const LodDraws& draws) {
+std::vector<std::uint32_t> SurfelCache::markDrawn(const LodDraws& draws) {
   ++frame_;
-  // The prefix each array drew in the frame before this one, for the read-ahead.
-  std::vector<std::pair<std::uint32_t, std::size_t>> grown;
+  std::vector<std::uint32_t> grown;
   for (const LodDraws::Surfels& draw : draws.surfels) {
     const std::uint32_t a = draw.array;
     if (lastDrawn_[a] != frame_) {
-      if (lastDrawn_[a] + 1 == frame_ && draw.count > lastCount_[a]) grown.emplace_back(a, draw.count);
+      if (lastDrawn_[a] + 1 == frame_ && draw.count > lastCount_[a]) grown.push_back(a);
       lastDrawn_[a] = frame_;
       lastCount_[a] = 0;
     }
     lastCount_[a] = std::max<std::size_t>(lastCount_[a], draw.count);
-    loadPrefix(a, draw.count);
   }
-  for (const auto& [a, count] : grown) loadPrefix(a, std::max(count, lastCount_[a]) + kSurfelsPerChunk);
-  stats_.bytesRead = reader_.dataBytesRead();
+  return grown;
+}
+
+void SurfelCache::load(const LodDraws& draws) {
+  const std::vector<std::uint32_t> grown = markDrawn(draws);
+  for (const LodDraws::Surfels& draw : draws.surfels) loadPrefix(draw.array, draw.count);
+  for (std::uint32_t a : grown) loadPrefix(a, lastCount_[a] + kSurfelsPerChunk);
+  dropOverBudget();
+}
+
+void SurfelCache::keep(const LodDraws& draws) {
+  markDrawn(draws);
   dropOverBudget();
 }
 
@@ -48,6 +56,7 @@ void SurfelCache::loadPrefix(std::uint32_t array, std::size_t count) {
   const std::vector<Surfel> read =
       reader_.readRange(array, std::uint32_t(from), std::uint32_t(wanted - from));
   appendSurfels(splats, read);
+  stats_.bytesRead = reader_.dataBytesRead();
   stats_.bytesLoaded += read.size() * kSplatBytesPerSurfel;
   stats_.peakBytesLoaded = std::max(stats_.peakBytesLoaded, stats_.bytesLoaded);
 }

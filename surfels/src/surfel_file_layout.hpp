@@ -136,9 +136,7 @@ const char* nonFiniteArrayValue(const Array& a) {
 }
 
 inline std::uint64_t chunkCount(std::uint64_t surfels) { return (surfels + kSurfelsPerChunk - 1) / kSurfelsPerChunk; }
-inline std::uint64_t arrayDataBytes(std::uint64_t surfels) {
-  return surfels * kSurfelBytes + chunkCount(surfels) * kChecksumBytes;
-}
+
 inline std::uint64_t chunkChecksum(std::span<const std::uint8_t> chunk, std::uint64_t chunkIndex) {
   return Hash64::of(chunk.data(), chunk.size(), kChunkSeed + chunkIndex);
 }

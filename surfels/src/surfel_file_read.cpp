@@ -133,6 +133,7 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
   // Every array's data inside the file, after the tables.
   const std::uint64_t dataStart =
       std::max(header.arrayTableOffset + arrayTable.size(), header.nodeTableOffset + nodeTable.size());
+  tablesBytes_ = headerBytes.size() + arrayTable.size() + nodeTable.size();
   // Errors name the first node using the array: one pass finds them all (a search per array would be
   // arrays × nodes, seconds on a city).
   constexpr std::size_t kUnused = std::numeric_limits<std::size_t>::max();
@@ -140,7 +141,7 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
   for (std::size_t n = nodes_.size(); n-- > 0;) firstUser[nodes_[n].array] = n;
   for (std::uint32_t a = 0; a < arrays_.size(); ++a) {
     const SurfelArrayInfo& info = arrays_[a];
-    const std::uint64_t bytes = arrayDataBytes(info.count);
+    const std::uint64_t bytes = storedSurfelBytes(info.count);
     auto element = [&] { return firstUser[a] != kUnused ? "node " + nodes_[firstUser[a]].path : "array " + number(a); };
     if (info.dataOffset < dataStart && bytes > 0) {
       throw InputError(file, element(), "data offset " + number(info.dataOffset) + " inside the tables");

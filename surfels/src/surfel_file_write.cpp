@@ -53,7 +53,7 @@ std::uint64_t dataStart(std::uint64_t arrayCount, std::span<const SurfelNodeReco
 // One array's chunks, then its chunk checksums.
 std::vector<std::uint8_t> encodeArrayData(const SurfelArray& array) {
   std::vector<std::uint8_t> data;
-  data.reserve(arrayDataBytes(array.surfels.size()));
+  data.reserve(storedSurfelBytes(array.surfels.size()));
   ByteSink checksums;
   for (std::size_t first = 0; first < array.surfels.size(); first += kSurfelsPerChunk) {
     const std::size_t chunkStart = data.size();

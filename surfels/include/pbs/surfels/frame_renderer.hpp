@@ -9,6 +9,7 @@
 #include "pbs/scene/hierarchy.hpp"
 #include "pbs/surfels/lod_render.hpp"
 #include "pbs/surfels/surfel_cache.hpp"
+#include "pbs/surfels/surfel_stream.hpp"
 
 #include <glm/glm.hpp>
 
@@ -53,6 +54,9 @@ struct FrameSources {
   // Surfels mode, instead of `surfels`: a file read as frames draw it; each pass first loads the prefixes
   // it will draw.
   SurfelCache* cache = nullptr;
+  // Surfels mode with `cache`: a link that the caller advances between frames (the stream's cache must
+  // be `cache`); each pass draws only what has arrived, and loads nothing itself.
+  const SurfelStream* stream = nullptr;
   const Scene* simplified = nullptr;      // Simplified mode: the scene's simplifyScene copy
   // Embree mode: a BVH built elsewhere and shared; null: built here. Surfels mode: mesh BVHs the geometry
   // nodes' rays reuse; null: each built the first time a frame needs it.

@@ -97,6 +97,14 @@ struct LodDraws {
 LodDraws traverseLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
                      const LodOptions& options);
 
+// The draw traverseLod would make of `node`'s own array at full weight whatever the node's size: the
+// prefix its projected size asks for, clamped to the array, with the disc that closes the surface. For
+// a caller that must draw surfels where the traversal chose geometry (a stream whose mesh has not
+// arrived). nullopt when the node has no array or the prefix is empty.
+std::optional<LodDraws::Surfels> wholeArrayDraw(const Scene& scene, const Hierarchy& hierarchy,
+                                                const SceneSurfels& surfels, const Camera& camera,
+                                                const LodOptions& options, std::uint32_t node);
+
 // The number of surfels a node of projected size `projectedSize` (pixels) whose array is `array` asks
 // for, seen at `worldPixel` (world size of one pixel at the node) with node-to-world scale `scale`: by
 // options.prefixRule, not clamped to the array. It grows with projectedSize², under either rule.

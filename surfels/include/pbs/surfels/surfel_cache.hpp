@@ -40,16 +40,24 @@ class SurfelCache {
   // corrupt chunk throws InputError naming the node.
   void load(const LodDraws& draws);
 
+  // For a caller that decides itself what to read and when (a simulated link, surfel_stream.hpp):
+  // reads whole chunks of `array` until at least min(count, its size) surfels are loaded.
+  void loadPrefix(std::uint32_t array, std::size_t count);
+  // Records `draws` as drawn now, then drops arrays as load() does; reads nothing.
+  void keep(const LodDraws& draws);
+
   const SurfelCacheStats& stats() const { return stats_; }
+  std::uint64_t tablesBytes() const { return reader_.tablesBytes(); }  // what opening the file read
 
  private:
-  void loadPrefix(std::uint32_t array, std::size_t count);
+  // Records the draws as this call's; returns the arrays whose prefix grew since the call before.
+  std::vector<std::uint32_t> markDrawn(const LodDraws& draws);
   void dropOverBudget();
 
   SurfelFileReader reader_;
   SceneSurfels surfels_;
   std::uint64_t budget_;
-  std::uint64_t frame_ = 0;
+  std::uint64_t frame_ = 0;  // load() and keep() calls so far
   std::vector<std::uint64_t> lastDrawn_;     // per array: the load() call that last drew it (0: never)
   std::vector<std::size_t> lastCount_;       // per array: the prefix it drew then
   SurfelCacheStats stats_;

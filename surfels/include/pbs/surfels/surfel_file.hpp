@@ -39,6 +39,14 @@ inline constexpr std::uint32_t kSurfelFileVersion = 2;
 inline constexpr std::size_t kSurfelBytes = 16;
 inline constexpr std::uint32_t kSurfelsPerChunk = 1024;
 inline constexpr std::uint32_t kPositionBits = 21;
+
+// The bytes `surfels` surfels take in the file, in chunks with one checksum each: what a range costs to
+// read when it starts a chunk and ends at a chunk's end or the array's.
+inline constexpr std::uint64_t storedSurfelBytes(std::uint64_t surfels) {
+  constexpr std::uint64_t kChunkChecksumBytes = 8;
+  return surfels * kSurfelBytes + (surfels + kSurfelsPerChunk - 1) / kSurfelsPerChunk * kChunkChecksumBytes;
+}
+
 // SurfelArray::packing is measured on the first min(kPackingSample, N) surfels.
 inline constexpr std::size_t kPackingSample = 1000;
 
@@ -165,6 +173,8 @@ class SurfelFileReader {
   // Bytes read from the file by readPrefix calls so far (the data of the chunks and their checksums):
   // lets a test check that a prefix costs only its own bytes.
   std::uint64_t dataBytesRead() const { return dataBytesRead_; }
+  // The header and both tables with their checksums: what opening the file reads.
+  std::uint64_t tablesBytes() const { return tablesBytes_; }
 
  private:
   std::filesystem::path path_;
@@ -174,6 +184,7 @@ class SurfelFileReader {
   std::vector<SurfelArrayInfo> arrays_;
   std::vector<SurfelNodeRecord> nodes_;
   std::uint64_t dataBytesRead_ = 0;
+  std::uint64_t tablesBytes_ = 0;
 };
 
 // The whole file, every checksum checked.
