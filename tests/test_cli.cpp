@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+
 #include <fcntl.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -227,6 +229,27 @@ TEST(Cli, JobsOverTheMemoryLimitFailEarly) {
   EXPECT_EQ(render.status, 1);
   EXPECT_NE(render.err.find("rendering 16384x16384 would need about 10.00 GB"), std::string::npos) << render.err;
   EXPECT_EQ(runPbs("render default --max-memory lots").status, 2) << "a size it cannot read is bad usage";
+}
+
+// The ray caster on the same footing: its BVH's estimated size counts against --max-memory, refused
+// after the scene is read and before the build; a render that fits reports what Embree allocated.
+TEST(Cli, RaysOverTheMemoryLimitAreRefusedBeforeTheBuild) {
+  ScratchDir scratch;
+  const CommandResult refused =
+      runPbs("render default --mode embree --size 64x64 --max-memory 20MB -o '" + (scratch / "x.png").string() + "'");
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_EQ(refused.err.rfind("error: ray casting default (", 0), 0u) << refused.err;
+  EXPECT_NE(refused.err.find("triangles in Embree's BVHs) would need about"), std::string::npos) << refused.err;
+  EXPECT_EQ(std::count(refused.err.begin(), refused.err.end(), '\n'), 1) << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(scratch / "x.png"));
+
+  const CommandResult fits = runPbs("render default --mode embree --size 64x64 --json");
+  ASSERT_EQ(fits.status, 0) << fits.err;
+  const auto json = nlohmann::json::parse(fits.out);
+  const auto peak = json["bvh_peak_bytes"].get<std::uint64_t>();
+  EXPECT_GT(peak, 1u << 20) << "the default scene's BVHs take megabytes";
+  EXPECT_GE(json["bvh_estimate_bytes"].get<std::uint64_t>(), peak) << "the estimate bounds what was allocated";
+  EXPECT_GT(json["build_seconds"].get<double>(), 0.0);
 }
 
 }  // namespace

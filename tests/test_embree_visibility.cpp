@@ -317,6 +317,20 @@ TEST(SceneDraws, OutsideClipVolumeIsConservative) {
   EXPECT_TRUE(outsideClipVolume(camera, Bounds{}));                                     // empty
 }
 
+// Embree's own count of what it allocates: a scene's BVHs take bytes in proportion to its triangles,
+// and the estimate a command checks against --max-memory lies above what the build used.
+TEST(EmbreeCaster, AllocationsAreCountedAndTheEstimateBoundsThem) {
+  for (const int subdivisions : {4, 40}) {
+    Scene scene = test::twoIdenticalGroups();
+    scene.meshes[0] = test::tessellatedBox(subdivisions);
+    const Hierarchy hierarchy = analyzeHierarchy(scene);
+    const EmbreeScene embree(scene, hierarchy);
+    EXPECT_GT(embree.peakBytes(), scene.meshes[0].triangleCount() * 8) << subdivisions;
+    EXPECT_LE(embree.bytes(), embree.peakBytes());
+    EXPECT_GE(embreeMemoryEstimate(scene, hierarchy), embree.peakBytes()) << subdivisions;
+  }
+}
+
 TEST(EmbreeCaster, SameImageForAnyThreadCount) {
   const Scene scene = instancedScene({0.0, 0.0, 0.0});
   const Hierarchy hierarchy = analyzeHierarchy(scene);

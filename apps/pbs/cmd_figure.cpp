@@ -52,7 +52,7 @@ void addScaling(CLI::App& figure) {
   command->add_option("--frames", scaling.frames, "views per city along the --path")->check(CLI::Range(1u, 1000u))->capture_default_str();
   command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
   command->add_option("--max-triangles", scaling.maxTriangles, "leave out the cities of more triangles")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   addLodOptions(*command, scaling.lod);
   addPathOption(*command, options->path);
   command->add_flag("-q,--quiet", scaling.quiet, "no progress on stderr");
@@ -89,7 +89,7 @@ void addViews(CLI::App& figure) {
       ->capture_default_str();
   command->add_option("--distances", views.distances, "NEAR,MIDDLE,FAR in bounding radii from the centre")
       ->delimiter(',')
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
   addCaptureOptions(*command, views.surfelize.file.resolution, views.surfelize.file.directions);
   addLodOptions(*command, views.lod);
@@ -151,10 +151,10 @@ void addStream(CLI::App& figure) {
       ->required();
   command->add_option("--bandwidths", stream.bandwidths, "MB/s (10^6 bytes a second) of the links compared")
       ->delimiter(',')
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
   command->add_option("--seconds", stream.seconds, "simulated time the plot spans")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
   command->add_option("--steps", stream.steps, "frames per series, evenly spread over --seconds")
       ->check(CLI::Range(4u, 10000u))

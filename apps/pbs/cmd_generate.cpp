@@ -40,7 +40,7 @@ void requireUniqueCityFits(const std::vector<Scene>& prototypes, const CityOptio
     const Mesh& mesh = city.meshes[std::size_t(node.mesh)];
     const std::uint64_t vertices = mesh.positions.size(), perVertex = mesh.uvs.empty() ? 24 : 32;
     triangles += mesh.triangleCount();
-    sceneBytes += vertices * perVertex + mesh.indices.size() * 4;
+    sceneBytes += meshBytes(mesh);
     glbBytes += vertices * perVertex + mesh.indices.size() * (vertices < 65535 ? 2 : 4);
   }
   const std::string what = "a city of " + withThousands(triangles) + " unique triangles";

@@ -106,6 +106,15 @@ void run(const RenderOptions& options) {
   requireMemory(estimate, "rendering " + std::to_string(width) + "x" + std::to_string(height), options.maxMemory);
 
   const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
+  if (mode == RenderMode::Embree) {
+    // The rays' BVHs come on top of the scene: refuse a build that would not fit before starting it.
+    std::uint64_t sceneBytes = 0;
+    for (const Mesh& mesh : loaded.scene.meshes) sceneBytes += meshBytes(mesh);
+    requireMemory(estimate + sceneBytes + embreeMemoryEstimate(loaded.scene, loaded.hierarchy),
+                  "ray casting " + loaded.name + " (" + withThousands(loaded.summary.uniqueTriangles) +
+                      " triangles in Embree's BVHs)",
+                  options.maxMemory);
+  }
   std::optional<SurfelCache> surfels;
   if (mode == RenderMode::Surfels) surfels.emplace(options.surfels, loaded.scene, loaded.hierarchy, cacheBytes);
   if (options.streamMBps > 0.0 && !surfels)
@@ -126,7 +135,11 @@ void run(const RenderOptions& options) {
 
   nlohmann::json report = {{"scene", loaded.name}, {"mode", modeName},         {"width", width},
                             {"height", height},   {"samples", options.samples}};
-  if (mode == RenderMode::Embree) report["build_seconds"] = renderer.buildSeconds();
+  if (mode == RenderMode::Embree) {
+    report["build_seconds"] = renderer.buildSeconds();
+    report["bvh_peak_bytes"] = renderer.bvhPeakBytes();
+    report["bvh_estimate_bytes"] = embreeMemoryEstimate(loaded.scene, loaded.hierarchy);
+  }
   std::vector<double> seconds;
   for (std::uint32_t f = 0; f < frames; ++f) {
     // Frame f shows what the link delivered by (f + 1) / fps.
@@ -207,10 +220,10 @@ void addRenderCommand(CLI::App& app) {
                       "MB/s: as if the .surfels file and the meshes came over a link of this many megabytes (10^6 "
                       "bytes) a second; each frame draws what has arrived (prefixes cut short, geometry only where "
                       "its mesh arrived), the link fetching what the view lacks most first")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   command->add_option("--stream-fps", options->streamFps,
                       "frames a second on the stream's clock: frame f shows what arrived by (f + 1) / fps")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
   command->add_option("--stream-order", options->streamOrder,
                       "prefixes: a chunk at a time of the prefix that lacks most pixels; arrays: whole arrays one by "

@@ -45,6 +45,10 @@ void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32
 void addLodOptions(CLI::App& command, LodOptions& lod);
 
 // A samples-per-pixel option (`--samples`, `--reference-samples`): 1, 4, 16, 64 or 256 (supersampling.hpp).
+// A check for options that take a positive, finite number ("expected a positive number, not 0"; CLI11's
+// PositiveNumber prints the whole double range instead).
+CLI::Validator positiveNumber();
+
 void addSamplesOption(CLI::App& command, const std::string& name, std::uint32_t& samples, const std::string& help);
 
 // `--path orbit|approach|flythrough`: the camera path of the commands that render frames (camera_paths.hpp).

@@ -3,9 +3,9 @@
 
 #include <pbs/raster/supersampling.hpp>
 
-#include <optional>
-
+#include <cmath>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -28,13 +28,13 @@ void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32
 
 void addLodOptions(CLI::App& command, LodOptions& lod) {
   command.add_option("--threshold", lod.threshold, "projected size (pixels) above which nodes are descended")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
   command.add_option("--band", lod.band, "transition band above the threshold, as a fraction of it")
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
   command.add_option("--overdraw", lod.overdraw, "surfels per covered pixel (paper: 4)")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
   command
       .add_option_function<std::string>(
@@ -75,6 +75,17 @@ void addLodOptions(CLI::App& command, LodOptions& lod) {
                   "what draws the nodes drawn as triangles in surfels mode: raster, rays (Embree) or auto (the "
                   "cheaper per frame, the default)")
       ->transform(CLI::CheckedTransformer(drawers));
+}
+
+CLI::Validator positiveNumber() {
+  return CLI::Validator(
+      [](const std::string& text) {
+        double value = 0.0;
+        return CLI::detail::lexical_cast(text, value) && std::isfinite(value) && value > 0.0
+                   ? std::string()
+                   : "expected a positive number, not " + text;
+      },
+      "POSITIVE");
 }
 
 void addSamplesOption(CLI::App& command, const std::string& name, std::uint32_t& samples, const std::string& help) {

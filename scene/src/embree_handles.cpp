@@ -26,13 +26,25 @@ const char* errorName(RTCError code) {
 // Embree calls this on the thread of the failing API call, which the exception then leaves.
 void onEmbreeError(void*, RTCError code, const char* message) { throwEmbreeError(code, message); }
 
+// Embree calls this before each allocation (bytes > 0) and after each release (bytes < 0); true lets
+// it go ahead.
+bool onEmbreeMemory(void* user, ssize_t bytes, bool) {
+  auto& allocations = *static_cast<EmbreeAllocations*>(user);
+  const std::int64_t now = allocations.bytes += std::int64_t(bytes);
+  std::int64_t peak = allocations.peakBytes.load();
+  while (now > peak && !allocations.peakBytes.compare_exchange_weak(peak, now)) {
+  }
+  return true;
+}
+
 }  // namespace
 
-EmbreeDevice makeEmbreeDevice() {
+EmbreeDevice makeEmbreeDevice(EmbreeAllocations& allocations) {
   EmbreeDevice device(rtcNewDevice(nullptr));
   // A device that failed to start has no callback yet: its error is kept for the null device.
   if (!device) throwEmbreeError(rtcGetDeviceError(nullptr), "could not create a device");
   rtcSetDeviceErrorFunction(device.get(), onEmbreeError, nullptr);
+  rtcSetDeviceMemoryMonitorFunction(device.get(), onEmbreeMemory, &allocations);
   return device;
 }
 

@@ -37,13 +37,15 @@ EmbreeSceneHandle buildMeshScene(RTCDevice device, const Mesh& mesh) {
 
 EmbreeMeshes makeEmbreeMeshes(const Scene& scene) {
   EmbreeMeshes meshes;
-  meshes.device = makeEmbreeDevice();
+  meshes.allocations = std::make_shared<EmbreeAllocations>();
+  meshes.device = makeEmbreeDevice(*meshes.allocations);
   meshes.scenes.resize(scene.meshes.size());
   return meshes;
 }
 
 EmbreeMeshes shareEmbreeMeshes(const EmbreeMeshes& meshes) {
   EmbreeMeshes shared;
+  shared.allocations = meshes.allocations;
   shared.device = shareEmbreeDevice(meshes.device.get());
   shared.scenes.reserve(meshes.scenes.size());
   for (const EmbreeSceneHandle& scene : meshes.scenes) shared.scenes.push_back(shareEmbreeScene(scene.get()));

@@ -7,13 +7,17 @@
 #include "pbs/scene/scene.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
 namespace pbs {
 
 struct EmbreeMeshes {
-  EmbreeDevice device;                    // declared first: released after the scenes built on it
+  // The device's allocation count, shared by every owner of the device; declared before it, so that it
+  // is released after the device's last release has been counted.
+  std::shared_ptr<EmbreeAllocations> allocations;
+  EmbreeDevice device;                    // released after the scenes built on it
   std::vector<EmbreeSceneHandle> scenes;  // by mesh index; null until built
 };
 

@@ -5,6 +5,11 @@
 
 namespace pbs {
 
+std::uint64_t meshBytes(const Mesh& mesh) {
+  return mesh.positions.size() * sizeof(glm::vec3) + mesh.normals.size() * sizeof(glm::vec3) +
+         mesh.uvs.size() * sizeof(glm::vec2) + mesh.indices.size() * sizeof(std::uint32_t);
+}
+
 void updateMeshBounds(Mesh& mesh) {
   mesh.bounds = Bounds{};
   for (const glm::vec3& p : mesh.positions) mesh.bounds.extend(glm::dvec3(p));

@@ -31,10 +31,6 @@ std::optional<StreamOrder> streamOrderFromName(std::string_view name) { return k
 
 const char* streamOrderName(StreamOrder order) { return kOrderNames.name(order).data(); }
 
-std::uint64_t meshTransferBytes(const Mesh& mesh) {
-  return mesh.positions.size() * 12 + mesh.normals.size() * 12 + mesh.uvs.size() * 8 + mesh.indices.size() * 4;
-}
-
 struct SurfelStream::Need {
   bool mesh = false;
   std::uint32_t index = 0;  // of the array or the mesh
@@ -116,7 +112,7 @@ std::size_t SurfelStream::nextLength(const Need& need) const {
 }
 
 std::uint64_t SurfelStream::nextTransferBytes(const Need& need) const {
-  if (need.mesh) return meshTransferBytes(scene_.meshes[need.index]);
+  if (need.mesh) return meshBytes(scene_.meshes[need.index]);
   return storedSurfelBytes(nextLength(need) - cache_.surfels().arrays[need.index].loaded());
 }
 
@@ -177,7 +173,7 @@ void SurfelStream::advance(const Camera& camera, double seconds) {
     if (!(pixels > 0.0)) continue;
     stats_.missingPixels += pixels;
     if (need.mesh) {
-      stats_.missingBytes += meshTransferBytes(scene_.meshes[need.index]);
+      stats_.missingBytes += meshBytes(scene_.meshes[need.index]);
     } else {
       const SplatArray& splats = cache_.surfels().arrays[need.index];
       std::size_t longest = 0;

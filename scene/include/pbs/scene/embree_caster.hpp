@@ -45,10 +45,21 @@ class EmbreeScene {
 
   const glm::dvec3& origin() const;
 
+  // Bytes Embree holds for this scene's BVHs and its copies of the vertices, now and at most so far (the
+  // build's peak), as Embree's memory monitor reports them; with the node casters that share its
+  // device (EmbreeNodeCaster), theirs too.
+  std::uint64_t bytes() const;
+  std::uint64_t peakBytes() const;
+
  private:
   friend class EmbreeNodeCaster;  // shares the mesh BVHs
   struct Impl;
   std::unique_ptr<Impl> impl_;  // holds the Embree objects, so no Embree header leaks out of here
 };
+
+// What EmbreeScene(scene, hierarchy) will allocate at most, from its meshes' triangles and vertices and
+// its instances, calibrated on Embree 3's robust triangle BVHs (docs/performance.md): lets a command
+// refuse a build that would not fit before starting it.
+std::uint64_t embreeMemoryEstimate(const Scene& scene, const Hierarchy& hierarchy);
 
 }  // namespace pbs

@@ -51,6 +51,9 @@ struct Scene {
 // Recomputes Mesh::bounds from the positions.
 void updateMeshBounds(Mesh& mesh);
 
+// The bytes of a mesh's arrays: 12 per position and normal, 8 per texture coordinate pair, 4 per index.
+std::uint64_t meshBytes(const Mesh& mesh);
+
 // Area-weighted vertex normals from the triangles (degenerate triangles contribute nothing;
 // a vertex touched by none gets +Z so no NaN ever leaves this function).
 std::vector<glm::vec3> computeVertexNormals(const std::vector<glm::vec3>& positions,

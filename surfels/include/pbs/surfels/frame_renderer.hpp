@@ -74,6 +74,8 @@ class FrameRenderer {
   // Bit-identical for any thread count. The camera must be width × height.
   FrameResult render(const Camera& camera);
   double buildSeconds() const { return buildSeconds_; }  // 0 unless this renderer built the BVH
+  // Embree's peak allocation while building it (EmbreeScene::peakBytes); 0 unless this renderer built it.
+  std::uint64_t bvhPeakBytes() const { return ownRays_ ? ownRays_->peakBytes() : 0; }
 
  private:
   // One pass at the camera's pixel centres into gbuffer_; adds its prefix loading to `loadSeconds`.

@@ -48,17 +48,13 @@ struct StreamStats {
   double seconds = 0.0;             // on the simulated clock
   std::uint64_t bytes = 0;          // arrived: tables, surfel chunks and meshes
   std::uint64_t surfelBytes = 0;    // of those, surfel chunks with their checksums
-  std::uint64_t meshBytes = 0;      // of those, meshes (positions, normals, texture coordinates, indices)
+  std::uint64_t meshBytes = 0;      // of those, meshes (their arrays: pbs::meshBytes)
   bool tablesArrived = false;
   // What the last advance's view still lacked after its transfers: bytes, and the pixels it would
   // cover (Σ missing surfels × their point area, and the box area of geometry nodes without a mesh).
   std::uint64_t missingBytes = 0;
   double missingPixels = 0.0;
 };
-
-// The bytes a mesh takes over the link: 12 per position and normal, 8 per texture coordinate pair, 4
-// per index.
-std::uint64_t meshTransferBytes(const Mesh& mesh);
 
 class SurfelStream {
  public:
