@@ -104,6 +104,27 @@ std::vector<std::vector<std::uint32_t>> childArrays(const Scene& scene, const de
   return children;
 }
 
+// The most arrays held at once when they are made one at a time in index order, as the schedule below
+// does with one worker (children are numbered before their parents, so the lowest ready array is
+// always the next index): an array stays from when it is made until the last parent that captures
+// from it is.
+std::uint64_t arraysHeldInIndexOrder(const std::vector<std::vector<std::uint32_t>>& children) {
+  const std::size_t count = children.size();
+  std::vector<std::size_t> lastUse(count);
+  for (std::size_t a = 0; a < count; ++a) lastUse[a] = a;
+  for (std::size_t a = 0; a < count; ++a)
+    for (std::uint32_t child : children[a]) lastUse[child] = std::max(lastUse[child], a);
+  std::vector<std::int64_t> change(count + 1, 0);  // held counts change at these steps
+  for (std::size_t a = 0; a < count; ++a) {
+    if (lastUse[a] == a) continue;  // written and freed at once
+    ++change[a];
+    --change[lastUse[a] + 1];
+  }
+  std::int64_t held = 0, peak = 0;
+  for (std::size_t step = 0; step < count; ++step) peak = std::max(peak, held += change[step]);
+  return std::uint64_t(peak);
+}
+
 // The arrays of surfelize, each handed to `finished(index, array)` as it is made (one call at a time,
 // in the order they finish). With `release`, an array is freed once handed over and no capture still
 // to come may draw it.
@@ -241,9 +262,13 @@ std::uint64_t surfelizeMemoryEstimate(const Scene& scene, const Hierarchy& hiera
   constexpr std::uint64_t kCandidateBytes = sizeof(Surfel) + 12 + 32;
   const std::uint64_t capture = pixels * (kGBufferBytes + options.file.directions * kCandidateBytes);
   const std::uint64_t frame = scene.nodes.size() * (sizeof(glm::dmat4) + sizeof(Bounds) + 24);
-  const std::uint64_t arrays =
-      std::uint64_t(plan.representative.size()) * options.file.maxSurfels * (sizeof(Surfel) + kSurfelBytes);
-  return std::uint64_t(std::max(workers, 1)) * (capture + frame) + arrays;
+  // An array decoded and encoded for the file. Besides the arrays being made, held are those that
+  // parents still to come capture from, and those finished ahead of an earlier one the file waits for.
+  const std::uint64_t array = std::uint64_t(options.file.maxSurfels) * (sizeof(Surfel) + kSurfelBytes);
+  const std::uint64_t held =
+      arraysHeldInIndexOrder(childArrays(scene, plan, options.source)) + std::uint64_t(std::max(workers, 1));
+  const std::uint64_t arrays = std::min<std::uint64_t>(held, plan.representative.size()) * array;
+  return std::uint64_t(std::max(workers, 1)) * (capture + frame) + arrays + plan.representative.size() * sizeof(SurfelArray);
 }
 
 std::string_view captureSourceName(CaptureSource source) {

@@ -80,9 +80,12 @@ void surfelizeToFile(const Scene& scene, const Hierarchy& hierarchy, const Surfe
 // density. Stored positions stay the captured ones.
 std::vector<glm::vec3> orderingPositions(std::span<const Surfel> candidates);
 
-// An upper estimate of the memory surfelize needs beyond the scene itself, with `workers` arrays made
+// An estimate of the memory surfelizeToFile needs beyond the scene itself, with `workers` arrays made
 // at once: per worker a capture (G-buffer, every candidate surfel, the ordering's working set) and the
-// subtree's frame, plus every finished array (in memory and being written).
+// subtree's frame; the finished arrays held at once when made one by one in index order (those that
+// parents still to come capture from), plus one per worker for arrays finished ahead of the one the
+// file waits for. Not a bound for every schedule: a worker far behind the others makes the file hold
+// more (docs/performance.md compares it with measured peaks).
 std::uint64_t surfelizeMemoryEstimate(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                                       int workers);
 
