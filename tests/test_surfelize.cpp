@@ -166,6 +166,40 @@ std::string surfelFileBytes(const Scene& scene, const SurfelizeOptions& options,
 
 // Also: the file written as the arrays finish (in whatever order the threads finish them, children's
 // arrays freed as their parents are captured) is the same bytes.
+// The memory estimate counts the arrays the schedule holds, not every array: captured from triangles,
+// each array is written and freed as it is made, so a fan of 64 children needs no more than one of 4;
+// captured from the children's surfels, the parent holds all of them until it is made.
+TEST(Surfelize, MemoryEstimateCountsTheArraysHeldNotEveryArray) {
+  auto fan = [](std::uint32_t children) {
+    Scene scene;
+    scene.materials.push_back(Material{"plain", glm::vec4(0.8f), -1});
+    scene.nodes.push_back(Node{"fan", glm::dmat4(1.0), {}, -1});
+    scene.roots.push_back(0);
+    for (std::uint32_t c = 0; c < children; ++c) {
+      scene.meshes.push_back(test::tessellatedBox(6 + c % 3));  // each child its own mesh: its own array
+      scene.nodes[0].children.push_back(std::uint32_t(scene.nodes.size()));
+      scene.nodes.push_back(Node{"leaf", glm::translate(glm::dmat4(1.0), glm::dvec3(3.0 * c, 0, 0)), {},
+                                 std::int32_t(scene.meshes.size() - 1)});
+    }
+    validateScene(scene, "fan");
+    return scene;
+  };
+  SurfelizeOptions options;
+  options.file.threshold = 100;
+  const std::uint64_t arrayBytes = std::uint64_t(options.file.maxSurfels) * (sizeof(Surfel) + kSurfelBytes);
+  auto estimate = [&](std::uint32_t children, CaptureSource source) {
+    const Scene scene = fan(children);
+    options.source = source;
+    return surfelizeMemoryEstimate(scene, analyzeHierarchy(scene), options, 2);
+  };
+  const std::uint64_t fewTriangles = estimate(4, CaptureSource::Triangles);
+  const std::uint64_t manyTriangles = estimate(64, CaptureSource::Triangles);
+  EXPECT_LT(manyTriangles - fewTriangles, arrayBytes) << "60 more arrays, none held";
+  const std::uint64_t fewChildren = estimate(4, CaptureSource::ChildSurfels);
+  const std::uint64_t manyChildren = estimate(64, CaptureSource::ChildSurfels);
+  EXPECT_GE(manyChildren - fewChildren, 60 * arrayBytes) << "the fan's parent holds its 64 children";
+}
+
 TEST(Surfelize, BitIdenticalFileForOneTwoAndFourThreads) {
   const Scene scene = twoIdenticalGroups();
   for (CaptureSource source : {CaptureSource::Triangles, CaptureSource::ChildSurfels, CaptureSource::Auto}) {
