@@ -203,6 +203,89 @@ TEST(SurfelFile, SixteenBytesPerSurfel) {
   EXPECT_LE(perSurfel, 16.01);
 }
 
+// Only what varies is stored: one colour for all (12 bytes a surfel, the colour in the array record),
+// opaque colours without alpha (15), else RGBA (16); every colour and prefix reads back exactly.
+TEST(SurfelFile, OnlyTheColourThatVariesIsStored) {
+  ScratchDir dir;
+  const Bounds box = makeBox({1, 2, 3}, {2, 2, 2});
+  SurfelArray constant = makeArray(10000, box, 1), opaque = makeArray(3000, box, 2), translucent = makeArray(3000, box, 3);
+  for (Surfel& s : constant.surfels) s.color = glm::u8vec4(120, 121, 122, 255);
+  for (Surfel& s : opaque.surfels) s.color.a = 255;
+  translucent.surfels[1234].color.a = 254;
+  for (Surfel& s : translucent.surfels) s.color.a = s.color.a == 254 ? 254 : 255;
+  SurfelFile file;
+  file.arrays = {constant, opaque, translucent};
+  file.nodes = {{"/0", 0}, {"/1", 1}, {"/2", 2}};
+  writeSurfelFile(dir / "c.surfels", file);
+
+  SurfelFileReader reader(dir / "c.surfels");
+  ASSERT_EQ(reader.arrays().size(), 3u);
+  EXPECT_EQ(reader.arrays()[0].colorEncoding, SurfelColorEncoding::Constant);
+  EXPECT_EQ(reader.arrays()[0].constantColor, glm::u8vec4(120, 121, 122, 255));
+  EXPECT_EQ(reader.arrays()[1].colorEncoding, SurfelColorEncoding::Rgb);
+  EXPECT_EQ(reader.arrays()[2].colorEncoding, SurfelColorEncoding::Rgba);
+  const std::uint64_t data = storedSurfelBytes(10000, SurfelColorEncoding::Constant) +
+                             storedSurfelBytes(3000, SurfelColorEncoding::Rgb) +
+                             storedSurfelBytes(3000, SurfelColorEncoding::Rgba);
+  EXPECT_EQ(std::filesystem::file_size(dir / "c.surfels"), reader.tablesBytes() + data);
+  EXPECT_LE(double(storedSurfelBytes(10000, SurfelColorEncoding::Constant)) / 10000.0, 12.01)
+      << "one colour: 12 bytes a surfel and a checksum a chunk";
+
+  EXPECT_EQ(reader.readPrefix(0, 1).size(), 1u);
+  EXPECT_EQ(reader.dataBytesRead(), 1024u * 12u + 8u) << "a constant-colour chunk";
+  const SurfelFile back = readSurfelFile(dir / "c.surfels");
+  for (std::size_t a = 0; a < 3; ++a)
+    for (std::size_t i = 0; i < file.arrays[a].surfels.size(); ++i) {
+      const Surfel expected = roundTrip(file.arrays[a].surfels[i], box);
+      ASSERT_EQ(back.arrays[a].surfels[i].color, file.arrays[a].surfels[i].color) << a << " " << i;
+      ASSERT_EQ(back.arrays[a].surfels[i].position, expected.position);
+      ASSERT_EQ(back.arrays[a].surfels[i].normal, expected.normal);
+    }
+}
+
+// A version 2 file (every surfel RGBA, 96-byte array records) still reads: made here from a version 3
+// file of RGBA arrays by dropping each record's last 8 bytes and moving what follows.
+TEST(SurfelFile, VersionTwoFilesStillRead) {
+  using namespace surfel_file;
+  ScratchDir dir;
+  const SurfelFile file = sampleFile();
+  writeSurfelFile(dir / "v3.surfels", file);
+  const std::string v3 = readFile(dir / "v3.surfels");
+  auto getU64 = [](const std::string& bytes, std::size_t at) {
+    std::uint64_t v = 0;
+    for (int i = 7; i >= 0; --i) v = (v << 8) | std::uint8_t(bytes[at + std::size_t(i)]);
+    return v;
+  };
+  const std::size_t arrays = file.arrays.size(), shift = 8 * arrays;
+  const std::size_t newRecord = arrayRecordBytes(2), oldRecord = arrayRecordBytes(3);
+  std::string v2 = v3.substr(0, kHeaderBytes);
+  putU32(v2, 8, 2);
+  putU64(v2, 80, getU64(v3, 80) - shift);  // node table offset
+  putU64(v2, 96, getU64(v3, 96) - shift);  // file size
+  reseal(v2, 0, kHeaderChecksumOffset, kHeaderSeed);
+  for (std::size_t a = 0; a < arrays; ++a) {
+    std::string record = v3.substr(kHeaderBytes + a * oldRecord, newRecord);
+    ASSERT_EQ(record.substr(84, 4), std::string(4, '\0')) << "RGBA is encoding 0, version 2's reserved value";
+    putU64(record, 88, getU64(record, 88) - shift);  // data offset
+    v2 += record;
+  }
+  v2 += std::string(8, '\0');
+  reseal(v2, kHeaderBytes, kHeaderBytes + arrays * newRecord, kArrayTableSeed);
+  v2 += v3.substr(kHeaderBytes + arrays * oldRecord + 8);  // node table and data, unchanged
+  writeFile(dir / "v2.surfels", v2);
+
+  const SurfelFile a = readSurfelFile(dir / "v3.surfels"), b = readSurfelFile(dir / "v2.surfels");
+  ASSERT_EQ(a.arrays.size(), b.arrays.size());
+  for (std::size_t i = 0; i < a.arrays.size(); ++i) {
+    ASSERT_EQ(a.arrays[i].surfels.size(), b.arrays[i].surfels.size());
+    for (std::size_t k = 0; k < a.arrays[i].surfels.size(); ++k) {
+      EXPECT_EQ(a.arrays[i].surfels[k].position, b.arrays[i].surfels[k].position);
+      EXPECT_EQ(a.arrays[i].surfels[k].color, b.arrays[i].surfels[k].color);
+    }
+  }
+  EXPECT_EQ(b.nodes.size(), a.nodes.size());
+}
+
 // ---- codec bounds --------------------------------------------------------------------------------
 
 TEST(SurfelCodec, PositionErrorWithinBound) {
@@ -464,12 +547,13 @@ TEST(SurfelFile, BadMagicFutureVersionAndMissingFiles) {
   EXPECT_NE(errorOf(path).find("header: bad magic"), std::string::npos) << errorOf(path);
 
   // Version 1 (before the colour filter joined the header) and a future version are refused by name.
-  for (std::uint32_t version : {1u, 3u}) {
+  for (std::uint32_t version : {1u, 4u}) {
     std::string other = bytes;
     putU32(other, 8, version);
     writeFile(path, other);
-    EXPECT_NE(errorOf(path).find("unsupported version " + std::to_string(version) + " (this build reads version 2)"),
-              std::string::npos)
+    EXPECT_NE(
+        errorOf(path).find("unsupported version " + std::to_string(version) + " (this build reads versions 2 to 3)"),
+        std::string::npos)
         << errorOf(path);
   }
 
@@ -510,7 +594,7 @@ TEST(SurfelFile, AbsurdCountsAndOffsetsAreRefused) {
 
   // An array record pointing its data past the end, named by the first node using it.
   const std::size_t arrayTable = kHeaderBytes;
-  const std::size_t arrayTableEnd = arrayTable + 2 * kArrayRecordBytes;
+  const std::size_t arrayTableEnd = arrayTable + 2 * arrayRecordBytes(kSurfelFileVersion);
   std::string forged = bytes;
   putU32(forged, arrayTable + 80, 0xFFFFFFFFu);  // surfel count of array 0
   reseal(forged, arrayTable, arrayTableEnd, kArrayTableSeed);

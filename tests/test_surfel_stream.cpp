@@ -39,7 +39,8 @@ struct Streamed {
 
 std::uint64_t fileDataBytes(const SurfelCache& cache) {
   std::uint64_t bytes = 0;
-  for (const SplatArray& array : cache.surfels().arrays) bytes += storedSurfelBytes(array.size());
+  for (std::uint32_t a = 0; a < cache.surfels().arrays.size(); ++a)
+    bytes += cache.storedBytes(a, cache.surfels().arrays[a].size());
   return bytes;
 }
 

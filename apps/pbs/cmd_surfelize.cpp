@@ -84,6 +84,10 @@ void addSurfelizeCommand(CLI::App& app) {
       if (stats.arrays > 0) meter.finish(std::to_string(stats.arrays) + " arrays, " + withThousands(stats.surfels) + " surfels");
       const std::uint64_t bytes = std::filesystem::file_size(options->output);
       const double seconds = secondsSince(start);
+      // How the arrays store their colours, read back from the tables: what the file left out.
+      std::map<std::string, std::uint64_t> encodings = {{"rgba", 0}, {"rgb", 0}, {"constant", 0}};
+      for (const SurfelArrayInfo& info : SurfelFileReader(options->output).arrays())
+        ++encodings[colorEncodingName(info.colorEncoding)];
 
       if (options->json) {
         const nlohmann::json report = {
@@ -98,6 +102,7 @@ void addSurfelizeCommand(CLI::App& app) {
             {"load_seconds", loaded.parseSeconds + loaded.hierarchySeconds},
             {"bytes", bytes},
             {"bytes_per_surfel", stats.surfels > 0 ? double(bytes) / double(stats.surfels) : 0.0},
+            {"color_encodings", encodings},
             {"threshold", settings.file.threshold},
             {"max_surfels", settings.file.maxSurfels},
             {"resolution", settings.file.resolution},
@@ -119,8 +124,11 @@ void addSurfelizeCommand(CLI::App& app) {
                   withThousands(settings.file.threshold).c_str(), withThousands(stats.arrays).c_str(),
                   withThousands(stats.arrays).c_str(), withThousands(stats.surfels).c_str(),
                   withThousands(stats.candidates).c_str());
-      std::printf("wrote %s: %s bytes (%.2f per surfel) in %.2f s\n", options->output.c_str(),
-                  withThousands(bytes).c_str(), stats.surfels > 0 ? double(bytes) / double(stats.surfels) : 0.0, seconds);
+      std::printf("wrote %s: %s bytes (%.2f per surfel; colours of %s arrays constant, %s RGB, %s RGBA) in %.2f s\n",
+                  options->output.c_str(), withThousands(bytes).c_str(),
+                  stats.surfels > 0 ? double(bytes) / double(stats.surfels) : 0.0,
+                  withThousands(encodings["constant"]).c_str(), withThousands(encodings["rgb"]).c_str(),
+                  withThousands(encodings["rgba"]).c_str(), seconds);
     });
   });
 }

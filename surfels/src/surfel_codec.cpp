@@ -95,6 +95,15 @@ std::array<std::int16_t, 2> octEncode(const glm::vec3& normal) {
 
 }  // namespace
 
+const char* colorEncodingName(SurfelColorEncoding encoding) {
+  switch (encoding) {
+    case SurfelColorEncoding::Rgba: return "rgba";
+    case SurfelColorEncoding::Rgb: return "rgb";
+    case SurfelColorEncoding::Constant: return "constant";
+  }
+  return "unknown";
+}
+
 PackedSurfel encodeSurfel(const Surfel& surfel, const Bounds& box) {
   std::uint64_t position = 0;
   for (int i = 0; i < 3; ++i) position |= quantize(surfel.position[i], axisOf(box, i)) << (kPositionBits * i);

@@ -1,7 +1,7 @@
 // The byte layout of a .surfels file, shared by the writer and the reader: each record's fields are
 // listed once, in a layout function that a byte sink (writing) and a byte source (reading) both walk.
 //
-// Version 2, all integers little-endian, doubles as their IEEE-754 bits:
+// Version 3, all integers little-endian, doubles as their IEEE-754 bits:
 //   header (112 bytes at offset 0)
 //     0  magic "PBSURFEL"          8 bytes
 //     8  version                   u32
@@ -22,12 +22,15 @@
 //    88  node table bytes          u64 (records only, without the checksum)
 //    96  file bytes                u64 (the whole file)
 //   104  header checksum           u64 (Hash64 of bytes 0…103)
-//   array table: array count × 96-byte records, then u64 checksum of the records
+//   array table: array count × 104-byte records, then u64 checksum of the records
 //     box.min xyz f64×3, box.max xyz f64×3, coverage f64, packing f64, packing end f64, area f64, surfel count u32,
-//     reserved u32 (0), data offset u64
+//     colour encoding u32 (SurfelColorEncoding), data offset u64, constant colour RGBA u8×4, reserved u32 (0)
 //   node table: node count × (path length u32, path bytes, array index u32), then u64 checksum
-//   data, per array at its data offset: count × 16-byte surfels (chunks of kSurfelsPerChunk), then one
-//     u64 checksum per chunk (Hash64 of the chunk's bytes, seeded by the chunk's index)
+//   data, per array at its data offset: count × surfelBytes(encoding) surfels (chunks of kSurfelsPerChunk), then
+//     one u64 checksum per chunk (Hash64 of the chunk's bytes, seeded by the chunk's index); a surfel is
+//     position u64, normal 2 × i16, then its colour: RGBA u8×4, RGB u8×3 or nothing
+// Version 2 differs only in its 96-byte array records: the colour encoding's place is reserved (0, so
+// RGBA) and the record ends after the data offset.
 #pragma once
 
 #include "pbs/raster/hash64.hpp"
@@ -48,7 +51,8 @@ namespace pbs::surfel_file {
 inline constexpr std::array<std::uint8_t, 8> kMagic = {'P', 'B', 'S', 'U', 'R', 'F', 'E', 'L'};
 inline constexpr std::uint64_t kHeaderBytes = 112;
 inline constexpr std::uint64_t kHeaderChecksumOffset = 104;
-inline constexpr std::uint64_t kArrayRecordBytes = 96;
+// An array record's size in a file of `version`.
+inline constexpr std::uint64_t arrayRecordBytes(std::uint32_t version) { return version >= 3 ? 104 : 96; }
 inline constexpr std::uint64_t kNodeRecordMinBytes = 8;  // a node with an empty path
 inline constexpr std::uint64_t kChecksumBytes = 8;
 
@@ -102,8 +106,9 @@ void layoutHeader(Io& io, Header& h) {
   io.u64(h.fileBytes);
 }
 
+// An array record of a file of `version`. The encoding is read as a number: the reader checks it.
 template <class Io>
-void layoutArray(Io& io, SurfelArrayInfo& a) {
+void layoutArray(Io& io, SurfelArrayInfo& a, std::uint32_t& encoding, std::uint32_t version) {
   std::uint32_t reserved = 0;
   for (int i = 0; i < 3; ++i) io.f64(a.box.min[i]);
   for (int i = 0; i < 3; ++i) io.f64(a.box.max[i]);
@@ -112,8 +117,11 @@ void layoutArray(Io& io, SurfelArrayInfo& a) {
   io.f64(a.packingEnd);
   io.f64(a.area);
   io.u32(a.count);
-  io.u32(reserved);
+  io.u32(encoding);  // reserved (0: RGBA) in version 2
   io.u64(a.dataOffset);
+  if (version < 3) return;
+  for (int i = 0; i < 4; ++i) io.u8(a.constantColor[i]);
+  io.u32(reserved);
 }
 
 template <class Io>
@@ -152,6 +160,7 @@ struct ByteSink {
   std::vector<std::uint8_t> bytes;
 
   void raw(const std::array<std::uint8_t, 8>& v) { bytes.insert(bytes.end(), v.begin(), v.end()); }
+  void u8(const std::uint8_t& v) { bytes.push_back(v); }
   void u32(const std::uint32_t& v) {
     for (int i = 0; i < 4; ++i) bytes.push_back(std::uint8_t(v >> (8 * i)));
   }
@@ -183,6 +192,7 @@ struct ByteSource {
     return p;
   }
   void raw(std::array<std::uint8_t, 8>& v) { std::memcpy(v.data(), take(8), 8); }
+  void u8(std::uint8_t& v) { v = *take(1); }
   void u32(std::uint32_t& v) {
     const std::uint8_t* p = take(4);
     v = 0;
@@ -202,6 +212,5 @@ struct ByteSource {
     s.assign(reinterpret_cast<const char*>(p), size);
   }
 };
-
 
 }  // namespace pbs::surfel_file

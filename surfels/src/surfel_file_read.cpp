@@ -65,10 +65,10 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
   Header header;
   ByteSource headerSource{headerBytes};
   layoutHeader(headerSource, header);
-  if (header.version != kSurfelFileVersion) {
+  if (header.version < kOldestReadSurfelFileVersion || header.version > kSurfelFileVersion) {
     throw InputError(file, "header",
-                     "unsupported version " + number(header.version) + " (this build reads version " +
-                         number(kSurfelFileVersion) + ")");
+                     "unsupported version " + number(header.version) + " (this build reads versions " +
+                         number(kOldestReadSurfelFileVersion) + " to " + number(kSurfelFileVersion) + ")");
   }
   checkTable("header", headerBytes, kHeaderSeed);
   if (header.ordering > static_cast<std::uint32_t>(SurfelOrdering::Random)) {
@@ -92,17 +92,19 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
               .seed = header.seed};
 
   // Array table: the count is bounded by the file size before the table is read.
-  if (header.arrayCount > fileSize / kArrayRecordBytes) {
+  const std::uint64_t recordBytes = arrayRecordBytes(header.version);
+  if (header.arrayCount > fileSize / recordBytes) {
     throw InputError(file, "array table",
                      "counts absurd: " + number(header.arrayCount) + " arrays cannot fit in " + number(fileSize) +
                          " bytes");
   }
   const std::vector<std::uint8_t> arrayTable = readRange(
-      "array table", header.arrayTableOffset, header.arrayCount * kArrayRecordBytes + kChecksumBytes);
+      "array table", header.arrayTableOffset, header.arrayCount * recordBytes + kChecksumBytes);
   checkTable("array table", arrayTable, kArrayTableSeed);
   arrays_.resize(header.arrayCount);
+  std::vector<std::uint32_t> encodings(header.arrayCount);  // checked below, where errors can name a node
   ByteSource arraySource{arrayTable};
-  for (SurfelArrayInfo& info : arrays_) layoutArray(arraySource, info);
+  for (std::size_t a = 0; a < arrays_.size(); ++a) layoutArray(arraySource, arrays_[a], encodings[a], header.version);
 
   // Node table: every record takes at least kNodeRecordMinBytes, so the count is bounded by the size.
   if (header.nodeTableBytes > fileSize || header.nodeCount > header.nodeTableBytes / kNodeRecordMinBytes) {
@@ -140,9 +142,12 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
   std::vector<std::size_t> firstUser(arrays_.size(), kUnused);
   for (std::size_t n = nodes_.size(); n-- > 0;) firstUser[nodes_[n].array] = n;
   for (std::uint32_t a = 0; a < arrays_.size(); ++a) {
-    const SurfelArrayInfo& info = arrays_[a];
-    const std::uint64_t bytes = storedSurfelBytes(info.count);
+    SurfelArrayInfo& info = arrays_[a];
     auto element = [&] { return firstUser[a] != kUnused ? "node " + nodes_[firstUser[a]].path : "array " + number(a); };
+    if (encodings[a] > static_cast<std::uint32_t>(SurfelColorEncoding::Constant))
+      throw InputError(file, element(), "unknown colour encoding " + number(encodings[a]));
+    info.colorEncoding = static_cast<SurfelColorEncoding>(encodings[a]);
+    const std::uint64_t bytes = storedSurfelBytes(info.count, info.colorEncoding);
     if (info.dataOffset < dataStart && bytes > 0) {
       throw InputError(file, element(), "data offset " + number(info.dataOffset) + " inside the tables");
     }
@@ -197,14 +202,15 @@ std::vector<Surfel> SurfelFileReader::readRange(std::uint32_t array, std::uint32
   const std::uint64_t firstChunk = first / kSurfelsPerChunk;
   const std::uint64_t chunks = chunkCount(wanted);
   const std::uint64_t surfelsRead = std::min<std::uint64_t>(chunks * kSurfelsPerChunk, info.count - first);
-  std::vector<std::uint8_t> data(surfelsRead * kSurfelBytes);
+  const std::uint64_t stored = surfelBytes(info.colorEncoding);
+  std::vector<std::uint8_t> data(surfelsRead * stored);
   std::vector<std::uint8_t> checksums(chunks * kChecksumBytes);
-  read(info.dataOffset + std::uint64_t(first) * kSurfelBytes, data);
-  read(info.dataOffset + std::uint64_t(info.count) * kSurfelBytes + firstChunk * kChecksumBytes, checksums);
+  read(info.dataOffset + std::uint64_t(first) * stored, data);
+  read(info.dataOffset + std::uint64_t(info.count) * stored + firstChunk * kChecksumBytes, checksums);
 
   for (std::uint64_t c = 0; c < chunks; ++c) {
-    const std::uint64_t at = c * kSurfelsPerChunk * kSurfelBytes;
-    const std::uint64_t size = std::min<std::uint64_t>(kSurfelsPerChunk * kSurfelBytes, data.size() - at);
+    const std::uint64_t at = c * kSurfelsPerChunk * stored;
+    const std::uint64_t size = std::min<std::uint64_t>(kSurfelsPerChunk * stored, data.size() - at);
     if (chunkChecksum(std::span(data).subspan(at, size), firstChunk + c) !=
         readU64(checksums.data() + c * kChecksumBytes)) {
       throw InputError(path_.string(), element(),
@@ -213,10 +219,14 @@ std::vector<Surfel> SurfelFileReader::readRange(std::uint32_t array, std::uint32
     }
   }
 
+  // A packed surfel gets the stored bytes over the colour the array's encoding leaves out (bytes 12–15).
+  PackedSurfel packed{};
+  if (info.colorEncoding == SurfelColorEncoding::Constant)
+    for (int c = 0; c < 4; ++c) packed[std::size_t(12 + c)] = info.constantColor[c];
+  if (info.colorEncoding == SurfelColorEncoding::Rgb) packed[15] = 255;
   std::vector<Surfel> surfels(wanted);
-  PackedSurfel packed;
   for (std::uint32_t i = 0; i < wanted; ++i) {
-    std::copy_n(data.begin() + std::ptrdiff_t(i) * std::ptrdiff_t(kSurfelBytes), kSurfelBytes, packed.begin());
+    std::copy_n(data.begin() + std::ptrdiff_t(i * stored), stored, packed.begin());
     surfels[i] = decodeSurfel(packed, info.box);
   }
   return surfels;

@@ -4,6 +4,7 @@
 
 #include "surfel_file_layout.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -47,20 +48,35 @@ std::uint64_t nodeTableBytes(std::span<const SurfelNodeRecord> nodes) {
 
 // Where the data begins: after the header and both tables with their checksums.
 std::uint64_t dataStart(std::uint64_t arrayCount, std::span<const SurfelNodeRecord> nodes) {
-  return kHeaderBytes + arrayCount * kArrayRecordBytes + kChecksumBytes + nodeTableBytes(nodes) + kChecksumBytes;
+  return kHeaderBytes + arrayCount * arrayRecordBytes(kSurfelFileVersion) + kChecksumBytes + nodeTableBytes(nodes) +
+         kChecksumBytes;
 }
 
-// One array's chunks, then its chunk checksums.
-std::vector<std::uint8_t> encodeArrayData(const SurfelArray& array) {
+// The smallest colour encoding that keeps every surfel's colour: one colour for all, or no alpha where
+// every surfel is opaque.
+SurfelColorEncoding colorEncodingOf(const std::vector<Surfel>& surfels) {
+  if (surfels.empty()) return SurfelColorEncoding::Rgba;
+  const glm::u8vec4 first = surfels.front().color;
+  if (std::all_of(surfels.begin(), surfels.end(), [&](const Surfel& s) { return s.color == first; }))
+    return SurfelColorEncoding::Constant;
+  if (std::all_of(surfels.begin(), surfels.end(), [](const Surfel& s) { return s.color.a == 255; }))
+    return SurfelColorEncoding::Rgb;
+  return SurfelColorEncoding::Rgba;
+}
+
+// One array's chunks, then its chunk checksums. A packed surfel's first surfelBytes(encoding) bytes are
+// what the encoding stores (position, normal, then as many colour channels as it keeps).
+std::vector<std::uint8_t> encodeArrayData(const SurfelArray& array, SurfelColorEncoding encoding) {
   std::vector<std::uint8_t> data;
-  data.reserve(storedSurfelBytes(array.surfels.size()));
+  data.reserve(storedSurfelBytes(array.surfels.size(), encoding));
   ByteSink checksums;
+  const auto stored = std::ptrdiff_t(surfelBytes(encoding));
   for (std::size_t first = 0; first < array.surfels.size(); first += kSurfelsPerChunk) {
     const std::size_t chunkStart = data.size();
     const std::size_t end = std::min<std::size_t>(first + kSurfelsPerChunk, array.surfels.size());
     for (std::size_t i = first; i < end; ++i) {
       const PackedSurfel packed = encodeSurfel(array.surfels[i], array.box);
-      data.insert(data.end(), packed.begin(), packed.end());
+      data.insert(data.end(), packed.begin(), packed.begin() + stored);
     }
     checksums.u64(chunkChecksum(std::span(data).subspan(chunkStart), first / kSurfelsPerChunk));
   }
@@ -100,9 +116,18 @@ void SurfelFileWriter::add(std::uint32_t index, const SurfelArray& array) {
   if (index >= infos_.size() || index < written_ || waiting_[index])
     throw std::invalid_argument("surfel file: array " + std::to_string(index) + " added twice or out of range");
   checkArray(index, array);
-  infos_[index] = {array.box,  array.coverage, array.packing, array.packingEnd,
-                   array.area, std::uint32_t(array.surfels.size()), 0};
-  waiting_[index] = encodeArrayData(array);
+  const SurfelColorEncoding encoding = colorEncodingOf(array.surfels);
+  infos_[index] = {.box = array.box,
+                   .coverage = array.coverage,
+                   .packing = array.packing,
+                   .packingEnd = array.packingEnd,
+                   .area = array.area,
+                   .count = std::uint32_t(array.surfels.size()),
+                   .dataOffset = 0,
+                   .colorEncoding = encoding,
+                   .constantColor = encoding == SurfelColorEncoding::Constant ? array.surfels.front().color
+                                                                              : glm::u8vec4(0)};
+  waiting_[index] = encodeArrayData(array, encoding);
   bytesWaiting_ += waiting_[index]->size();
   writeReadyArrays();
 }
@@ -133,7 +158,7 @@ void SurfelFileWriter::finish() {
   header.arrayCount = static_cast<std::uint32_t>(infos_.size());
   header.nodeCount = static_cast<std::uint32_t>(nodes_.size());
   header.arrayTableOffset = kHeaderBytes;
-  header.nodeTableOffset = header.arrayTableOffset + infos_.size() * kArrayRecordBytes + kChecksumBytes;
+  header.nodeTableOffset = header.arrayTableOffset + infos_.size() * arrayRecordBytes(header.version) + kChecksumBytes;
   header.nodeTableBytes = nodeTableBytes(nodes_);
   header.fileBytes = dataEnd_;
 
@@ -141,7 +166,10 @@ void SurfelFileWriter::finish() {
   layoutHeader(sink, header);
   appendChecksum(sink, 0, kHeaderSeed);
   const std::size_t arrayTable = sink.bytes.size();
-  for (SurfelArrayInfo& info : infos_) layoutArray(sink, info);
+  for (SurfelArrayInfo& info : infos_) {
+    auto encoding = static_cast<std::uint32_t>(info.colorEncoding);
+    layoutArray(sink, info, encoding, header.version);
+  }
   appendChecksum(sink, arrayTable, kArrayTableSeed);
   const std::size_t nodeTable = sink.bytes.size();
   for (SurfelNodeRecord& node : nodes_) layoutNode(sink, node);

@@ -113,7 +113,7 @@ std::size_t SurfelStream::nextLength(const Need& need) const {
 
 std::uint64_t SurfelStream::nextTransferBytes(const Need& need) const {
   if (need.mesh) return meshBytes(scene_.meshes[need.index]);
-  return storedSurfelBytes(nextLength(need) - cache_.surfels().arrays[need.index].loaded());
+  return cache_.storedBytes(need.index, nextLength(need) - cache_.surfels().arrays[need.index].loaded());
 }
 
 double SurfelStream::gainPerByte(const Need& need) const {
@@ -180,7 +180,7 @@ void SurfelStream::advance(const Camera& camera, double seconds) {
       for (const auto& [count, pointSize] : need.prefixes) longest = std::max<std::size_t>(longest, count);
       const std::size_t end =
           options_.order == StreamOrder::Prefixes ? wholeChunks(longest, splats.size()) : splats.size();
-      stats_.missingBytes += storedSurfelBytes(end - splats.loaded());
+      stats_.missingBytes += cache_.storedBytes(need.index, end - splats.loaded());
     }
   }
   cache_.keep(draws);

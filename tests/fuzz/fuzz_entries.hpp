@@ -42,7 +42,12 @@ inline void importGltfBytes(std::span<const std::uint8_t> bytes) {
 namespace surfel_layout {
 inline constexpr std::uint64_t kHeaderBytes = 112;
 inline constexpr std::uint64_t kHeaderChecksumOffset = 104;
-inline constexpr std::uint64_t kArrayRecordBytes = 96;
+inline constexpr std::uint64_t kVersionOffset = 8;
+inline constexpr std::uint64_t arrayRecordBytes(std::uint32_t version) { return version >= 3 ? 104 : 96; }
+// A stored surfel's bytes by colour encoding (RGBA, RGB, constant); version 2 stores RGBA.
+inline constexpr std::uint64_t surfelBytes(std::uint32_t encoding) {
+  return encoding == 1 ? 15 : encoding == 2 ? 12 : 16;
+}
 inline constexpr std::uint64_t kChecksumBytes = 8;
 inline constexpr std::uint64_t kHeaderSeed = 0x50425348'45414452ull;
 inline constexpr std::uint64_t kArrayTableSeed = 0x50425341'52524159ull;
@@ -74,27 +79,29 @@ inline void repairSurfelChecksums(std::vector<std::uint8_t>& bytes) {
     return offset <= size && length <= size - offset;
   };
   // Table checksums first (the header does not cover them), the header's last.
+  const std::uint32_t version = loadU32(b + kVersionOffset);
+  const std::uint64_t recordBytes = arrayRecordBytes(version);
   const std::uint64_t arrayCount = loadU32(b + 64);
   const std::uint64_t arrayTable = loadU64(b + 72);
   const std::uint64_t nodeTable = loadU64(b + 80);
   const std::uint64_t nodeTableBytes = loadU64(b + 88);
-  const bool arraysFit = arrayCount <= size / kArrayRecordBytes &&
-                         fits(arrayTable, arrayCount * kArrayRecordBytes + kChecksumBytes);
+  const bool arraysFit = arrayCount <= size / recordBytes && fits(arrayTable, arrayCount * recordBytes + kChecksumBytes);
   if (arraysFit) {
     for (std::uint64_t a = 0; a < arrayCount; ++a) {
-      const std::uint8_t* record = b + arrayTable + a * kArrayRecordBytes;
+      const std::uint8_t* record = b + arrayTable + a * recordBytes;
       const std::uint64_t count = loadU32(record + 80);
+      const std::uint64_t stored = surfelBytes(version >= 3 ? loadU32(record + 84) : 0);
       const std::uint64_t data = loadU64(record + 88);
       const std::uint64_t chunks = (count + kSurfelsPerChunk - 1) / kSurfelsPerChunk;
-      if (!fits(data, count * kSurfelBytes + chunks * kChecksumBytes)) continue;
+      if (!fits(data, count * stored + chunks * kChecksumBytes)) continue;
       for (std::uint64_t c = 0; c < chunks; ++c) {
         const std::uint64_t first = c * kSurfelsPerChunk;
         const std::uint64_t n = std::min<std::uint64_t>(kSurfelsPerChunk, count - first);
-        storeU64(b + data + count * kSurfelBytes + c * kChecksumBytes,
-                 Hash64::of(b + data + first * kSurfelBytes, n * kSurfelBytes, kChunkSeed + c));
+        storeU64(b + data + count * stored + c * kChecksumBytes,
+                 Hash64::of(b + data + first * stored, n * stored, kChunkSeed + c));
       }
     }
-    const std::uint64_t body = arrayCount * kArrayRecordBytes;
+    const std::uint64_t body = arrayCount * recordBytes;
     storeU64(b + arrayTable + body, Hash64::of(b + arrayTable, body, kArrayTableSeed));
   }
   if (nodeTableBytes <= size && fits(nodeTable, nodeTableBytes + kChecksumBytes)) {

@@ -23,8 +23,9 @@ inline void forgeArrayValue(std::string& bytes, std::uint32_t array, ArrayField 
   ByteSource source{std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), kHeaderBytes)};
   layoutHeader(source, header);
   const std::size_t table = header.arrayTableOffset;
-  const std::size_t tableBytes = std::size_t(header.arrayCount) * kArrayRecordBytes;
-  const std::size_t at = table + array * kArrayRecordBytes + std::size_t(field) * sizeof(double);
+  const std::size_t recordBytes = arrayRecordBytes(header.version);
+  const std::size_t tableBytes = std::size_t(header.arrayCount) * recordBytes;
+  const std::size_t at = table + array * recordBytes + std::size_t(field) * sizeof(double);
   std::memcpy(bytes.data() + at, &value, sizeof value);
   const std::uint64_t checksum = Hash64::of(bytes.data() + table, tableBytes, kArrayTableSeed);
   std::memcpy(bytes.data() + table + tableBytes, &checksum, sizeof checksum);

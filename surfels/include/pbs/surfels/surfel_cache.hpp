@@ -48,6 +48,11 @@ class SurfelCache {
 
   const SurfelCacheStats& stats() const { return stats_; }
   std::uint64_t tablesBytes() const { return reader_.tablesBytes(); }  // what opening the file read
+  // The file's bytes for `surfels` surfels of `array` from a chunk's start (storedSurfelBytes with the
+  // array's colour encoding).
+  std::uint64_t storedBytes(std::uint32_t array, std::uint64_t surfels) const {
+    return storedSurfelBytes(surfels, reader_.arrays()[array].colorEncoding);
+  }
 
  private:
   // Records the draws as this call's; returns the arrays whose prefix grew since the call before.

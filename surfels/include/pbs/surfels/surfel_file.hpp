@@ -1,19 +1,21 @@
 // The .surfels file: every surfel array of a scene, stored so that any prefix of any array can be read
 // on its own, checked by checksums, and tied to the scene it was made from by a fingerprint.
 //
-// Layout (version 2, little-endian, every offset in bytes from the start of the file):
+// Layout (version 3, little-endian, every offset in bytes from the start of the file):
 //   header      fixed size: magic "PBSURFEL", version, scene fingerprint, the options the arrays were
 //               made with, the counts and offsets of the two tables, a checksum of the header itself
-//   array table one fixed-size record per array: box, coverage, packing at 1000 and at the end, area, surfel count, data
-//               offset; followed by a checksum of the whole table
+//   array table one fixed-size record per array: box, coverage, packing at 1000 and at the end, area, surfel count,
+//               colour encoding, data offset, the constant colour; followed by a checksum of the whole table
 //   node table  one record per node: its stable path and the array it uses (instances share arrays);
 //               followed by a checksum of the whole table
-//   data        per array: its surfels in order, kSurfelBytes each, in chunks of kSurfelsPerChunk, and
+//   data        per array: its surfels in order, surfelBytes(encoding) each, in chunks of kSurfelsPerChunk, and
 //               after the last chunk one 64-bit checksum per chunk. Reading the first k surfels reads
 //               the chunks holding them (and their checksums) and nothing else.
 //
-// A surfel takes 16 bytes (the authors' format used 20): position quantized to 21 bits per axis
-// against the array's box (one 64-bit word), normal octahedron-encoded as two 16-bit snorms, RGBA8.
+// A surfel takes 12 to 16 bytes (the authors' format used 20): position quantized to 21 bits per axis
+// against the array's box (one 64-bit word), normal octahedron-encoded as two 16-bit snorms, then its
+// colour as the array's encoding says: RGBA8, RGB8 where every surfel is opaque, or nothing where every
+// surfel has the one colour the array record holds. Only what varies within an array is stored.
 #pragma once
 
 #include "pbs/raster/bounds.hpp"
@@ -33,18 +35,36 @@
 
 namespace pbs {
 
-// Version 2 added the colour filter to the header (and made normals face their capture view); a
-// version 1 file is refused: run pbs surfelize again.
-inline constexpr std::uint32_t kSurfelFileVersion = 2;
-inline constexpr std::size_t kSurfelBytes = 16;
+// Version 2 added the colour filter to the header (and made normals face their capture view); version 3
+// stores colours by what varies per array (SurfelColorEncoding). Version 2 files are still read
+// (every surfel RGBA); a version 1 file is refused: run pbs surfelize again.
+inline constexpr std::uint32_t kSurfelFileVersion = 3;
+inline constexpr std::uint32_t kOldestReadSurfelFileVersion = 2;
+inline constexpr std::size_t kSurfelBytes = 16;  // a surfel with every field (PackedSurfel)
 inline constexpr std::uint32_t kSurfelsPerChunk = 1024;
 inline constexpr std::uint32_t kPositionBits = 21;
 
+// How an array stores its surfels' colours: the writer picks the smallest that is exact.
+enum class SurfelColorEncoding : std::uint32_t {
+  Rgba = 0,      // 4 bytes a surfel
+  Rgb = 1,       // 3 bytes a surfel; every surfel opaque (alpha 255)
+  Constant = 2,  // none: every surfel has the array record's colour
+};
+
+// "rgba", "rgb", "constant".
+const char* colorEncodingName(SurfelColorEncoding encoding);
+
+// Bytes of one stored surfel: 12 (position and normal) and the colour's.
+inline constexpr std::uint64_t surfelBytes(SurfelColorEncoding encoding) {
+  return encoding == SurfelColorEncoding::Rgba ? 16 : encoding == SurfelColorEncoding::Rgb ? 15 : 12;
+}
+
 // The bytes `surfels` surfels take in the file, in chunks with one checksum each: what a range costs to
 // read when it starts a chunk and ends at a chunk's end or the array's.
-inline constexpr std::uint64_t storedSurfelBytes(std::uint64_t surfels) {
+inline constexpr std::uint64_t storedSurfelBytes(std::uint64_t surfels, SurfelColorEncoding encoding) {
   constexpr std::uint64_t kChunkChecksumBytes = 8;
-  return surfels * kSurfelBytes + (surfels + kSurfelsPerChunk - 1) / kSurfelsPerChunk * kChunkChecksumBytes;
+  return surfels * surfelBytes(encoding) +
+         (surfels + kSurfelsPerChunk - 1) / kSurfelsPerChunk * kChunkChecksumBytes;
 }
 
 // SurfelArray::packing is measured on the first min(kPackingSample, N) surfels.
@@ -95,6 +115,8 @@ struct SurfelArrayInfo {
   double area = 0.0;
   std::uint32_t count = 0;
   std::uint64_t dataOffset = 0;
+  SurfelColorEncoding colorEncoding = SurfelColorEncoding::Rgba;
+  glm::u8vec4 constantColor{0};  // every surfel's colour when colorEncoding is Constant, else 0
 };
 
 // Writes `file` to a temporary name beside `path`, then renames it over `path`: readers see the old
