@@ -86,8 +86,8 @@ void addSurfelizeCommand(CLI::App& app) {
       const double seconds = secondsSince(start);
       // How the arrays store their colours, read back from the tables: what the file left out.
       std::map<std::string, std::uint64_t> encodings = {{"rgba", 0}, {"rgb", 0}, {"constant", 0}};
-      for (const SurfelArrayInfo& info : SurfelFileReader(options->output).arrays())
-        ++encodings[colorEncodingName(info.colorEncoding)];
+      const SurfelFileReader written(options->output);
+      for (const SurfelArrayInfo& info : written.arrays()) ++encodings[colorEncodingName(info.colorEncoding)];
 
       if (options->json) {
         const nlohmann::json report = {
