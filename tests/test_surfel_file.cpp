@@ -284,6 +284,13 @@ TEST(SurfelFile, VersionTwoFilesStillRead) {
     }
   }
   EXPECT_EQ(b.nodes.size(), a.nodes.size());
+
+  // Version 2's reserved field stays reserved: a colour encoding there is refused.
+  putU32(v2, kHeaderBytes + 84, 2);
+  reseal(v2, kHeaderBytes, kHeaderBytes + arrays * newRecord, kArrayTableSeed);
+  writeFile(dir / "v2.surfels", v2);
+  EXPECT_NE(errorOf(dir / "v2.surfels").find("reserved field is 2, not 0"), std::string::npos)
+      << errorOf(dir / "v2.surfels");
 }
 
 // ---- codec bounds --------------------------------------------------------------------------------

@@ -207,6 +207,9 @@ TEST(SurfelStreamCli, RenderStreamsFramesThatRefineTheSameForAnyThreadCount) {
   const test::CommandResult noFile = test::runPbs("render " + scene + " --stream 1");
   EXPECT_NE(noFile.status, 0);
   EXPECT_NE(noFile.err.find("--surfels"), std::string::npos) << noFile.err;
+  const test::CommandResult exact = test::runPbs("render " + scene + " --surfels " + surfels + " --mode exact --stream 1");
+  EXPECT_NE(exact.status, 0);
+  EXPECT_NE(exact.err.find("not with --mode exact"), std::string::npos) << exact.err;
   EXPECT_EQ(test::runPbs(common + "x --stream-order bytes").status, 2);
 }
 

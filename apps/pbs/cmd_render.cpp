@@ -118,7 +118,8 @@ void run(const RenderOptions& options) {
   std::optional<SurfelCache> surfels;
   if (mode == RenderMode::Surfels) surfels.emplace(options.surfels, loaded.scene, loaded.hierarchy, cacheBytes);
   if (options.streamMBps > 0.0 && !surfels)
-    throw CLI::ValidationError("--stream", "streams a .surfels file: give --surfels FILE (surfels mode)");
+    throw CLI::ValidationError("--stream", options.surfels.empty() ? "streams a .surfels file: give --surfels FILE"
+                                                                   : "streams surfels: not with --mode " + modeName);
   std::optional<SurfelStream> stream;
   if (options.streamMBps > 0.0)
     stream.emplace(*surfels, loaded.scene, loaded.hierarchy, options.lod,

@@ -144,6 +144,8 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
   for (std::uint32_t a = 0; a < arrays_.size(); ++a) {
     SurfelArrayInfo& info = arrays_[a];
     auto element = [&] { return firstUser[a] != kUnused ? "node " + nodes_[firstUser[a]].path : "array " + number(a); };
+    if (header.version < 3 && encodings[a] != 0)
+      throw InputError(file, element(), "reserved field is " + number(encodings[a]) + ", not 0");
     if (encodings[a] > static_cast<std::uint32_t>(SurfelColorEncoding::Constant))
       throw InputError(file, element(), "unknown colour encoding " + number(encodings[a]));
     info.colorEncoding = static_cast<SurfelColorEncoding>(encodings[a]);
