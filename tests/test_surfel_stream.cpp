@@ -51,6 +51,7 @@ TEST(SurfelStream, DrawsNothingBeforeTheTablesAndConvergesToTheWholeFilesFrame) 
   ASSERT_GT(s.cache.tablesBytes(), 200u);
   s.stream.advance(camera, 0.1);  // 100 bytes: not the tables yet
   EXPECT_FALSE(s.stream.stats().tablesArrived);
+  EXPECT_EQ(s.stream.stats().missingBytes, s.cache.tablesBytes()) << "the tables come first";
   FrameResult empty = s.renderer.render(camera);
   for (const glm::vec4& pixel : empty.image) ASSERT_EQ(pixel.a, 0.0f) << "nothing drawn before the tables";
 

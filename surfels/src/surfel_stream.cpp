@@ -139,7 +139,10 @@ void SurfelStream::advance(const Camera& camera, double seconds) {
   credit_ += seconds * options_.bytesPerSecond;
   if (!stats_.tablesArrived) {
     const double tables = double(cache_.tablesBytes());
-    if (credit_ < tables) return;
+    if (credit_ < tables) {
+      stats_.missingBytes = cache_.tablesBytes();  // what the view lacks beyond them is not known yet
+      return;
+    }
     credit_ -= tables;
     stats_.bytes += cache_.tablesBytes();
     stats_.tablesArrived = true;

@@ -52,6 +52,7 @@ struct StreamStats {
   bool tablesArrived = false;
   // What the last advance's view still lacked after its transfers: bytes, and the pixels it would
   // cover (Σ missing surfels × their point area, and the box area of geometry nodes without a mesh).
+  // Before the tables have arrived, the tables' bytes (the view's needs are not known yet).
   std::uint64_t missingBytes = 0;
   double missingPixels = 0.0;
 };
