@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 
@@ -243,8 +244,33 @@ TEST(SurfelFile, OnlyTheColourThatVariesIsStored) {
     }
 }
 
-// A version 2 file (every surfel RGBA, 96-byte array records) still reads: made here from a version 3
-// file of RGBA arrays by dropping each record's last 8 bytes and moving what follows.
+// Node paths in preorder share most of their bytes with the one before: each record keeps the rest.
+TEST(SurfelFile, NodePathsAreFrontCoded) {
+  ScratchDir dir;
+  SurfelFile file;
+  file.arrays.push_back(makeArray(10, makeBox({0, 0, 0}, {1, 1, 1}), 4));
+  std::uint64_t wholePaths = 0;
+  for (int a = 0; a < 10; ++a)
+    for (int b = 0; b < 10; ++b)
+      for (int c = 0; c < 10; ++c) {
+        char path[16];
+        std::snprintf(path, sizeof path, "/%d/%d/%d", a, b, c);
+        file.nodes.push_back({path, 0});
+        wholePaths += 8 + file.nodes.back().path.size();
+      }
+  writeSurfelFile(dir / "n.surfels", file);
+  const SurfelFileReader reader(dir / "n.surfels");
+  ASSERT_EQ(reader.nodes().size(), file.nodes.size());
+  for (std::size_t n = 0; n < file.nodes.size(); ++n) ASSERT_EQ(reader.nodes()[n].path, file.nodes[n].path);
+  const std::uint64_t nodeTable = reader.tablesBytes() - surfel_file::kHeaderBytes -
+                                  surfel_file::arrayRecordBytes(kSurfelFileVersion) - 2 * 8;
+  // Suffixes: "/0/0/0" first, then "c" (900 times), "b/0" (90), "a/0/0" (9).
+  EXPECT_EQ(nodeTable, 1000u * 12u + 6u + 900u * 1u + 90u * 3u + 9u * 5u);
+  EXPECT_LT(nodeTable, wholePaths);
+}
+
+// A version 2 file (every surfel RGBA, 96-byte array records, whole paths in the node records) still
+// reads: made here from a version 3 file of RGBA arrays by rewriting its tables in version 2's layout.
 TEST(SurfelFile, VersionTwoFilesStillRead) {
   using namespace surfel_file;
   ScratchDir dir;
@@ -256,12 +282,22 @@ TEST(SurfelFile, VersionTwoFilesStillRead) {
     for (int i = 7; i >= 0; --i) v = (v << 8) | std::uint8_t(bytes[at + std::size_t(i)]);
     return v;
   };
-  const std::size_t arrays = file.arrays.size(), shift = 8 * arrays;
+  const std::size_t arrays = file.arrays.size();
   const std::size_t newRecord = arrayRecordBytes(2), oldRecord = arrayRecordBytes(3);
+  std::string nodes;
+  for (const SurfelNodeRecord& node : file.nodes) {
+    nodes += std::string(4, '\0') + node.path + std::string(4, '\0');
+    putU32(nodes, nodes.size() - 8 - node.path.size(), std::uint32_t(node.path.size()));
+    putU32(nodes, nodes.size() - 4, node.array);
+  }
+  const std::size_t v3Data = kHeaderBytes + arrays * oldRecord + 8 + getU64(v3, 88) + 8;
+  const std::size_t v2Data = kHeaderBytes + arrays * newRecord + 8 + nodes.size() + 8;
+  const std::size_t shift = v3Data - v2Data;
   std::string v2 = v3.substr(0, kHeaderBytes);
   putU32(v2, 8, 2);
-  putU64(v2, 80, getU64(v3, 80) - shift);  // node table offset
-  putU64(v2, 96, getU64(v3, 96) - shift);  // file size
+  putU64(v2, 80, kHeaderBytes + arrays * newRecord + 8);  // node table offset
+  putU64(v2, 88, nodes.size());                           // node table bytes
+  putU64(v2, 96, getU64(v3, 96) - shift);                 // file size
   reseal(v2, 0, kHeaderChecksumOffset, kHeaderSeed);
   for (std::size_t a = 0; a < arrays; ++a) {
     std::string record = v3.substr(kHeaderBytes + a * oldRecord, newRecord);
@@ -271,7 +307,9 @@ TEST(SurfelFile, VersionTwoFilesStillRead) {
   }
   v2 += std::string(8, '\0');
   reseal(v2, kHeaderBytes, kHeaderBytes + arrays * newRecord, kArrayTableSeed);
-  v2 += v3.substr(kHeaderBytes + arrays * oldRecord + 8);  // node table and data, unchanged
+  v2 += nodes + std::string(8, '\0');
+  reseal(v2, v2.size() - 8 - nodes.size(), v2.size() - 8, kNodeTableSeed);
+  v2 += v3.substr(v3Data);  // the data, unchanged
   writeFile(dir / "v2.surfels", v2);
 
   const SurfelFile a = readSurfelFile(dir / "v3.surfels"), b = readSurfelFile(dir / "v2.surfels");
@@ -283,7 +321,11 @@ TEST(SurfelFile, VersionTwoFilesStillRead) {
       EXPECT_EQ(a.arrays[i].surfels[k].color, b.arrays[i].surfels[k].color);
     }
   }
-  EXPECT_EQ(b.nodes.size(), a.nodes.size());
+  ASSERT_EQ(b.nodes.size(), a.nodes.size());
+  for (std::size_t n = 0; n < a.nodes.size(); ++n) {
+    EXPECT_EQ(b.nodes[n].path, a.nodes[n].path);
+    EXPECT_EQ(b.nodes[n].array, a.nodes[n].array);
+  }
 
   // Version 2's reserved field stays reserved: a colour encoding there is refused.
   putU32(v2, kHeaderBytes + 84, 2);
@@ -608,18 +650,27 @@ TEST(SurfelFile, AbsurdCountsAndOffsetsAreRefused) {
   writeFile(path, forged);
   EXPECT_NE(errorOf(path).find("node /0: truncated: offset"), std::string::npos) << errorOf(path);
 
-  // A node record whose path length runs past its table.
+  // A node record whose path length runs past its table (a record: bytes shared with the previous
+  // path, the suffix's length, the suffix, the array index).
   const std::size_t nodeTable = arrayTableEnd + 8;
   forged = bytes;
-  putU32(forged, nodeTable, 0xFFFFFFF0u);
+  putU32(forged, nodeTable + 4, 0xFFFFFFF0u);
   const std::size_t nodeTableEnd = bytes.size() - (3 * 16 + 8) - (2 * 16 + 8) - 8;
   reseal(forged, nodeTable, nodeTableEnd, kNodeTableSeed);
   writeFile(path, forged);
   EXPECT_NE(errorOf(path).find("node table"), std::string::npos) << errorOf(path);
 
+  // The first record sharing bytes with a previous path that does not exist.
+  forged = bytes;
+  putU32(forged, nodeTable, 5);
+  reseal(forged, nodeTable, nodeTableEnd, kNodeTableSeed);
+  writeFile(path, forged);
+  EXPECT_NE(errorOf(path).find("node table: node record 0 shares 5 bytes with a path of 0"), std::string::npos)
+      << errorOf(path);
+
   // A node naming an array that does not exist.
   forged = bytes;
-  putU32(forged, nodeTable + 4 + 2, 9);  // "/0" then its array index
+  putU32(forged, nodeTable + 4 + 4 + 2, 9);  // "/0" then its array index
   reseal(forged, nodeTable, nodeTableEnd, kNodeTableSeed);
   writeFile(path, forged);
   EXPECT_NE(errorOf(path).find("node /0: uses array 9"), std::string::npos) << errorOf(path);

@@ -25,17 +25,21 @@
 //   array table: array count × 104-byte records, then u64 checksum of the records
 //     box.min xyz f64×3, box.max xyz f64×3, coverage f64, packing f64, packing end f64, area f64, surfel count u32,
 //     colour encoding u32 (SurfelColorEncoding), data offset u64, constant colour RGBA u8×4, reserved u32 (0)
-//   node table: node count × (path length u32, path bytes, array index u32), then u64 checksum
+//   node table: node count × (shared u32, suffix length u32, suffix bytes, array index u32), then u64
+//     checksum; a node's path is the first `shared` bytes of the previous node's path, then the suffix
+//     (front coding: paths in preorder share most of their bytes with the one before)
 //   data, per array at its data offset: count × surfelBytes(encoding) surfels (chunks of kSurfelsPerChunk), then
 //     one u64 checksum per chunk (Hash64 of the chunk's bytes, seeded by the chunk's index); a surfel is
 //     position u64, normal 2 × i16, then its colour: RGBA u8×4, RGB u8×3 or nothing
-// Version 2 differs only in its 96-byte array records: the colour encoding's place is reserved (0, so
-// RGBA) and the record ends after the data offset.
+// Version 2 differs in its 96-byte array records (the colour encoding's place is reserved, 0 so RGBA,
+// and the record ends after the data offset) and in its node records (path length u32, the whole path,
+// array index u32).
 #pragma once
 
 #include "pbs/raster/hash64.hpp"
 #include "pbs/surfels/surfel_file.hpp"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -53,7 +57,8 @@ inline constexpr std::uint64_t kHeaderBytes = 112;
 inline constexpr std::uint64_t kHeaderChecksumOffset = 104;
 // An array record's size in a file of `version`.
 inline constexpr std::uint64_t arrayRecordBytes(std::uint32_t version) { return version >= 3 ? 104 : 96; }
-inline constexpr std::uint64_t kNodeRecordMinBytes = 8;  // a node with an empty path
+// The least a node record takes (an empty path or suffix) in a file of `version`.
+inline constexpr std::uint64_t nodeRecordMinBytes(std::uint32_t version) { return version >= 3 ? 12 : 8; }
 inline constexpr std::uint64_t kChecksumBytes = 8;
 
 // Distinct seeds, so that a table's bytes never pass for another element's.
@@ -124,10 +129,25 @@ void layoutArray(Io& io, SurfelArrayInfo& a, std::uint32_t& encoding, std::uint3
   io.u32(reserved);
 }
 
+// A node record as stored: version 3 keeps of its path only what differs from the previous node's.
+struct StoredNode {
+  std::uint32_t shared = 0;  // bytes taken from the previous path (version 3; 0 in version 2)
+  std::string suffix;        // the rest of the path (version 2: all of it)
+  std::uint32_t array = 0;
+};
+
 template <class Io>
-void layoutNode(Io& io, SurfelNodeRecord& n) {
-  io.string(n.path);
+void layoutNode(Io& io, StoredNode& n, std::uint32_t version) {
+  if (version >= 3) io.u32(n.shared);
+  io.string(n.suffix);
   io.u32(n.array);
+}
+
+// `node` as stored after a node whose path is `previous`.
+inline StoredNode storedNode(const SurfelNodeRecord& node, const std::string& previous) {
+  const auto end = std::mismatch(previous.begin(), previous.end(), node.path.begin(), node.path.end()).first;
+  const auto shared = std::uint32_t(end - previous.begin());
+  return {shared, node.path.substr(shared), node.array};
 }
 
 // The first of an array's values that is NaN or Inf ("box", "coverage", "packing", "area"), or

@@ -106,8 +106,9 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
   ByteSource arraySource{arrayTable};
   for (std::size_t a = 0; a < arrays_.size(); ++a) layoutArray(arraySource, arrays_[a], encodings[a], header.version);
 
-  // Node table: every record takes at least kNodeRecordMinBytes, so the count is bounded by the size.
-  if (header.nodeTableBytes > fileSize || header.nodeCount > header.nodeTableBytes / kNodeRecordMinBytes) {
+  // Node table: every record takes at least nodeRecordMinBytes, so the count is bounded by the size.
+  if (header.nodeTableBytes > fileSize ||
+      header.nodeCount > header.nodeTableBytes / nodeRecordMinBytes(header.version)) {
     throw InputError(file, "node table",
                      "counts absurd: " + number(header.nodeCount) + " nodes in " + number(header.nodeTableBytes) +
                          " bytes, file size " + number(fileSize));
@@ -118,7 +119,16 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
   ByteSource nodeSource{std::span(nodeTable).first(header.nodeTableBytes)};
   nodes_.resize(header.nodeCount);
   try {
-    for (SurfelNodeRecord& node : nodes_) layoutNode(nodeSource, node);
+    const std::string none;
+    for (std::size_t n = 0; n < nodes_.size(); ++n) {
+      StoredNode stored;
+      layoutNode(nodeSource, stored, header.version);
+      const std::string& previous = n > 0 ? nodes_[n - 1].path : none;
+      if (stored.shared > previous.size())
+        throw ShortRecord("node record " + number(n) + " shares " + number(stored.shared) +
+                          " bytes with a path of " + number(previous.size()));
+      nodes_[n] = {previous.substr(0, stored.shared) + stored.suffix, stored.array};
+    }
   } catch (const ShortRecord& e) {
     throw InputError(file, "node table", e.what());
   }

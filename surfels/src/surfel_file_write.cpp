@@ -40,9 +40,18 @@ void appendChecksum(ByteSink& sink, std::size_t from, std::uint64_t seed) {
   sink.u64(Hash64::of(sink.bytes.data() + from, sink.bytes.size() - from, seed));
 }
 
+// The node records as stored, each front-coded against the one before.
+std::vector<StoredNode> storedNodes(std::span<const SurfelNodeRecord> nodes) {
+  std::vector<StoredNode> stored;
+  stored.reserve(nodes.size());
+  const std::string none;
+  for (std::size_t n = 0; n < nodes.size(); ++n) stored.push_back(storedNode(nodes[n], n > 0 ? nodes[n - 1].path : none));
+  return stored;
+}
+
 std::uint64_t nodeTableBytes(std::span<const SurfelNodeRecord> nodes) {
   std::uint64_t bytes = 0;
-  for (const SurfelNodeRecord& node : nodes) bytes += kNodeRecordMinBytes + node.path.size();
+  for (const StoredNode& node : storedNodes(nodes)) bytes += nodeRecordMinBytes(kSurfelFileVersion) + node.suffix.size();
   return bytes;
 }
 
@@ -172,7 +181,7 @@ void SurfelFileWriter::finish() {
   }
   appendChecksum(sink, arrayTable, kArrayTableSeed);
   const std::size_t nodeTable = sink.bytes.size();
-  for (SurfelNodeRecord& node : nodes_) layoutNode(sink, node);
+  for (StoredNode& node : storedNodes(nodes_)) layoutNode(sink, node, header.version);
   appendChecksum(sink, nodeTable, kNodeTableSeed);
 
   out_.seekp(0);
