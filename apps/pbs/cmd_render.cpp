@@ -106,11 +106,12 @@ void run(const RenderOptions& options) {
   requireMemory(estimate, "rendering " + std::to_string(width) + "x" + std::to_string(height), options.maxMemory);
 
   const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
+  const std::uint64_t bvhEstimate = mode == RenderMode::Embree ? embreeMemoryEstimate(loaded.scene, loaded.hierarchy) : 0;
   if (mode == RenderMode::Embree) {
     // The rays' BVHs come on top of the scene: refuse a build that would not fit before starting it.
     std::uint64_t sceneBytes = 0;
     for (const Mesh& mesh : loaded.scene.meshes) sceneBytes += meshBytes(mesh);
-    requireMemory(estimate + sceneBytes + embreeMemoryEstimate(loaded.scene, loaded.hierarchy),
+    requireMemory(estimate + sceneBytes + bvhEstimate,
                   "ray casting " + loaded.name + " (" + withThousands(loaded.summary.uniqueTriangles) +
                       " triangles in Embree's BVHs)",
                   options.maxMemory);
@@ -139,7 +140,7 @@ void run(const RenderOptions& options) {
   if (mode == RenderMode::Embree) {
     report["build_seconds"] = renderer.buildSeconds();
     report["bvh_peak_bytes"] = renderer.bvhPeakBytes();
-    report["bvh_estimate_bytes"] = embreeMemoryEstimate(loaded.scene, loaded.hierarchy);
+    report["bvh_estimate_bytes"] = bvhEstimate;
   }
   std::vector<double> seconds;
   for (std::uint32_t f = 0; f < frames; ++f) {

@@ -51,13 +51,16 @@ double exactMaximum(const ClusteredPoints& c, const glm::dvec3& a, double t) {
   auto groupSupport = [&](std::size_t g) { return boxSupport(a, t, c.groupMin[g], c.groupMax[g]); };
   auto clustersOf = [&](std::size_t g) { return std::pair(g * kGroup, std::min(clusters, (g + 1) * kGroup)); };
 
-  std::size_t seedGroup = 0;
-  for (std::size_t g = 1; g < groups; ++g)
-    if (groupSupport(g) > groupSupport(seedGroup)) seedGroup = g;
-  const auto [seedFirst, seedEnd] = clustersOf(seedGroup);
-  std::size_t seed = seedFirst;
-  for (std::size_t k = seedFirst + 1; k < seedEnd; ++k)
-    if (clusterSupport(k) > clusterSupport(seed)) seed = k;
+  // The first i in [first, end) with the largest value(i).
+  auto argmax = [](std::size_t first, std::size_t end, const auto& value) {
+    std::size_t best = first;
+    double bestValue = value(first);
+    for (std::size_t i = first + 1; i < end; ++i)
+      if (const double v = value(i); v > bestValue) best = i, bestValue = v;
+    return best;
+  };
+  const auto [seedFirst, seedEnd] = clustersOf(argmax(0, groups, groupSupport));
+  const std::size_t seed = argmax(seedFirst, seedEnd, clusterSupport);
   double best = clusterMaximum(c, seed, a, t);
   // The box bounds and the point values round differently; a small slack keeps the pruning safe.
   const double slack = 1e-9 * (std::abs(best) + std::abs(t) + 1.0);

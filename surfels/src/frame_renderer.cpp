@@ -74,19 +74,18 @@ LodStats FrameRenderer::drawPass(const Camera& camera, double& loadSeconds) {
         pass = renderLod(scene_, hierarchy_, *sources_.surfels, camera, gbuffer_, options_.lod, rays);
         break;
       }
-      // One traversal: the cache loads what it draws, then it is drawn.
+      // One traversal: the stream cuts it to what has arrived, or the cache loads what it draws; then it
+      // is drawn.
       const auto traverse = detail::Clock::now();
-      const LodDraws draws = traverseLod(scene_, hierarchy_, *sources_.surfels, camera, options_.lod);
+      LodDraws draws = traverseLod(scene_, hierarchy_, *sources_.surfels, camera, options_.lod);
       const double traverseSeconds = detail::secondsSince(traverse);
       if (sources_.stream) {
-        pass = drawLod(scene_, hierarchy_, *sources_.surfels, sources_.stream->arrived(draws, camera), camera, gbuffer_,
-                       options_.lod, rays);
-        pass.traverseSeconds = traverseSeconds;
-        break;
+        draws = sources_.stream->arrived(draws, camera);
+      } else {
+        const auto load = detail::Clock::now();
+        sources_.cache->load(draws);
+        loadSeconds += detail::secondsSince(load);
       }
-      const auto load = detail::Clock::now();
-      sources_.cache->load(draws);
-      loadSeconds += detail::secondsSince(load);
       pass = drawLod(scene_, hierarchy_, *sources_.surfels, draws, camera, gbuffer_, options_.lod, rays);
       pass.traverseSeconds = traverseSeconds;
       break;

@@ -121,8 +121,7 @@ double SurfelStream::gainPerByte(const Need& need) const {
   return pixels > 0.0 ? pixels / double(std::max<std::uint64_t>(1, nextTransferBytes(need))) : 0.0;
 }
 
-void SurfelStream::transfer(const Need& need) {
-  const std::uint64_t bytes = nextTransferBytes(need);
+void SurfelStream::transfer(const Need& need, std::uint64_t bytes) {
   if (need.mesh) {
     meshArrived_[need.index] = 1;
     stats_.meshBytes += bytes;
@@ -164,7 +163,7 @@ void SurfelStream::advance(const Camera& camera, double seconds) {
     if (double(bytes) > credit_) break;  // the link is busy with it until the next advance
     queue.pop();
     credit_ -= double(bytes);
-    transfer(needs[i]);
+    transfer(needs[i], bytes);
     if (const double gain = gainPerByte(needs[i]); gain > 0.0) queue.emplace(gain, i);
   }
   if (queue.empty()) credit_ = 0.0;

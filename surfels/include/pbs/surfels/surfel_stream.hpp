@@ -87,7 +87,7 @@ class SurfelStream {
   std::size_t nextLength(const Need& need) const;  // an array's loaded length after its next transfer
   std::uint64_t nextTransferBytes(const Need& need) const;
   double gainPerByte(const Need& need) const;  // missing pixels the next transfer fills, per byte
-  void transfer(const Need& need);
+  void transfer(const Need& need, std::uint64_t bytes);  // `bytes`: nextTransferBytes(need)
 
   SurfelCache& cache_;
   const Scene& scene_;
