@@ -94,31 +94,35 @@ TEST(WorldBounds, NonUniformAndNegativeScaleThroughTheHierarchy) {
 
 TEST(WorldBounds, PrunedSearchEqualsTransformingEveryVertex) {
   // A random cloud (clusters of it far apart, so pruning has work to do) under rotations, non-uniform
-  // and mirroring scales and far translations: the result must equal the brute-force box exactly.
+  // and mirroring scales and far translations: the result must equal the brute-force box exactly. The
+  // sizes give the search's tree one cluster; a top level of exactly 16 clusters; 17 (a level above);
+  // and three and four levels.
   std::mt19937_64 random(7);
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-  Mesh mesh;
-  for (int i = 0; i < 20000; ++i)
-    mesh.positions.push_back(glm::vec3(unit(random), unit(random), unit(random)) * (i % 3 == 0 ? 50.0f : 1.0f));
-  for (std::uint32_t i = 0; i + 2 < mesh.positions.size(); i += 3) mesh.indices.insert(mesh.indices.end(), {i, i + 1, i + 2});
-  mesh.normals = computeVertexNormals(mesh.positions, mesh.indices);
-  mesh.parts.push_back({0, std::uint32_t(mesh.indices.size()), 0});
-  updateMeshBounds(mesh);
-  for (int trial = 0; trial < 20; ++trial) {
-    glm::dmat4 m = glm::translate(glm::dmat4(1.0), glm::dvec3(unit(random), unit(random), unit(random)) * 1e6);
-    m = glm::rotate(m, double(unit(random)) * 3.0, glm::normalize(glm::dvec3(unit(random), unit(random), 1.5)));
-    m = glm::scale(m, glm::dvec3(unit(random) * 3.0, unit(random) + 2.0, 0.5));
-    const Scene scene = singleMeshScene(mesh, m);
-    const Bounds pruned = analyzeHierarchy(scene).worldBounds[0];
-    Bounds brute;
-    for (const glm::vec3& p : mesh.positions) {
-      glm::dvec3 w;
-      for (int axis = 0; axis < 3; ++axis)
-        w[axis] = m[0][axis] * double(p.x) + m[1][axis] * double(p.y) + m[2][axis] * double(p.z) + m[3][axis];
-      brute.extend(w);
+  for (const int points : {5, 1024, 1025, 20000, 300000}) {
+    Mesh mesh;
+    for (int i = 0; i < points; ++i)
+      mesh.positions.push_back(glm::vec3(unit(random), unit(random), unit(random)) * (i % 3 == 0 ? 50.0f : 1.0f));
+    for (std::uint32_t i = 0; i + 2 < mesh.positions.size(); i += 3) mesh.indices.insert(mesh.indices.end(), {i, i + 1, i + 2});
+    mesh.normals = computeVertexNormals(mesh.positions, mesh.indices);
+    mesh.parts.push_back({0, std::uint32_t(mesh.indices.size()), 0});
+    updateMeshBounds(mesh);
+    for (int trial = 0; trial < (points > 100000 ? 4 : 20); ++trial) {
+      glm::dmat4 m = glm::translate(glm::dmat4(1.0), glm::dvec3(unit(random), unit(random), unit(random)) * 1e6);
+      m = glm::rotate(m, double(unit(random)) * 3.0, glm::normalize(glm::dvec3(unit(random), unit(random), 1.5)));
+      m = glm::scale(m, glm::dvec3(unit(random) * 3.0, unit(random) + 2.0, 0.5));
+      const Scene scene = singleMeshScene(mesh, m);
+      const Bounds pruned = analyzeHierarchy(scene).worldBounds[0];
+      Bounds brute;
+      for (const glm::vec3& p : mesh.positions) {
+        glm::dvec3 w;
+        for (int axis = 0; axis < 3; ++axis)
+          w[axis] = m[0][axis] * double(p.x) + m[1][axis] * double(p.y) + m[2][axis] * double(p.z) + m[3][axis];
+        brute.extend(w);
+      }
+      EXPECT_EQ(pruned.min, brute.min) << points << " points, trial " << trial;
+      EXPECT_EQ(pruned.max, brute.max) << points << " points, trial " << trial;
     }
-    EXPECT_EQ(pruned.min, brute.min) << "trial " << trial;
-    EXPECT_EQ(pruned.max, brute.max) << "trial " << trial;
   }
 }
 

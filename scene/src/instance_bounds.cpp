@@ -1,13 +1,14 @@
-// Branch-and-bound over point clusters for exact transformed bounds: a cluster's (or a group's) box
-// bounds what its points can reach along an axis, the points of the most promising cluster give a value
-// that is reached, and only the clusters whose bound beats it are read point by point.
+// Branch-and-bound over a tree of point clusters for exact transformed bounds: a box bounds what the
+// points under it can reach along an axis, the points of the most promising cluster give a value that
+// is reached, and only the boxes whose bound beats it are opened.
 #include "instance_bounds.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <numeric>
+#include <utility>
 
 namespace pbs::detail {
 namespace {
@@ -22,15 +23,17 @@ std::uint32_t spreadBits(std::uint32_t v) {
   return v;
 }
 
-// Largest value of a·p + t over the box [lo, hi]: each term takes the end its sign favours.
-double boxSupport(const glm::dvec3& a, double t, const glm::vec3& lo, const glm::vec3& hi) {
-  double s = t;
-  for (int j = 0; j < 3; ++j) s += a[j] * (a[j] >= 0.0 ? double(hi[j]) : double(lo[j]));
-  return s;
-}
-
+// a·p + t, summed in this order: the one formula for points and for box corners.
 double pointValue(const glm::dvec3& a, double t, const glm::vec3& p) {
   return a.x * double(p.x) + a.y * double(p.y) + a.z * double(p.z) + t;
+}
+
+// The largest pointValue of any point in the box [lo, hi]: the same formula at the corner each term's
+// sign favours. Rounding to nearest is monotonic, so no point of the box can round to more: a bound
+// with no slack, and a box whose bound only ties the best value so far can be skipped (the flat roofs
+// and floors of a city's meshes tie in every cluster that touches them).
+double boxSupport(const glm::dvec3& a, double t, const glm::vec3& lo, const glm::vec3& hi) {
+  return pointValue(a, t, glm::vec3(a.x >= 0.0 ? hi.x : lo.x, a.y >= 0.0 ? hi.y : lo.y, a.z >= 0.0 ? hi.z : lo.z));
 }
 
 // max of a·p + t over the points of cluster k.
@@ -41,34 +44,55 @@ double clusterMaximum(const ClusteredPoints& c, std::size_t k, const glm::dvec3&
   return best;
 }
 
-// max over all points of a·p + t, exactly. The cluster with the largest box bound in the group with the
-// largest one is read first: its points nearly always hold the maximum, so the bound that follows prunes
-// all but a few groups and clusters.
+// max over all points of a·p + t, exactly. First down the tree along the largest box bound at each
+// level to one cluster: its points nearly always hold the maximum. Then every box whose bound could
+// still beat that value is opened, depth first; the others are skipped with everything under them.
 double exactMaximum(const ClusteredPoints& c, const glm::dvec3& a, double t) {
-  const std::size_t groups = c.groupMin.size(), clusters = c.clusterMin.size();
-  constexpr std::size_t kGroup = ClusteredPoints::kGroupSize;
-  auto clusterSupport = [&](std::size_t k) { return boxSupport(a, t, c.clusterMin[k], c.clusterMax[k]); };
-  auto groupSupport = [&](std::size_t g) { return boxSupport(a, t, c.groupMin[g], c.groupMax[g]); };
-  auto clustersOf = [&](std::size_t g) { return std::pair(g * kGroup, std::min(clusters, (g + 1) * kGroup)); };
-
-  // The first i in [first, end) with the largest value(i).
-  auto argmax = [](std::size_t first, std::size_t end, const auto& value) {
-    std::size_t best = first;
-    double bestValue = value(first);
-    for (std::size_t i = first + 1; i < end; ++i)
-      if (const double v = value(i); v > bestValue) best = i, bestValue = v;
-    return best;
+  constexpr std::size_t kFanout = ClusteredPoints::kFanout;
+  auto support = [&](std::size_t level, std::size_t i) {
+    return boxSupport(a, t, c.levels[level].min[i], c.levels[level].max[i]);
   };
-  const auto [seedFirst, seedEnd] = clustersOf(argmax(0, groups, groupSupport));
-  const std::size_t seed = argmax(seedFirst, seedEnd, clusterSupport);
+  // The boxes under box i of `level` (the whole top level for level = levels.size()).
+  auto childrenOf = [&](std::size_t level, std::size_t i) {
+    const std::size_t count = c.levels[level - 1].min.size();
+    return level == c.levels.size() ? std::pair<std::size_t, std::size_t>(0, count)
+                                    : std::pair(i * kFanout, std::min(count, (i + 1) * kFanout));
+  };
+
+  std::size_t seed = 0;
+  for (std::size_t level = c.levels.size(); level > 0; --level) {
+    const auto [first, end] = childrenOf(level, seed);
+    seed = first;
+    double seedValue = support(level - 1, first);
+    for (std::size_t i = first + 1; i < end; ++i)
+      if (const double v = support(level - 1, i); v > seedValue) seed = i, seedValue = v;
+  }
   double best = clusterMaximum(c, seed, a, t);
-  // The box bounds and the point values round differently; a small slack keeps the pruning safe.
-  const double slack = 1e-9 * (std::abs(best) + std::abs(t) + 1.0);
-  for (std::size_t g = 0; g < groups; ++g) {
-    if (groupSupport(g) + slack < best) continue;
-    const auto [first, end] = clustersOf(g);
-    for (std::size_t k = first; k < end; ++k)
-      if (k != seed && clusterSupport(k) + slack >= best) best = std::max(best, clusterMaximum(c, k, a, t));
+
+  // Depth first over ranges of sibling boxes, one range per level at most.
+  struct Range {
+    std::size_t level, next, end;
+  };
+  std::array<Range, ClusteredPoints::kMaxLevels> stack;
+  std::size_t depth = 0;
+  {
+    const auto [first, end] = childrenOf(c.levels.size(), 0);
+    stack[depth++] = {c.levels.size() - 1, first, end};
+  }
+  while (depth > 0) {
+    Range& range = stack[depth - 1];
+    if (range.next == range.end) {
+      --depth;
+      continue;
+    }
+    const std::size_t level = range.level, i = range.next++;
+    if (support(level, i) <= best) continue;  // nothing under it can beat `best`
+    if (level == 0) {
+      if (i != seed) best = std::max(best, clusterMaximum(c, i, a, t));
+    } else {
+      const auto [first, end] = childrenOf(level, i);
+      stack[depth++] = {level - 1, first, end};
+    }
   }
   return best;
 }
@@ -109,8 +133,13 @@ ClusteredPoints clusterPoints(std::span<const glm::vec3> positions) {
   std::sort(keyed.begin(), keyed.end());  // ties by index: deterministic
   c.points.reserve(positions.size());
   for (const auto& [code, index] : keyed) c.points.push_back(positions[index]);
-  boxesOfRuns(c.points, c.points, ClusteredPoints::kClusterSize, c.clusterMin, c.clusterMax);
-  boxesOfRuns(c.clusterMin, c.clusterMax, ClusteredPoints::kGroupSize, c.groupMin, c.groupMax);
+  c.levels.emplace_back();
+  boxesOfRuns(c.points, c.points, ClusteredPoints::kClusterSize, c.levels[0].min, c.levels[0].max);
+  while (c.levels.back().min.size() > ClusteredPoints::kFanout) {
+    ClusteredPoints::Level above;
+    boxesOfRuns(c.levels.back().min, c.levels.back().max, ClusteredPoints::kFanout, above.min, above.max);
+    c.levels.push_back(std::move(above));
+  }
   return c;
 }
 

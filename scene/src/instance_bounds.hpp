@@ -10,18 +10,20 @@
 
 namespace pbs::detail {
 
-// A mesh's vertices reordered along a Morton curve and cut into small clusters with their boxes, the
-// clusters in turn into groups with theirs, built once per mesh and shared by all its instances. The
-// groups let an instance skip most clusters without looking at each: a city of 100,000 instances of
-// meshes of 50,000 vertices would otherwise test every cluster box of every instance.
+// A mesh's vertices reordered along a Morton curve and cut into small clusters, with a tree of boxes
+// over them: level 0 holds each cluster's box, each level above the box of every kFanout consecutive
+// boxes below it, up to a top level of at most kFanout boxes. Built once per mesh and shared by all its
+// instances. The tree lets small clusters (few points read per cluster that may hold an extreme) cost
+// box tests that grow with the logarithm of the mesh's size, not with it.
 struct ClusteredPoints {
-  static constexpr std::size_t kClusterSize = 64;
-  static constexpr std::size_t kGroupSize = 16;  // clusters per group
-  std::vector<glm::vec3> points;      // the vertices, Morton-ordered
-  std::vector<glm::vec3> clusterMin;  // per cluster of kClusterSize consecutive points
-  std::vector<glm::vec3> clusterMax;
-  std::vector<glm::vec3> groupMin;    // per group of kGroupSize consecutive clusters
-  std::vector<glm::vec3> groupMax;
+  static constexpr std::size_t kClusterSize = 16;
+  static constexpr std::size_t kFanout = 16;  // boxes per box of the level above
+  static constexpr std::size_t kMaxLevels = 8;  // 16 × 16^7 points: all a 32-bit index can reach
+  std::vector<glm::vec3> points;  // the vertices, Morton-ordered
+  struct Level {
+    std::vector<glm::vec3> min, max;
+  };
+  std::vector<Level> levels;  // [0]: per cluster of kClusterSize consecutive points; back(): the top
 };
 
 ClusteredPoints clusterPoints(std::span<const glm::vec3> positions);
