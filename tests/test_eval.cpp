@@ -165,7 +165,7 @@ TEST(EvalCli, MoreSurfelsNeverLeaveMoreHolesOnAStaticView) {
   const EvalRun eval;
   const test::CommandResult run = eval.run(
       "--size 160x120 --frames 1 --peers embree=1 --reference-samples 4 --splat nearest --point-size 2 --exhausted grow "
-      "--sweep overdraw=0.5,1,2,8 --quiet");
+      "--overdraw 4 --sweep overdraw=0.5,1,2,8 --quiet");
   ASSERT_EQ(run.status, 0) << run.err;
   const std::vector<test::CsvRow> rows = eval.rows();
   ASSERT_EQ(rows.size(), 6u);  // embree=1, surfels (overdraw 4) and four overdraws
@@ -219,7 +219,7 @@ TEST(EvalCli, BadSweepsFailWithUsageErrors) {
 TEST(EvalCli, BaselineOptionsAndCombinedSettings) {
   const EvalRun eval;
   const test::CommandResult run =
-      eval.run("--size 96x64 --frames 2 --peers exact=1 --reference-samples 4 --point-size 0.5 --exhausted grow --sweep overdraw=4 "
+      eval.run("--size 96x64 --frames 2 --peers exact=1 --reference-samples 4 --point-size 0.5 --exhausted grow --overdraw 4 --sweep overdraw=4 "
                "--sweep point=0.5+overdraw=4 --sweep point=2+threshold=0.001+geometry=raster --quiet");
   ASSERT_EQ(run.status, 0) << run.err;
   const std::vector<test::CsvRow> rows = eval.rows();

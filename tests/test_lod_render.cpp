@@ -42,7 +42,8 @@ SplatArray arrayOf(std::size_t size, double coverage, double packing) {
 
 TEST(PrefixLength, PaperRuleIsSizeSquaredTimesCoverageTimesOverdraw) {
   const SplatArray array = arrayOf(100000, 0.25, 1.0);
-  LodOptions options;  // overdraw 4, point size 2 = kReferencePointSize
+  LodOptions options;  // point size 2 = kReferencePointSize
+  options.overdraw = 4.0;  // the paper's
   EXPECT_EQ(prefixLength(array, 50.0, 0.0, 1.0, options), 2500u);  // 50² · 0.25 · 4
   options.pointSize = 4.0f;                                         // twice the reference: a quarter
   EXPECT_EQ(prefixLength(array, 50.0, 0.0, 1.0, options), 625u);
@@ -102,6 +103,7 @@ TEST(LodTraversal, PrefixSizedDiscsCloseTheSurfaceAndGrowWhenTheArrayRunsOut) {
   // than its array can serve draws larger discs.
   const SplatArray array = arrayOf(1000, 1.0, 0.5);
   LodOptions options;  // point size from the prefix
+  options.overdraw = 4.0;  // the paper's
   const std::uint32_t k = prefixLength(array, 10.0, 0.01, 1.0, options);
   EXPECT_EQ(k, 400u);  // 10² · coverage 1 · overdraw 4: the paper's count for 2-pixel points
   EXPECT_NEAR(array.spacing(k), std::sqrt(0.5 / 400.0), 1e-12);
@@ -278,6 +280,7 @@ TEST(RenderLod, SubPixelPointsKeepSparseSubPixelPartsFromInflating) {
   const Camera camera = orbitAround(s, 12.0, 256);
   LodOptions options;
   options.threshold = 1e4;  // the grid draws its surfels, however near
+  options.overdraw = 4.0;   // the paper's, for which the measurements below were taken
   const std::vector<glm::vec4> exact = renderImage(s, camera, options, SceneSurfels{});
   const std::vector<glm::vec4> blended = renderImage(s, camera, options, s.surfels);
   // The paper's points: nearest wins, no culling (a fixed-size prefix that culls half its surfels
@@ -362,6 +365,8 @@ TEST_P(Transitions, DoNotPopOnASharedScene) {
   const SurfeledScene s = surfeled(std::move(city), 5000);
   LodOptions smooth;
   smooth.splat = GetParam();
+  // Nearest is the paper's points, checked at the paper's overdraw; blended discs at the default.
+  if (GetParam() == SplatMode::Nearest) smooth.overdraw = 4.0;
   smooth.threshold = 48.0;
   smooth.band = 1.0;
   const PoppingMeasure banded = popping(s, smooth);

@@ -273,7 +273,7 @@ void addEvalCommand(CLI::App& app) {
                       "KEY=V1,V2,… or KEY=V+KEY=V (keys: " + sweepKeys() +
                           "), repeatable; each value one setting over the baseline LOD options (--threshold, --point-size, "
                           "…), which is measured as 'surfels'. Default: "
-                          "overdraw=1,2,8 threshold=64,256 splat=nearest, the file's other orderings and "
+                          "overdraw=4,8,32 threshold=64,256 splat=nearest, the file's other orderings and "
                           "simplify=0.25,0.05,0.01 (meshes simplified to that fraction of their triangles, drawn in "
                           "place of surfels)");
   command->add_option("--peers", options->peers,

@@ -33,7 +33,7 @@ void addLodOptions(CLI::App& command, LodOptions& lod) {
   command.add_option("--band", lod.band, "transition band above the threshold, as a fraction of it")
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();
-  command.add_option("--overdraw", lod.overdraw, "surfels per covered pixel (paper: 4)")
+  command.add_option("--overdraw", lod.overdraw, "surfels per covered pixel (the paper's 4 was for 2-pixel points)")
       ->check(positiveNumber())
       ->capture_default_str();
   command

@@ -138,7 +138,7 @@ std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& b
 std::vector<std::string> defaultPeers() { return {"embree=1,4,16", "exact=1"}; }
 
 std::vector<std::string> defaultSweep(SurfelOrdering fileOrdering) {
-  std::vector<std::string> sweeps = {"overdraw=1,2,8", "threshold=64,256", "splat=nearest"};
+  std::vector<std::string> sweeps = {"overdraw=4,8,32", "threshold=64,256", "splat=nearest"};
   std::string orderings;
   for (SurfelOrdering o : {SurfelOrdering::Farthest, SurfelOrdering::Dart, SurfelOrdering::Random}) {
     if (o == fileOrdering) continue;
