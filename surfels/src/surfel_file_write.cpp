@@ -49,16 +49,16 @@ std::vector<StoredNode> storedNodes(std::span<const SurfelNodeRecord> nodes) {
   return stored;
 }
 
-std::uint64_t nodeTableBytes(std::span<const SurfelNodeRecord> nodes) {
+std::uint64_t nodeTableBytes(std::span<const StoredNode> stored) {
   std::uint64_t bytes = 0;
-  for (const StoredNode& node : storedNodes(nodes)) bytes += nodeRecordMinBytes(kSurfelFileVersion) + node.suffix.size();
+  for (const StoredNode& node : stored) bytes += nodeRecordMinBytes(kSurfelFileVersion) + node.suffix.size();
   return bytes;
 }
 
 // Where the data begins: after the header and both tables with their checksums.
 std::uint64_t dataStart(std::uint64_t arrayCount, std::span<const SurfelNodeRecord> nodes) {
-  return kHeaderBytes + arrayCount * arrayRecordBytes(kSurfelFileVersion) + kChecksumBytes + nodeTableBytes(nodes) +
-         kChecksumBytes;
+  return kHeaderBytes + arrayCount * arrayRecordBytes(kSurfelFileVersion) + kChecksumBytes +
+         nodeTableBytes(storedNodes(nodes)) + kChecksumBytes;
 }
 
 // The smallest colour encoding that keeps every surfel's colour: one colour for all, or no alpha where
@@ -168,7 +168,8 @@ void SurfelFileWriter::finish() {
   header.nodeCount = static_cast<std::uint32_t>(nodes_.size());
   header.arrayTableOffset = kHeaderBytes;
   header.nodeTableOffset = header.arrayTableOffset + infos_.size() * arrayRecordBytes(header.version) + kChecksumBytes;
-  header.nodeTableBytes = nodeTableBytes(nodes_);
+  std::vector<StoredNode> stored = storedNodes(nodes_);
+  header.nodeTableBytes = nodeTableBytes(stored);
   header.fileBytes = dataEnd_;
 
   ByteSink sink;
@@ -181,7 +182,7 @@ void SurfelFileWriter::finish() {
   }
   appendChecksum(sink, arrayTable, kArrayTableSeed);
   const std::size_t nodeTable = sink.bytes.size();
-  for (StoredNode& node : storedNodes(nodes_)) layoutNode(sink, node, header.version);
+  for (StoredNode& node : stored) layoutNode(sink, node, header.version);
   appendChecksum(sink, nodeTable, kNodeTableSeed);
 
   out_.seekp(0);
