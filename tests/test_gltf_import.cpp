@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 
 namespace pbs {
@@ -344,6 +345,34 @@ TEST(Nodes, TrsAndMatrixGiveTheSameTransform) {
       EXPECT_EQ(scene.nodes[1].local[c][r], expected[c][r]) << c << "," << r;
     }
   EXPECT_EQ(scene.nodes[1].local[3], glm::dvec4(1, 2, 3, 1));  // translation in the last column
+}
+
+// JSON numbers are decimal text: each must become the double nearest to it, as strtod rounds, so that a
+// transform keeps the same bits whichever parser read it (scene fingerprints hash them). These are the
+// cases a fast parser gets wrong: halfway and near-halfway mantissas, more than 17 digits, subnormals,
+// the largest double and integers beyond 2^53.
+TEST(Nodes, MatrixNumbersAreCorrectlyRounded) {
+  const std::vector<std::string> texts = {
+      "0.1", "0.30000000000000004", "9007199254740993", "2.2250738585072011e-308", "4.9406564584124654e-324",
+      "1.7976931348623157e308", "0.99999999999999994448884876874217", "1.00000000000000011102230246251565404236316680908203125",
+      "123456789012345678901234567890e-20", "7.038531e-26", "2.4703282292062327e-324", "8.98846567431158e307",
+      "1.000000000000000055511151231257827021181583404541015625", "-0.0", "3.14159265358979323846264338327950288"};
+  ASSERT_EQ(texts.size(), 15u);  // plus a last 1: a node matrix has 16 numbers
+  std::string matrix = "[";
+  for (const std::string& text : texts) matrix += text + ",";
+  matrix += "1]";
+  GltfBuilder b = test::triangleFile();
+  b.json["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  std::string text = b.gltf();
+  const std::string identity = "[1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1]";
+  ASSERT_NE(text.find(identity), std::string::npos);
+  text.replace(text.find(identity), identity.size(), matrix);
+  const Scene scene = test::importText(text).scene;
+  for (std::size_t i = 0; i < texts.size(); ++i) {
+    const double expected = std::strtod(texts[i].c_str(), nullptr);
+    const double got = scene.nodes.at(0).local[int(i / 4)][int(i % 4)];
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(got), std::bit_cast<std::uint64_t>(expected)) << texts[i];
+  }
 }
 
 TEST(Nodes, DefaultSceneElseSceneZero) {

@@ -18,6 +18,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 
 namespace pbs::cli {
 namespace {
@@ -92,6 +93,8 @@ std::string geometryText(RenderMode mode, const LodStats& stats) {
 }
 
 void run(const RenderOptions& options) {
+  std::optional<ImagePluginPreload> preload;
+  if (!options.output.empty()) preload.emplace();
   const Orbit orbit = parseOrbit(options.orbit);
   const auto [width, height] = parseSize(options.size);
   const std::string modeName = !options.mode.empty() ? options.mode : options.surfels.empty() ? "exact" : "surfels";

@@ -28,6 +28,18 @@ void* imageLibrary() {
   return library;
 }
 
+}  // namespace
+
+ImagePluginPreload::ImagePluginPreload()
+    : loading_([] {
+        try {
+          imageLibrary();
+        } catch (const std::exception&) {  // reported again, with its reason, where an image is read or written
+        }
+      }) {}
+
+namespace {
+
 template <typename Function>
 Function imageFunction(const char* name) {
   auto function = reinterpret_cast<Function>(dlsym(imageLibrary(), name));

@@ -7,8 +7,21 @@
 #include <cstdint>
 #include <filesystem>
 #include <span>
+#include <thread>
 
 namespace pbs::cli {
+
+// Loading the image plug-in maps OpenImageIO and the 260 libraries it depends on: 0.3-0.4 s, a third of
+// a large scene's first frame. A command that will write an image makes one of these first, so that the
+// loading runs on a thread of its own while the command reads its scene; destroying it waits for the
+// thread. A failure to load is left for the first image call, which reports it.
+class ImagePluginPreload {
+ public:
+  ImagePluginPreload();
+
+ private:
+  std::jthread loading_;
+};
 
 // Writes width×height pixels of `channels` 8-bit values each, rows top first, to a temporary name
 // beside `file` and renames it into place. Throws std::runtime_error naming the file on failure.
