@@ -400,6 +400,17 @@ TEST(RenderCli, ModesWriteImagesThatCompare) {
                             "nodes_surfels"})
       EXPECT_TRUE(report.contains(key)) << mode << " " << key;
     EXPECT_EQ(report["width"], 320);
+    // What the frame used: coverage only for blended surfels, never position or ids; depth cleared alone
+    // (Embree writes every pixel and clears nothing).
+    const nlohmann::json& used = report["used"];
+    const bool blended = std::string(mode) == "surfels", rays = std::string(mode) == "embree";
+    const nlohmann::json gbuffer = blended ? nlohmann::json{"depth", "color", "normal", "coverage"}
+                                           : nlohmann::json{"depth", "color", "normal"};
+    const nlohmann::json cleared = rays ? nlohmann::json::array() : nlohmann::json{"depth"};
+    EXPECT_EQ(used["gbuffer"], gbuffer) << mode;
+    EXPECT_EQ(used["cleared_each_pass"], cleared) << mode;
+    EXPECT_EQ(used["passes_per_frame"], 1);
+    EXPECT_EQ(used["image_file"], "8-bit");
   }
   const auto compare = [&](const char* a, const char* b) {
     const test::CommandResult run = test::runPbs("compare '" + (scratch / a).string() + "' '" + (scratch / b).string() +
@@ -421,6 +432,7 @@ TEST(RenderCli, ModesWriteImagesThatCompare) {
         test::runPbs("render " + common + "--mode " + mode + " --samples 16 -o '" + file + "' --json");
     ASSERT_EQ(run.status, 0) << run.err;
     EXPECT_EQ(nlohmann::json::parse(run.out)["samples"], 16);
+    EXPECT_EQ(nlohmann::json::parse(run.out)["used"]["passes_per_frame"], 16);
   }
   const nlohmann::json smooth = compare("exact16.png", "embree16.png");
   EXPECT_LT(smooth["flip_mean"].get<double>(), rays["flip_mean"].get<double>() + 1e-4);

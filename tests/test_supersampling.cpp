@@ -122,6 +122,36 @@ TEST(Supersampling, FramesAreBitIdenticalForAnyThreadCount) {
   }
 }
 
+// A renderer clears only depth between passes (Embree: nothing), leaving the last view's colour and
+// normal in its G-buffer: the next view must not show them. Reused from a near view (which covers
+// most pixels) to a far one (which covers few), each frame is bit for bit a fresh renderer's.
+TEST(Supersampling, AReusedRendererLeavesNothingOfTheLastView) {
+  const GroupsView view;
+  Camera near = view.camera, far = view.camera;
+  Bounds bounds;
+  for (std::uint32_t root : view.scene.roots) bounds.extend(view.hierarchy.worldBounds[root]);
+  near = orbitCamera(bounds.center(), 0.5 * glm::length(bounds.size()), Orbit{10.0, 40.0, 0.9}, 160, 120);
+  far = orbitCamera(bounds.center(), 0.5 * glm::length(bounds.size()), Orbit{200.0, 15.0, 6.0}, 160, 120);
+  for (RenderMode mode : {RenderMode::Exact, RenderMode::Embree}) {
+    for (std::uint32_t samples : {1u, 4u}) {
+      FrameRenderer reused(view.scene, view.hierarchy, {.mode = mode, .samples = samples}, 160, 120);
+      EXPECT_EQ(reused.channels(), ChannelMask{kChannelColor | kChannelNormal}) << "no position, ids or coverage";
+      EXPECT_EQ(reused.clearsDepth(), mode != RenderMode::Embree);
+      const RgbaImage first{160, 120, reused.render(near).image};
+      const RgbaImage second{160, 120, reused.render(far).image};
+      FrameRenderer fresh(view.scene, view.hierarchy, {.mode = mode, .samples = samples}, 160, 120);
+      const RgbaImage expected{160, 120, fresh.render(far).image};
+      EXPECT_TRUE(sameBits(second, expected)) << renderModeName(mode) << " " << samples;
+      std::size_t nearCovered = 0, farCovered = 0;
+      for (std::size_t i = 0; i < first.pixels.size(); ++i) {
+        nearCovered += first.pixels[i].a > 0.0f;
+        farCovered += second.pixels[i].a > 0.0f;
+      }
+      EXPECT_GT(nearCovered, 4 * farCovered) << "the near view must cover pixels the far one leaves empty";
+    }
+  }
+}
+
 TEST(Supersampling, OneSampleIsTheUnsupersampledFrame) {
   const GroupsView view;
   for (RenderMode mode : {RenderMode::Exact, RenderMode::Embree}) {

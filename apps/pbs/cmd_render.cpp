@@ -140,6 +140,12 @@ void run(const RenderOptions& options) {
 
   nlohmann::json report = {{"scene", loaded.name}, {"mode", modeName},         {"width", width},
                             {"height", height},   {"samples", options.samples}};
+  // What the frames use, so that a user can see what was left out (a channel no pass reads is never
+  // allocated, and the 8-bit conversion runs only for an 8-bit image file).
+  report["used"] = {{"gbuffer", channelNames(renderer.channels())},
+                    {"cleared_each_pass", renderer.clearsDepth() ? std::vector<std::string>{"depth"} : std::vector<std::string>{}},
+                    {"passes_per_frame", options.samples},
+                    {"image_file", output.empty() ? "none" : output.extension() == ".exr" && options.frames == 0 ? "float" : "8-bit"}};
   if (mode == RenderMode::Embree) {
     report["build_seconds"] = renderer.buildSeconds();
     report["bvh_peak_bytes"] = renderer.bvhPeakBytes();

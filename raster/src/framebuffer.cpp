@@ -1,6 +1,8 @@
 // Framebuffer allocation and clearing: depth always, every other channel only when asked for.
 #include "pbs/raster/framebuffer.hpp"
 
+#include "pbs/raster/value_names.hpp"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -21,11 +23,24 @@ void forEachChannel(Framebuffer& framebuffer, Visit&& visit) {
   visit(framebuffer.coverage, ChannelMask{kChannelCoverage}, 0.0f);
 }
 
+constexpr ValueNames<Channel, 5> kChannelNames{{{{kChannelColor, "color"},
+                                                   {kChannelPosition, "position"},
+                                                   {kChannelNormal, "normal"},
+                                                   {kChannelIds, "ids"},
+                                                   {kChannelCoverage, "coverage"}}}};
+
 bool allocated(const Framebuffer& framebuffer, ChannelMask channel) {
   return channel == 0 || (framebuffer.channels & channel) != 0;
 }
 
 }  // namespace
+
+std::vector<std::string_view> channelNames(ChannelMask channels) {
+  std::vector<std::string_view> names{"depth"};
+  for (const auto& [channel, name] : kChannelNames.entries)
+    if ((channels & channel) != 0) names.push_back(name);
+  return names;
+}
 
 Framebuffer makeFramebuffer(std::uint32_t width, std::uint32_t height, ChannelMask channels,
                             const glm::dvec3& positionOrigin) {

@@ -63,9 +63,7 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, con
 }
 
 LodStats FrameRenderer::drawPass(const Camera& camera, double& loadSeconds) {
-  // Embree overwrites every pixel itself. The rasterizer clears depth alone: shading reads colour and
-  // normal only where depth says a pixel is covered.
-  if (options_.mode != RenderMode::Embree) clearFramebuffer(gbuffer_, 0);
+  if (clearsDepth()) clearFramebuffer(gbuffer_, 0);
   LodStats pass;
   switch (options_.mode) {
     case RenderMode::Surfels: {

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <string_view>
 #include <vector>
 
 namespace pbs {
@@ -51,6 +52,10 @@ struct Framebuffer {
   bool covered(std::size_t pixel) const { return depth[pixel] != kClearDepth; }
   std::size_t pixelCount() const { return std::size_t(width) * height; }
 };
+
+// For reports of what a run used: "depth" (always there), then the names of the channels in `channels`
+// ("color", "position", "normal", "ids", "coverage"), in that order.
+std::vector<std::string_view> channelNames(ChannelMask channels);
 
 // Allocates depth and exactly the requested channels, cleared (colour to 0, ids to all ones).
 Framebuffer makeFramebuffer(std::uint32_t width, std::uint32_t height, ChannelMask channels,

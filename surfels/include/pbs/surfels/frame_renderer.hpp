@@ -73,6 +73,12 @@ class FrameRenderer {
 
   // Bit-identical for any thread count. The camera must be width × height.
   FrameResult render(const Camera& camera);
+  // What every frame uses, for reports: the G-buffer's channels (coverage only for blended surfels), and
+  // whether each pass clears its depth (the rasterizer's modes: colour and normal are read only where
+  // depth says a pixel is covered, so they are never cleared) or clears nothing (Embree writes every
+  // pixel). A frame draws `samples` passes, each shaded into the frame's image.
+  ChannelMask channels() const { return gbuffer_.channels; }
+  bool clearsDepth() const { return options_.mode != RenderMode::Embree; }
   double buildSeconds() const { return buildSeconds_; }  // 0 unless this renderer built the BVH
   // Embree's peak allocation while building it (EmbreeScene::peakBytes); 0 unless this renderer built it.
   std::uint64_t bvhPeakBytes() const { return ownRays_ ? ownRays_->peakBytes() : 0; }
