@@ -413,6 +413,10 @@ TEST(SurfelizeCli, WritesTheFileAndReportsJson) {
   EXPECT_EQ(report["color_encodings"]["constant"], 3) << report["color_encodings"];
   EXPECT_EQ(report["color_encodings"]["rgb"], 0);
   EXPECT_EQ(report["color_encodings"]["rgba"], 0);
+  const nlohmann::json gbuffer = {"depth", "color", "position", "normal"}, cleared = {"depth"};
+  EXPECT_EQ(report["used"]["capture_gbuffer"], gbuffer) << "no ids or coverage in a capture";
+  EXPECT_EQ(report["used"]["cleared_each_view"], cleared);
+  EXPECT_EQ(report["used"]["color_encodings"], report["color_encodings"]);
   EXPECT_LT(report["bytes_per_surfel"].get<double>(), 13.0 + 2000.0 / 1500.0) << "12 a surfel, and the tables";
   EXPECT_EQ(run.err, "") << "--json implies no progress output";
 

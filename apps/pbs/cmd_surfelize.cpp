@@ -7,6 +7,7 @@
 #include "scene_report.hpp"
 
 #include <pbs/raster/thread_arena.hpp>
+#include <pbs/surfels/capture.hpp>
 #include <pbs/surfels/surfelize.hpp>
 
 #include <chrono>
@@ -103,6 +104,9 @@ void addSurfelizeCommand(CLI::App& app) {
             {"bytes", bytes},
             {"bytes_per_surfel", stats.surfels > 0 ? double(bytes) / double(stats.surfels) : 0.0},
             {"color_encodings", encodings},
+            {"used", {{"capture_gbuffer", channelNames(kCaptureChannels)},
+                      {"cleared_each_view", channelNames(kCaptureClearedChannels)},
+                      {"color_encodings", encodings}}},
             {"threshold", settings.file.threshold},
             {"max_surfels", settings.file.maxSurfels},
             {"resolution", settings.file.resolution},

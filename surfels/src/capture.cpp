@@ -40,14 +40,12 @@ CaptureResult captureBox(const Bounds& box, const CaptureOptions& options, const
   result.origin = box.center();
 
   double boxArea = 0.0;
-  // One G-buffer for all views, of which only depth is cleared: the surfels and the pictures of
-  // onView read the other channels only where depth says a pixel is covered, and clearing them
-  // would be 28 of the 32 bytes a pixel.
-  Framebuffer framebuffer = makeFramebuffer(0, 0, kChannelColor | kChannelPosition | kChannelNormal, result.origin);
+  // One G-buffer for all views, of which only depth is cleared (kCaptureClearedChannels).
+  Framebuffer framebuffer = makeFramebuffer(0, 0, kCaptureChannels, result.origin);
   for (const glm::dvec3& direction : directions) {
     const Camera camera = boxViewCamera(box, direction, options.resolution);
     resizeFramebuffer(framebuffer, camera.width, camera.height);
-    clearFramebuffer(framebuffer, 0);
+    clearFramebuffer(framebuffer, kCaptureClearedChannels);
     draw(camera, framebuffer);
     if (options.onView) options.onView(result.views, camera, framebuffer);
     const std::size_t before = result.surfels.size();

@@ -48,6 +48,13 @@ struct CaptureResult {
 // CaptureOptions::directions. Throws std::invalid_argument for 0.
 std::vector<glm::dvec3> captureDirections(std::uint32_t count);
 
+// The capture's G-buffer: colour, position and normal beside depth (kCaptureChannels), of which each
+// view clears depth alone (kCaptureClearedChannels: none besides it). The surfels and the pictures of
+// CaptureOptions::onView read the other channels only where depth says a pixel is covered, and clearing
+// them would be 28 of the 32 bytes a pixel.
+inline constexpr ChannelMask kCaptureChannels = kChannelColor | kChannelPosition | kChannelNormal;
+inline constexpr ChannelMask kCaptureClearedChannels = 0;
+
 // Draws one capture view: fills the G-buffer (colour, position relative to the box centre, normal) as
 // seen by `camera`.
 using DrawCaptureView = std::function<void(const Camera& camera, Framebuffer& gbuffer)>;
