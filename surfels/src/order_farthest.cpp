@@ -1,4 +1,5 @@
-// orderFarthest: the exact greedy permutation with per-point distances, a cell grid and a lazy heap of cells.
+// orderFarthest: the exact greedy permutation with per-point distances, a cell grid (in blocks, to skip empty
+// space) and a lazy heap of cells.
 #include "order_nearest_grid.hpp"
 
 #include <pbs/surfels/ordering.hpp>
@@ -21,6 +22,14 @@ struct CellSortedPoints {
   std::vector<glm::vec3> position;       // per slot
   std::vector<std::uint32_t> index;      // per slot: the input index
   std::vector<std::uint32_t> slotOf;     // per input index: its slot
+  // Blocks of kBlock³ cells, and whether each holds a point: a surface leaves most cells of a 3D grid
+  // empty, and the early, wide searches would otherwise visit them one by one.
+  glm::ivec3 blockDims{1};
+  std::vector<std::uint8_t> blockOccupied;
+  // Cell and block boxes are widened by this much when distances to them are taken: a box's corners are
+  // computed, not stored, and float rounding may leave a point of the cell a few units in the last
+  // place outside them.
+  float slack = 0.0f;
 
   glm::ivec3 cellOf(const glm::vec3& p) const {
     return glm::clamp(glm::ivec3(glm::floor((p - lo) / cellSize)), glm::ivec3(0), dims - 1);
@@ -28,7 +37,12 @@ struct CellSortedPoints {
   std::size_t linear(const glm::ivec3& c) const {
     return (static_cast<std::size_t>(c.z) * dims.y + c.y) * dims.x + c.x;
   }
+  std::size_t blockLinear(const glm::ivec3& b) const {
+    return (static_cast<std::size_t>(b.z) * blockDims.y + b.y) * blockDims.x + b.x;
+  }
 };
+
+constexpr int kBlockShift = 2;  // blocks of 4 × 4 × 4 cells
 
 glm::ivec3 dimsFor(const glm::vec3& extent, float cellSize) {
   return glm::ivec3(glm::floor(extent / cellSize)) + 1;
@@ -53,6 +67,9 @@ CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t 
     }
   }
   grid.dims = dimsFor(extent, grid.cellSize);
+  const float magnitude = std::max({std::abs(box.lo.x), std::abs(box.lo.y), std::abs(box.lo.z), std::abs(box.lo.x + extent.x),
+                                    std::abs(box.lo.y + extent.y), std::abs(box.lo.z + extent.z)});
+  grid.slack = 1e-3f * grid.cellSize + 16.0f * std::numeric_limits<float>::epsilon() * magnitude;
   const std::size_t cells = static_cast<std::size_t>(grid.dims.x) * grid.dims.y * grid.dims.z;
   std::vector<std::uint32_t> cellOfPoint(points.size());
   grid.cellStart.assign(cells + 1, 0);
@@ -65,6 +82,9 @@ CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t 
   grid.position.resize(points.size());
   grid.index.resize(points.size());
   grid.slotOf.resize(points.size());
+  grid.blockDims = ((grid.dims - 1) >> kBlockShift) + 1;
+  grid.blockOccupied.assign(static_cast<std::size_t>(grid.blockDims.x) * grid.blockDims.y * grid.blockDims.z, 0);
+  for (const glm::vec3& p : points) grid.blockOccupied[grid.blockLinear(grid.cellOf(p) >> kBlockShift)] = 1;
   for (std::uint32_t i = 0; i < points.size(); ++i) {
     const std::uint32_t slot = fill[cellOfPoint[i]]++;
     grid.position[slot] = points[i];
@@ -79,6 +99,9 @@ CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t 
 std::uint64_t heapKey(float squaredDistance, std::uint32_t index) {
   return (static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(squaredDistance)) << 32) | ~index;
 }
+
+// The squared distance a heap key holds (0 for a cell without pool points).
+float keyDistance(std::uint64_t key) { return std::bit_cast<float>(static_cast<std::uint32_t>(key >> 32)); }
 
 }  // namespace
 
@@ -144,16 +167,39 @@ std::vector<std::uint32_t> orderFarthest(std::span<const glm::vec3> points, std:
     }
     // Only points within the chosen point's own distance can have it as their new nearest.
     const glm::vec3 p = grid.position[slot];
-    // A relative margin so float rounding of cell bounds never skips a point inside the radius.
+    // A relative margin so float rounding never skips a point inside the radius.
     const float reach = std::sqrt(radius2) * 1.0001f;
     const glm::ivec3 lo = grid.cellOf(p - reach);
     const glm::ivec3 hi = grid.cellOf(p + reach);
-    for (int z = lo.z; z <= hi.z; ++z) {
-      for (int y = lo.y; y <= hi.y; ++y) {
-        for (int x = lo.x; x <= hi.x; ++x) {
-          const glm::vec3 boxLo = grid.lo + glm::vec3(x, y, z) * grid.cellSize;
-          const glm::vec3 gap = glm::max(glm::max(boxLo - p, p - (boxLo + grid.cellSize)), glm::vec3(0.0f));
-          if (glm::dot(gap, gap) <= reach * reach) updateCell(grid.linear({x, y, z}), p);
+    const auto gapTo = [&](const glm::ivec3& first, float size) {
+      const glm::vec3 boxLo = grid.lo + glm::vec3(first) * grid.cellSize;
+      const glm::vec3 gap =
+          glm::max(glm::max(boxLo - grid.slack - p, p - (boxLo + size + grid.slack)), glm::vec3(0.0f));
+      return glm::dot(gap, gap);
+    };
+    const glm::ivec3 blockLo = lo >> kBlockShift, blockHi = hi >> kBlockShift;
+    const float blockSize = grid.cellSize * float(1 << kBlockShift);
+    for (int bz = blockLo.z; bz <= blockHi.z; ++bz) {
+      for (int by = blockLo.y; by <= blockHi.y; ++by) {
+        for (int bx = blockLo.x; bx <= blockHi.x; ++bx) {
+          const glm::ivec3 block(bx, by, bz);
+          if (!grid.blockOccupied[grid.blockLinear(block)] || gapTo(block << kBlockShift, blockSize) > reach * reach)
+            continue;
+          const glm::ivec3 from = glm::max(lo, block << kBlockShift);
+          const glm::ivec3 to = glm::min(hi, ((block + 1) << kBlockShift) - 1);
+          for (int z = from.z; z <= to.z; ++z) {
+            for (int y = from.y; y <= to.y; ++y) {
+              for (int x = from.x; x <= to.x; ++x) {
+                // A cell is rescanned only if p can be nearer than some point's current distance: within
+                // the chosen point's reach, and nearer than the cell's farthest pool point (cells already
+                // covered by earlier choices are skipped; the margin covers the rounding of the squared
+                // distances, the slack that of the box).
+                const std::size_t c = grid.linear({x, y, z});
+                const float gap2 = gapTo({x, y, z}, grid.cellSize);
+                if (gap2 <= reach * reach && gap2 < keyDistance(cellBest[c]) * 1.0002f) updateCell(c, p);
+              }
+            }
+          }
         }
       }
     }
