@@ -376,12 +376,15 @@ TEST_P(Transitions, DoNotPopOnASharedScene) {
   std::printf("%s: switch steps: with band %d, worst change / changes around %.2f; without band %d, %.2f\n",
               splatModeName(GetParam()), banded.switches, banded.worstRatio, popped.switches, popped.worstRatio);
   EXPECT_GT(banded.switches, 0) << "the path must cross switch points";
-  // "Larger than the changes around it" with a factor 2 of slack for the error's own step-to-step
-  // noise (measured, nearest: about 1.6 with the band, about 3.3–5 without it). Blended splats are
-  // allowed 3: a node's triangles appear whole at the start of its band, under surfels whose soft
-  // edges and rare holes they then fill at once (measured: 2.5 at worst with the band, 5.3 without).
-  EXPECT_LE(banded.worstRatio, GetParam() == SplatMode::Blend ? 3.0 : 2.0);
-  EXPECT_GT(popped.worstRatio, 2.0) << "the same criterion must catch abrupt switching";
+  // "Larger than the changes around it" with slack for the error's own step-to-step noise. Nearest
+  // points are allowed 2.5 (measured: 2.02 with the band and each surfel's pixel colour, the default
+  // since 2026-11-25, 1.6 with pre-filtered colours, which smooth the points' speckle; 3.2 without the
+  // band). Blended splats are allowed 3: a node's triangles appear whole at the start of its band,
+  // under surfels whose soft edges and rare holes they then fill at once (measured: 2.5 at worst with
+  // the band, 5.3 without). The same bound must catch the abrupt switching.
+  const double bound = GetParam() == SplatMode::Blend ? 3.0 : 2.5;
+  EXPECT_LE(banded.worstRatio, bound);
+  EXPECT_GT(popped.worstRatio, bound) << "the same criterion must catch abrupt switching";
 }
 
 INSTANTIATE_TEST_SUITE_P(RenderLod, Transitions, testing::Values(SplatMode::Nearest, SplatMode::Blend),

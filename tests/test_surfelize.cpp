@@ -433,17 +433,18 @@ TEST(SurfelizeCli, ColorsOptionIsRecordedInTheFile) {
   const std::string scene = groupsFile(scratch);
   const auto out = scratch / "pixel.surfels";
   const std::string common = " --threshold 1000 --max-surfels 300 --resolution 64 --quiet";
-  const test::CommandResult run = test::runPbs("surfelize " + scene + " -o '" + out.string() + "' --colors pixel --json" + common);
+  const test::CommandResult run =
+      test::runPbs("surfelize " + scene + " -o '" + out.string() + "' --colors prefiltered --json" + common);
   ASSERT_EQ(run.status, 0) << run.err;
-  EXPECT_EQ(nlohmann::json::parse(run.out)["colors"], "pixel");
-  EXPECT_EQ(SurfelFileReader(out).options().colors, SurfelColors::Pixel);
+  EXPECT_EQ(nlohmann::json::parse(run.out)["colors"], "prefiltered");
+  EXPECT_EQ(SurfelFileReader(out).options().colors, SurfelColors::Prefiltered);
   const test::CommandResult analyzed = test::runPbs("analyze '" + out.string() + "' --no-spectrum");
   ASSERT_EQ(analyzed.status, 0) << analyzed.err;
-  EXPECT_NE(analyzed.out.find("pixel colours"), std::string::npos) << analyzed.out;
+  EXPECT_NE(analyzed.out.find("prefiltered colours"), std::string::npos) << analyzed.out;
 
   const auto byDefault = scratch / "default.surfels";
   ASSERT_EQ(test::runPbs("surfelize " + scene + " -o '" + byDefault.string() + "'" + common).status, 0);
-  EXPECT_EQ(SurfelFileReader(byDefault).options().colors, SurfelColors::Prefiltered);
+  EXPECT_EQ(SurfelFileReader(byDefault).options().colors, SurfelColors::Pixel);
 
   const test::CommandResult bad = test::runPbs("surfelize " + scene + " -o '" + out.string() + "' --colors mean" + common);
   EXPECT_NE(bad.status, 0);

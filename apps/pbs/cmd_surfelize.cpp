@@ -54,8 +54,9 @@ void addSurfelizeCommand(CLI::App& app) {
     colorNames.emplace(std::string(surfelColorsName(c)), c);
   command
       ->add_option("--colors", file.colors,
-                   "surfel colours: prefiltered (default: each surfel's neighbourhood averaged, as wide as its "
-                   "spacing in the order) or pixel (the one captured pixel's)")
+                   "surfel colours: pixel (default: the one captured pixel's) or prefiltered (each surfel's "
+                   "neighbourhood averaged, as wide as its spacing in the order; measured to buy nothing, at 15 % "
+                   "of surfelize's time)")
       ->transform(CLI::CheckedTransformer(colorNames));
   addCaptureSourceOption(*command, options->surfelize.source,
                          "what an inner node's capture draws: its subtree's triangles (exact) or its children's "

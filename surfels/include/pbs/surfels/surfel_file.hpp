@@ -77,7 +77,7 @@ struct SurfelFileOptions {
   std::uint32_t resolution = 512;    // capture resolution
   std::uint32_t directions = 8;      // capture view count
   SurfelOrdering ordering = SurfelOrdering::Farthest;  // which ordering made the arrays
-  SurfelColors colors = SurfelColors::Prefiltered;     // how the surfels' colours were chosen
+  SurfelColors colors = SurfelColors::Pixel;           // how the surfels' colours were chosen
   std::uint64_t seed = 1;
 };
 
