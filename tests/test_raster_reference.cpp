@@ -711,6 +711,59 @@ RandomScene randomScene(Random& random, const Camera& camera) {
   return scene;
 }
 
+// Triangles of textured and of flat-coloured parts share a batch but not a record layout: only the
+// textured ones carry texture coordinates and, without a position channel, the plane of 1/w, so the
+// flat records' parts sit at other offsets. The random scene drawn in one batch must give the bytes of
+// its two parts drawn one after the other (each batch then of one kind), and the colour, normal, id and
+// depth channels must not depend on whether the position channel is there to shift the offsets.
+TEST(RasterDeterminism, TexturedAndFlatPartsInOneBatchDrawAsEachAlone) {
+  for (Projection projection : {Projection::Orthographic, Projection::Perspective}) {
+    SCOPED_TRACE(projection == Projection::Perspective ? "perspective" : "orthographic");
+    Random random{std::mt19937_64(7 + int(projection))};
+    const Camera camera = makeCamera(projection, 480, 320, glm::dvec3(0.0));
+    const RandomScene scene = randomScene(random, camera);
+    ASSERT_TRUE(scene.materials[scene.parts[0].material].texture && !scene.materials[scene.parts[1].material].texture);
+    const auto draw = [&](std::span<const MeshPart> parts) {
+      return TriangleDraw{scene.positions, scene.normals, scene.uvs, scene.indices, parts, scene.materials,
+                          glm::dmat4(1.0), 3, 0};
+    };
+    const TriangleDraw both = draw(scene.parts);
+    const auto drawMixed = [&](ChannelMask channels) {
+      Framebuffer framebuffer = makeFramebuffer(camera.width, camera.height, channels, glm::dvec3(0.5));
+      drawTriangles(framebuffer, camera, std::span(&both, 1));
+      return framebuffer;
+    };
+    const Framebuffer all = drawMixed(kChannelColor | kChannelPosition | kChannelNormal | kChannelIds);
+    EXPECT_GT(std::ranges::count_if(all.depth, [](float d) { return d != kClearDepth; }), 1000);
+    for (const ChannelMask channels : {ChannelMask{kChannelColor | kChannelNormal}, kChannelColor | kChannelNormal | kChannelIds,
+                                       kChannelColor | kChannelPosition | kChannelIds}) {
+      SCOPED_TRACE("channels " + std::to_string(channels));
+      const Framebuffer mixed = drawMixed(channels);
+      Framebuffer apart = makeFramebuffer(camera.width, camera.height, channels, glm::dvec3(0.5));
+      for (std::size_t p = 0; p < scene.parts.size(); ++p) {
+        const TriangleDraw one = draw(std::span(scene.parts).subspan(p, 1));
+        drawTriangles(apart, camera, std::span(&one, 1));
+      }
+      EXPECT_EQ(firstDifference("depth", mixed.depth, apart.depth, camera.width), "");
+      EXPECT_EQ(firstDifference("color", mixed.color, apart.color, camera.width), "");
+      EXPECT_EQ(firstDifference("position", mixed.position, apart.position, camera.width), "");
+      EXPECT_EQ(firstDifference("normal", mixed.normal, apart.normal, camera.width), "");
+      EXPECT_EQ(firstDifference("ids", mixed.ids, apart.ids, camera.width), "");
+      EXPECT_EQ(firstDifference("depth", mixed.depth, all.depth, camera.width), "");
+      EXPECT_EQ(firstDifference("color", mixed.color, all.color, camera.width), "");
+      if (mixed.has(kChannelNormal)) {
+        EXPECT_EQ(firstDifference("normal", mixed.normal, all.normal, camera.width), "");
+      }
+      if (mixed.has(kChannelIds)) {
+        EXPECT_EQ(firstDifference("ids", mixed.ids, all.ids, camera.width), "");
+      }
+      if (mixed.has(kChannelPosition)) {
+        EXPECT_EQ(firstDifference("position", mixed.position, all.position, camera.width), "");
+      }
+    }
+  }
+}
+
 TEST(RasterDeterminism, SameBytesWithOneTwoAndEightThreads) {
   for (Projection projection : {Projection::Orthographic, Projection::Perspective}) {
     Random random{std::mt19937_64(99 + int(projection))};

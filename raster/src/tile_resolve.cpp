@@ -38,20 +38,17 @@ void prefetchRow(const Framebuffer& framebuffer, int x0, int y, int width) {
 
 }  // namespace
 
-// The channels' arrays and the layout are held in locals: through the batch, every store to a
+// The channels' arrays and the layouts are held in locals: through the batch, every store to a
 // channel could alias them, and each pixel would load them afresh.
 PBS_AVX2_CLONES
 void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
   Framebuffer& framebuffer = batch.framebuffer;
-  const ShadingLayout layout = batch.layout;
+  const ShadingLayout flat = batch.layouts[0], textured = batch.layouts[1];
   constexpr std::uint32_t kAbsent = ShadingLayout::kAbsent;
-  glm::vec3* const positions = layout.position != kAbsent ? framebuffer.position.data() : nullptr;
-  glm::vec3* const normals = layout.normal != kAbsent ? framebuffer.normal.data() : nullptr;
+  glm::vec3* const positions = framebuffer.has(kChannelPosition) ? framebuffer.position.data() : nullptr;
+  glm::vec3* const normals = framebuffer.has(kChannelNormal) ? framebuffer.normal.data() : nullptr;
   glm::u8vec4* const colors = framebuffer.has(kChannelColor) ? framebuffer.color.data() : nullptr;
   PixelIds* const ids = framebuffer.has(kChannelIds) ? framebuffer.ids.data() : nullptr;
-  // An affine span's plane of 1/w is exactly (1, 0, 0): its w is exactly 1, as where no span has
-  // perspective and the plane is absent.
-  const bool perspective = layout.inverseW != kAbsent;
   const TriangleChunk* const chunks = batch.chunks.data();
   const TriangleSpan* const spans = batch.spans.data();
   const std::size_t width = framebuffer.width;
@@ -64,14 +61,17 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
       // Every pixel looks its winner up afresh. About half the pixels continue their left
       // neighbour's triangle, but a branch to reuse its values mispredicts so often that
       // recomputing them is faster.
-      const float* record = chunks[idChunk(id)].record(idLocal(id), layout);
+      const float* record = chunks[idChunk(id)].record(idLocal(id));
       const ShadingHeader header = loadHeader(record);
       const TriangleSpan& span = spans[header.span];
+      const ShadingLayout& layout = span.texture ? textured : flat;
       const int x = tile.x0 + column;
       const std::size_t pixel = std::size_t(y) * width + std::size_t(x);
       const float dx = float(x - header.minX), dy = float(y - header.minY);
-      // w at the pixel, for the attributes interpolated over w.
-      const float w = perspective ? 1.0f / planeValue<1>(record + layout.inverseW, dx, dy).x : 1.0f;
+      // w at the pixel, for the attributes interpolated over w. An affine span's plane of 1/w is exactly
+      // (1, 0, 0): its w is exactly 1, as where the layout has no such plane (no span has perspective,
+      // or the record interpolates nothing over w).
+      const float w = layout.inverseW != kAbsent ? 1.0f / planeValue<1>(record + layout.inverseW, dx, dy).x : 1.0f;
       if (positions) positions[pixel] = planeValue<3>(record + layout.position, dx, dy) * w;
       if (normals) normals[pixel] = unitNormal(planeValue<3>(record + layout.normal, dx, dy), record + layout.normal + 9);
       if (colors) {

@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -74,7 +75,12 @@ struct TriangleBatch {
   Framebuffer& framebuffer;
   const Camera& camera;
   TriangleOptions options;
-  ShadingLayout layout;    // per batch, from the channels and the spans
+  // Per batch, from the channels and the spans: [0] for the triangles of spans drawn in their flat
+  // colour, [1] for those of spans that sample a texture. Only the latter carry the plane of texture
+  // coordinates (and, without a position channel, the plane of 1/w it is interpolated over).
+  ShadingLayout layouts[2];
+  const ShadingLayout& layoutOf(const TriangleSpan& span) const { return layouts[span.texture != nullptr]; }
+  std::uint32_t maxStride() const { return std::max(layouts[0].stride, layouts[1].stride); }
   double guardX, guardY;   // the guard band as bounds on |x/w| and |y/w|
   int tilesX, tilesY;
 

@@ -125,12 +125,12 @@ template <int N>
 // What one setup task produced, in submission order: raster[i] and shading record i belong together.
 struct TriangleChunk {
   ScalableVector<RasterTriangle> raster;
-  // raster.size() records of ShadingLayout::stride floats, each written in place when it is added.
+  // raster.size() records, each of its span's layout (TriangleBatch::layoutOf), written in place when
+  // it is added; recordStart[i] is where record i begins.
   UninitializedVector<float> shading;
+  UninitializedVector<std::uint32_t> recordStart;
 
-  const float* record(std::uint32_t local, const ShadingLayout& layout) const {
-    return shading.data() + std::size_t(local) * layout.stride;
-  }
+  const float* record(std::uint32_t local) const { return shading.data() + recordStart[local]; }
 };
 
 // Triangles are named by chunk and position within it; the packed id grows with submission order.

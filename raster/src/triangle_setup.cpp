@@ -75,7 +75,6 @@ class ChunkWriter {
  public:
   ChunkWriter(TriangleBatch& batch, std::uint32_t chunkIndex)
       : batch_(batch),
-        layout_(batch.layout),
         chunk_(batch.chunks[chunkIndex]),
         chunkIndex_(chunkIndex),
         binCounts_(batch.tileCounts.data() + chunkIndex * binCount(batch)) {}
@@ -136,29 +135,31 @@ class ChunkWriter {
   [[gnu::always_inline]] void appendRecord(const SourceTriangle& source, const TriangleSpan& span,
                                            const Barycentrics& l, const ProjectedVertex* v0, const ProjectedVertex* v1,
                                            const ProjectedVertex* v2, std::uint16_t px0, std::uint16_t py0) {
+    const ShadingLayout& layout = batch_.layoutOf(span);
     const std::size_t at = chunk_.shading.size();
-    chunk_.shading.resize(at + layout_.stride);
+    chunk_.recordStart.push_back(std::uint32_t(at));
+    chunk_.shading.resize(at + layout.stride);
     float* const record = chunk_.shading.data() + at;
     storeHeader(record, ShadingHeader{source.span, source.primitive, px0, py0, span.flatColor});
     // 1/w and a/w are affine in the window, so dividing one by the other is perspective-correct.
     // Where w ≡ 1 the plane is exactly 1, so the division changes nothing and can be skipped.
-    if (layout_.inverseW != ShadingLayout::kAbsent) {
+    if (layout.inverseW != ShadingLayout::kAbsent) {
       const AttributePlane<double> q =
           span.affine ? AttributePlane<double>{1.0, 0.0, 0.0} : deltaPlane(l, v0->invW, v1->invW, v2->invW);
-      storePlane<1>(record + layout_.inverseW,
+      storePlane<1>(record + layout.inverseW,
                     {glm::vec1(float(q.c)), glm::vec1(float(q.x)), glm::vec1(float(q.y))});
     }
     const AttributePlane<glm::vec2> lf{
         {float(l.c[0]), float(l.c[1])}, {float(l.x[0]), float(l.x[1])}, {float(l.y[0]), float(l.y[1])}};
     const float w0 = float(v0->invW), w1 = float(v1->invW), w2 = float(v2->invW);
-    if (layout_.position != ShadingLayout::kAbsent)
-      storeAttribute<3>(record + layout_.position, lf, v0->world, v1->world, v2->world, w0, w1, w2);
-    if (layout_.normal != ShadingLayout::kAbsent) {
-      storeAttribute<3>(record + layout_.normal, lf, v0->normal, v1->normal, v2->normal, w0, w1, w2);
-      storeVector(record + layout_.normal + 9, faceNormal(source, span.mirrored));
+    if (layout.position != ShadingLayout::kAbsent)
+      storeAttribute<3>(record + layout.position, lf, v0->world, v1->world, v2->world, w0, w1, w2);
+    if (layout.normal != ShadingLayout::kAbsent) {
+      storeAttribute<3>(record + layout.normal, lf, v0->normal, v1->normal, v2->normal, w0, w1, w2);
+      storeVector(record + layout.normal + 9, faceNormal(source, span.mirrored));
     }
-    if (layout_.uv != ShadingLayout::kAbsent)
-      storeAttribute<2>(record + layout_.uv, lf, v0->uv, v1->uv, v2->uv, w0, w1, w2);
+    if (layout.uv != ShadingLayout::kAbsent)
+      storeAttribute<2>(record + layout.uv, lf, v0->uv, v1->uv, v2->uv, w0, w1, w2);
   }
 
   static glm::vec3 faceNormal(const SourceTriangle& source, bool mirrored) {
@@ -169,7 +170,6 @@ class ChunkWriter {
   }
 
   const TriangleBatch& batch_;
-  const ShadingLayout& layout_;
   TriangleChunk& chunk_;
   std::uint32_t chunkIndex_;
   std::uint32_t* binCounts_;
@@ -278,8 +278,10 @@ void setupChunk(TriangleBatch& batch, std::uint32_t chunkIndex) {
   TriangleChunk& chunk = batch.chunks[chunkIndex];
   chunk.raster.clear();
   chunk.shading.clear();
+  chunk.recordStart.clear();
   chunk.raster.reserve(kChunkTriangles);
-  chunk.shading.reserve(std::size_t(kChunkTriangles) * batch.layout.stride);
+  chunk.recordStart.reserve(kChunkTriangles);
+  chunk.shading.reserve(std::size_t(kChunkTriangles) * batch.maxStride());
   std::fill_n(batch.tileCounts.data() + chunkIndex * binCount(batch), binCount(batch), 0u);
   ChunkWriter writer(batch, chunkIndex);
 
@@ -302,11 +304,11 @@ void setupChunk(TriangleBatch& batch, std::uint32_t chunkIndex) {
   }
 }
 
-ShadingLayout shadingLayout(const TriangleBatch& batch) {
+// The layout of the records of flat (sampled = false) or textured spans.
+ShadingLayout shadingLayout(const TriangleBatch& batch, bool sampled) {
   const Framebuffer& framebuffer = batch.framebuffer;
-  const auto any = [&](auto predicate) { return std::any_of(batch.spans.begin(), batch.spans.end(), predicate); };
-  const bool sampled = any([](const TriangleSpan& span) { return span.texture != nullptr; });
-  const bool perspective = any([](const TriangleSpan& span) { return !span.affine; });
+  const bool perspective =
+      std::any_of(batch.spans.begin(), batch.spans.end(), [](const TriangleSpan& span) { return !span.affine; });
   ShadingLayout layout;
   const auto add = [&](std::uint32_t& offset, std::uint32_t floats) {
     offset = layout.stride;
@@ -325,7 +327,8 @@ ShadingLayout shadingLayout(const TriangleBatch& batch) {
 }  // namespace
 
 void setupTriangles(TriangleBatch& batch) {
-  batch.layout = shadingLayout(batch);
+  batch.layouts[0] = shadingLayout(batch, false);
+  batch.layouts[1] = shadingLayout(batch, true);
   const std::uint32_t chunkCount = (batch.triangleCount + kChunkTriangles - 1) / kChunkTriangles;
   batch.chunks.resize(chunkCount);
   batch.tileCounts.resize(chunkCount * binCount(batch));

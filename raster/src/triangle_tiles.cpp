@@ -29,8 +29,8 @@ void prefetchRaster(const TriangleBatch& batch, std::uint32_t id) {
 }
 
 void prefetchRecord(const TriangleBatch& batch, std::uint32_t id) {
-  const float* record = batch.chunks[idChunk(id)].record(idLocal(id), batch.layout);
-  for (std::uint32_t line = 0; line < batch.layout.stride; line += 16) __builtin_prefetch(record + line);
+  const float* record = batch.chunks[idChunk(id)].record(idLocal(id));
+  for (std::uint32_t line = 0; line < batch.maxStride(); line += 16) __builtin_prefetch(record + line);
 }
 
 void storeTileDepth(Framebuffer& framebuffer, const TileBuffer& tile) {
