@@ -47,7 +47,7 @@ void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffe
         if (!castBlocks.empty() && !castBlocks[std::size_t(by) * blocksX + bx]) {
           for (std::uint32_t py = by * kRayBlock; py < std::min(by * kRayBlock + kRayBlock, camera.height); ++py)
             for (std::uint32_t px = bx * kRayBlock; px < std::min(bx * kRayBlock + kRayBlock, camera.width); ++px)
-              clearPixel(framebuffer, std::size_t(py) * camera.width + px);
+              clearMissedPixel(framebuffer, std::size_t(py) * camera.width + px);
           continue;
         }
         for (std::uint32_t lane = 0; lane < 16; ++lane) {
@@ -60,7 +60,7 @@ void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffe
           // A camera whose volume has no extent (a zero-size capture view) gives rays of no direction
           // (NaN or infinite): they hit nothing, and Embree must never see them.
           if (!(segment.tNear <= segment.tFar) || !finiteRay(segment.ray)) {
-            clearPixel(framebuffer, pixels[lane]);
+            clearMissedPixel(framebuffer, pixels[lane]);
             continue;
           }
           valid[lane] = -1;
@@ -84,7 +84,7 @@ void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffe
         for (std::uint32_t lane = 0; lane < 16; ++lane) {
           if (!valid[lane]) continue;
           if (packet.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) {
-            clearPixel(framebuffer, pixels[lane]);
+            clearMissedPixel(framebuffer, pixels[lane]);
             continue;
           }
           shadeHit(view, instances.shaded[packet.hit.instID[0][lane]], normals, packet.hit.primID[lane],

@@ -66,11 +66,8 @@ void shadeHit(const ShadingView& view, const ShadedInstance& instance, NormalMat
   if (framebuffer.has(kChannelIds)) framebuffer.ids[pixel] = PixelIds{instance.node, instance.meshIndex, triangle};
 }
 
-void clearPixel(Framebuffer& framebuffer, std::size_t pixel) {
+void clearMissedPixel(Framebuffer& framebuffer, std::size_t pixel) {
   framebuffer.depth[pixel] = kClearDepth;
-  if (framebuffer.has(kChannelColor)) framebuffer.color[pixel] = glm::u8vec4(0);
-  if (framebuffer.has(kChannelPosition)) framebuffer.position[pixel] = glm::vec3(0.0f);
-  if (framebuffer.has(kChannelNormal)) framebuffer.normal[pixel] = glm::vec3(0.0f);
   if (framebuffer.has(kChannelIds)) framebuffer.ids[pixel] = PixelIds{};
 }
 

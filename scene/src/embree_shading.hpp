@@ -53,7 +53,9 @@ class NormalMatrices {
 void shadeHit(const ShadingView& view, const ShadedInstance& instance, NormalMatrices& normals, std::uint32_t triangle,
               float u, float v, Framebuffer& framebuffer, std::size_t pixel);
 
-// Writes the cleared values (as makeFramebuffer leaves them) to pixel `pixel` of every channel.
-void clearPixel(Framebuffer& framebuffer, std::size_t pixel);
+// A miss: clears depth and ids at pixel `pixel`. Colour, position and normal keep what they held, as
+// the rasterizer's depth-only clear leaves them: they mean something only where depth says a pixel is
+// covered, and nothing reads them elsewhere (in a frame of a distant scene, most pixels).
+void clearMissedPixel(Framebuffer& framebuffer, std::size_t pixel);
 
 }  // namespace pbs

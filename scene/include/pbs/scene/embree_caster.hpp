@@ -33,11 +33,13 @@ class EmbreeScene {
   EmbreeScene(EmbreeScene&&) noexcept;  // a moved-from EmbreeScene may only be destroyed or assigned to
   EmbreeScene& operator=(EmbreeScene&&) noexcept;
 
-  // Overwrites every pixel of the channels `framebuffer` has, with the rasterizer's conventions:
-  // one ray per pixel centre (windowRay); the nearest hit inside the camera's near/far range gives
-  // depth (windowDepth of the hit point), colour (material base colour × bilinear texture, RGBA8),
-  // position (hit − positionOrigin), normal (interpolated vertex normal through the
-  // inverse-transpose, unit length) and ids (node, mesh, triangle); a miss gives the cleared values.
+  // Writes every pixel, with the rasterizer's conventions: one ray per pixel centre (windowRay); the
+  // nearest hit inside the camera's near/far range gives depth (windowDepth of the hit point), colour
+  // (material base colour × bilinear texture, RGBA8), position (hit − positionOrigin), normal
+  // (interpolated vertex normal through the inverse-transpose, unit length) and ids (node, mesh,
+  // triangle), in the channels `framebuffer` has; a miss clears depth and ids and leaves colour,
+  // position and normal as they were (as the rasterizer's depth-only clear does: read them only where
+  // depth says a pixel is covered).
   // Faces are never culled. Runs on the current TBB arena, 16-ray packets of 4×4 pixels; the
   // result does not depend on the thread count. Throws std::invalid_argument when the framebuffer
   // is not the camera's size.
