@@ -186,6 +186,21 @@ TEST(Cli, CaptureWritesEveryViewsBuffersAsPng) {
   }
   EXPECT_EQ(images, 8 * 3);  // colour, position and normal per view, no temporary left behind
 
+  // --json says what the capture used: depth, colour, position and normal, of which each view clears
+  // depth alone; the same whichever backend draws.
+  for (const char* backend : {"raster", "embree"}) {
+    const CommandResult json = runPbs("capture '" + suzanne.string() + "' --resolution 64 --json --backend " +
+                                      backend + " -o '" + (scratch / backend).string() + "'");
+    ASSERT_EQ(json.status, 0) << json.err;
+    const auto report = nlohmann::json::parse(json.out);
+    EXPECT_EQ(report["views"], 8);
+    EXPECT_GT(report["surfels"].get<std::uint64_t>(), 1000u);
+    const nlohmann::json gbuffer = {"depth", "color", "position", "normal"}, cleared = {"depth"};
+    EXPECT_EQ(report["used"]["gbuffer"], gbuffer);
+    EXPECT_EQ(report["used"]["cleared_each_view"], cleared);
+    EXPECT_EQ(report["used"]["backend"], backend);
+  }
+
   const CommandResult missing = runPbs("capture '" + suzanne.string() + "' --node nosuch -o '" + scratch.path().string() + "'");
   EXPECT_EQ(missing.status, 1);
   EXPECT_NE(missing.err.find("node nosuch"), std::string::npos) << missing.err;

@@ -7,8 +7,11 @@
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/surfels/capture.hpp>
 
+#include <nlohmann/json.hpp>
+
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <vector>
 
@@ -40,6 +43,7 @@ void addCaptureCommand(CLI::App& app) {
     std::string output;
     std::string backend = "raster";
     CaptureOptions capture;
+    bool json = false;
     int threads = 0;
   };
   auto options = std::make_shared<Options>();
@@ -51,6 +55,7 @@ void addCaptureCommand(CLI::App& app) {
   command->add_option("--backend", options->backend, "raster or embree")
       ->check(CLI::IsMember({"raster", "embree"}))
       ->capture_default_str();
+  command->add_flag("--json", options->json, "print JSON instead of text");
   addThreadsOption(*command, options->threads);
   command->callback([options] {
     runWithThreads(options->threads, [&] {
@@ -73,9 +78,24 @@ void addCaptureCommand(CLI::App& app) {
         write("normal", picture(g, [&](std::size_t i) { return unitToRgba(g.normal[i]); }));
       };
       const CaptureResult result = captureNode(loaded.scene, loaded.hierarchy, node, capture);
-      std::printf("node %u (%s): %u views of %s, %s surfels, coverage %.3f; images in %s\n", node,
-                  loaded.scene.nodes[node].name.c_str(), result.views, options->scene.c_str(),
-                  withThousands(result.surfels.size()).c_str(), result.coverage, folder.string().c_str());
+      if (options->json) {
+        // With what the capture used: its G-buffer, of which each view clears depth alone.
+        const nlohmann::json report = {
+            {"scene", loaded.name},
+            {"node", node},
+            {"views", result.views},
+            {"surfels", result.surfels.size()},
+            {"coverage", result.coverage},
+            {"output", folder.string()},
+            {"used", {{"backend", options->backend},
+                      {"gbuffer", channelNames(kCaptureChannels)},
+                      {"cleared_each_view", channelNames(kCaptureClearedChannels)}}}};
+        std::cout << report.dump(2) << "\n";
+      } else {
+        std::printf("node %u (%s): %u views of %s, %s surfels, coverage %.3f; images in %s\n", node,
+                    loaded.scene.nodes[node].name.c_str(), result.views, options->scene.c_str(),
+                    withThousands(result.surfels.size()).c_str(), result.coverage, folder.string().c_str());
+      }
     });
   });
 }
