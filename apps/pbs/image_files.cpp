@@ -28,18 +28,6 @@ void* imageLibrary() {
   return library;
 }
 
-}  // namespace
-
-ImagePluginPreload::ImagePluginPreload()
-    : loading_([] {
-        try {
-          imageLibrary();
-        } catch (const std::exception&) {  // reported again, with its reason, where an image is read or written
-        }
-      }) {}
-
-namespace {
-
 template <typename Function>
 Function imageFunction(const char* name) {
   auto function = reinterpret_cast<Function>(dlsym(imageLibrary(), name));
@@ -83,6 +71,14 @@ void requirePixels(const std::filesystem::path& file, std::uint32_t width, std::
 }
 
 }  // namespace
+
+ImagePluginPreload::ImagePluginPreload()
+    : loading_([] {
+        try {
+          imageLibrary();
+        } catch (const std::exception&) {  // reported again, with its reason, where an image is read or written
+        }
+      }) {}
 
 void writeImage8(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height, int channels,
                  std::span<const std::uint8_t> pixels) {
