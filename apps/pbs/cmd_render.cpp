@@ -43,9 +43,21 @@ struct RenderOptions {
   int threads = 0;
 };
 
+// Where frame f goes: the -o file itself for one view, else frame_NNNN.png in the -o folder.
+std::filesystem::path frameFile(const RenderOptions& options, std::uint32_t f) {
+  const std::filesystem::path output(options.output);
+  if (options.frames == 0) return output;
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%04u.png", f);
+  return output / name;
+}
+
+// An EXR keeps the shaded float image; any other format gets its 8-bit conversion.
+bool keepsFloat(const std::filesystem::path& file) { return file.extension() == ".exr"; }
+
 void writeFrame(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height,
                 const std::vector<glm::vec4>& image) {
-  if (file.extension() == ".exr")
+  if (keepsFloat(file))
     writeImageFloat(file, width, height, 4, std::span(&image.front().x, image.size() * 4));
   else
     writeImage8(file, width, height, 4, toRgba8(image));
@@ -145,7 +157,7 @@ void run(const RenderOptions& options) {
   report["used"] = {{"gbuffer", channelNames(renderer.channels())},
                     {"cleared_each_pass", renderer.clearsDepth() ? std::vector<std::string>{"depth"} : std::vector<std::string>{}},
                     {"passes_per_frame", options.samples},
-                    {"image_file", output.empty() ? "none" : output.extension() == ".exr" && options.frames == 0 ? "float" : "8-bit"}};
+                    {"image_file", output.empty() ? "none" : keepsFloat(frameFile(options, 0)) ? "float" : "8-bit"}};
   if (mode == RenderMode::Embree) {
     report["build_seconds"] = renderer.buildSeconds();
     report["bvh_peak_bytes"] = renderer.bvhPeakBytes();
@@ -160,9 +172,7 @@ void run(const RenderOptions& options) {
     nlohmann::json entry = frameJson(mode, frame);
     if (stream) entry.update(streamJson(stream->stats()));
     if (!output.empty()) {
-      char name[32];
-      std::snprintf(name, sizeof name, "frame_%04u.png", f);
-      const std::filesystem::path file = options.frames > 0 ? output / name : output;
+      const std::filesystem::path file = frameFile(options, f);
       writeFrame(file, width, height, frame.image);
       entry["file"] = file.string();
     }

@@ -73,18 +73,19 @@ CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t 
   const std::size_t cells = static_cast<std::size_t>(grid.dims.x) * grid.dims.y * grid.dims.z;
   std::vector<std::uint32_t> cellOfPoint(points.size());
   grid.cellStart.assign(cells + 1, 0);
+  grid.blockDims = ((grid.dims - 1) >> kBlockShift) + 1;
+  grid.blockOccupied.assign(static_cast<std::size_t>(grid.blockDims.x) * grid.blockDims.y * grid.blockDims.z, 0);
   for (std::size_t i = 0; i < points.size(); ++i) {
-    cellOfPoint[i] = static_cast<std::uint32_t>(grid.linear(grid.cellOf(points[i])));
+    const glm::ivec3 cell = grid.cellOf(points[i]);
+    cellOfPoint[i] = static_cast<std::uint32_t>(grid.linear(cell));
     ++grid.cellStart[cellOfPoint[i] + 1];
+    grid.blockOccupied[grid.blockLinear(cell >> kBlockShift)] = 1;
   }
   for (std::size_t c = 0; c < cells; ++c) grid.cellStart[c + 1] += grid.cellStart[c];
   std::vector<std::uint32_t> fill(grid.cellStart.begin(), grid.cellStart.end() - 1);
   grid.position.resize(points.size());
   grid.index.resize(points.size());
   grid.slotOf.resize(points.size());
-  grid.blockDims = ((grid.dims - 1) >> kBlockShift) + 1;
-  grid.blockOccupied.assign(static_cast<std::size_t>(grid.blockDims.x) * grid.blockDims.y * grid.blockDims.z, 0);
-  for (const glm::vec3& p : points) grid.blockOccupied[grid.blockLinear(grid.cellOf(p) >> kBlockShift)] = 1;
   for (std::uint32_t i = 0; i < points.size(); ++i) {
     const std::uint32_t slot = fill[cellOfPoint[i]]++;
     grid.position[slot] = points[i];
