@@ -79,7 +79,7 @@ TEST(BadFiles, GlbOfAnotherVersion) {
   expectInputError([&] { test::importText(glb, "v1.glb"); }, "v1.glb", {"GLB header", "version 1"});
 }
 
-// tinygltf 2.7 bounds the BIN chunk without its 8-byte header and would copy past the data.
+// A BIN chunk's bound must count its 8-byte header (tinygltf 2.7's did not, and copied past the data).
 TEST(BadFiles, GlbBinChunkLongerThanTheFile) {
   GltfBuilder b = test::triangleFile();
   const std::uint32_t jsonLength = static_cast<std::uint32_t>(b.glb().size()) - 20 - 8 - 44;  // 42 bytes of bin, padded
@@ -107,7 +107,7 @@ TEST(BadFiles, GlbWithGarbageForJson) {
   expectInputError([&] { test::importText(glb, "g.glb"); }, "g.glb", {"GLB JSON chunk", "does not start with '{'"});
 }
 
-// tinygltf converts extras recursively: without a depth limit this would overflow the stack.
+// JSON nested without limit would exhaust any recursive reader's stack; the parser stops at 256 levels.
 TEST(BadFiles, DeeplyNestedJson) {
   GltfBuilder b = test::triangleFile();
   b.json["extras"] = "PLACEHOLDER";
@@ -200,7 +200,7 @@ TEST(BadData, AttributeCountsDisagree) {
   expectRejected(b, {"accessor 2", "NORMAL has 2 elements but POSITION has 3"});
 }
 
-// tinygltf's own messages seldom say which element; the importer finds it.
+// A property of the wrong JSON type is named with its element.
 TEST(BadData, ParserErrorsNameTheElement) {
   GltfBuilder b = test::triangleFile();
   b.json["bufferViews"][1]["byteLength"] = "six";
@@ -220,6 +220,53 @@ TEST(BadData, ParserErrorsNameTheElement) {
   b = test::triangleFile();
   b.json["nodes"].push_back(7);
   expectRejected(b, {"node 1", "JSON object"});
+}
+
+TEST(BadData, EveryPropertyIsCheckedWhereItIsRead) {
+  const auto rejected = [](const std::function<void(GltfBuilder&)>& spoil, std::initializer_list<std::string> parts) {
+    GltfBuilder b = test::triangleFile();
+    spoil(b);
+    expectRejected(b, parts);
+  };
+  rejected([](GltfBuilder& b) { b.json["accessors"][0]["type"] = "VEC5"; }, {"accessor 0", "type 'VEC5'"});
+  rejected([](GltfBuilder& b) { b.json["accessors"][0].erase("componentType"); }, {"accessor 0", "no componentType"});
+  rejected([](GltfBuilder& b) { b.json["accessors"][0]["normalized"] = 1; }, {"accessor 0", "normalized is 1"});
+  rejected([](GltfBuilder& b) { b.json["accessors"][0]["bufferView"] = 0.5; }, {"accessor 0", "bufferView is 0.5"});
+  rejected([](GltfBuilder& b) { b.json["bufferViews"][0]["byteStride"] = 2; }, {"bufferView 0", "byteStride is 2"});
+  rejected([](GltfBuilder& b) { b.json["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = "one"; },
+           {"mesh 0 primitive 0 attributes", "NORMAL is a string"});
+  rejected([](GltfBuilder& b) { b.json["meshes"][0]["primitives"] = 1; }, {"mesh 0", "primitives is 1, not an array"});
+  rejected([](GltfBuilder& b) { b.json["nodes"][0]["children"] = {-1}; }, {"node 0", "children is -1"});
+  rejected([](GltfBuilder& b) { b.json["nodes"][0]["matrix"] = {"1"}; }, {"node 0", "matrix holds a string"});
+  rejected([](GltfBuilder& b) { b.json["asset"]["version"] = "1.0"; }, {"asset", "version 1.0 is not supported"});
+  rejected([](GltfBuilder& b) { b.json["asset"].erase("version"); }, {"asset", "has no version"});
+  rejected([](GltfBuilder& b) { b.json["extensionsRequired"] = {7}; }, {"extensionsRequired", "holds 7"});
+}
+
+TEST(BadData, BufferUris) {
+  GltfBuilder b = test::triangleFile();
+  nlohmann::json doc = nlohmann::json::parse(b.gltf());
+  const auto rejectedBuffer = [&](const nlohmann::json& buffer, std::initializer_list<std::string> parts) {
+    nlohmann::json spoilt = doc;
+    spoilt["buffers"][0] = buffer;
+    expectInputError([&] { test::importText(spoilt.dump(), "uri.gltf"); }, "uri.gltf", parts);
+  };
+  const std::size_t length = b.bin.size();
+  rejectedBuffer({{"byteLength", length}}, {"buffer 0", "has no uri"});
+  rejectedBuffer({{"byteLength", length}, {"uri", "data:application/octet-stream,plain"}}, {"buffer 0", "not base64"});
+  rejectedBuffer({{"byteLength", length}, {"uri", "data:application/octet-stream;base64,AA*A"}},
+                 {"buffer 0", "not base64"});
+  rejectedBuffer({{"byteLength", length}, {"uri", "data:application/octet-stream;base64,AAAA"}},
+                 {"buffer 0", "its data: URI holds 3 bytes, fewer than its byteLength"});
+  rejectedBuffer({{"byteLength", length}, {"uri", "/etc/hostname"}}, {"buffer 0", "only files relative"});
+  rejectedBuffer({{"byteLength", length}, {"uri", "https://example.com/a.bin"}}, {"buffer 0", "only files relative"});
+  rejectedBuffer({{"byteLength", 0}, {"uri", "a.bin"}}, {"buffer 0", "byteLength is 0"});
+  // A GLB whose JSON names a first buffer without a uri but has no BIN chunk.
+  GltfBuilder noBin = test::triangleFile();
+  noBin.json["buffers"] = json::array({{{"byteLength", 4}}});
+  noBin.bin.clear();
+  expectInputError([&] { test::importText(noBin.glb(), "nobin.glb"); }, "nobin.glb",
+                   {"buffer 0", "more than the GLB BIN chunk's 0 bytes"});
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -305,7 +352,7 @@ TEST(BadReferences, UnsupportedRequiredExtension) {
 
 TEST(BadNodes, NonFiniteOrMalformedTransforms) {
   GltfBuilder b = test::triangleFile();
-  // JSON has no NaN or Inf: tinygltf's parser rejects a NaN literal and a number too large for a
+  // JSON has no NaN or Inf: the parser rejects a NaN literal and a number too large for a
   // double, so a non-finite node value can only ever arrive as a JSON error.
   b.json["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
   std::string text = b.gltf();

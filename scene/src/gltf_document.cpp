@@ -1,13 +1,16 @@
-// glTF/GLB bytes to a tinygltf::Model: our checks of the GLB layout and the JSON text, then
-// tinygltf's loader with our file and image callbacks.
+// glTF/GLB bytes to a tinygltf::Model: our checks of the GLB layout, the JSON read by gltf_json.cpp,
+// then the buffers and images its uris name.
 #include "gltf_document.hpp"
 
-#include "gltf_parse_errors.hpp"
+#include "gltf_json.hpp"
+#include "gltf_messages.hpp"
+#include "gltf_uri.hpp"
 #include "pbs/scene/input_error.hpp"
 
 #include <cctype>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 
 namespace pbs::gltf {
 namespace {
@@ -16,7 +19,6 @@ constexpr std::uint32_t kGlbHeaderBytes = 20;   // magic, version, length, then 
 constexpr std::uint32_t kChunkHeaderBytes = 8;  // length, type
 constexpr std::uint32_t kChunkTypeJson = 0x4E4F534A;
 constexpr std::uint32_t kChunkTypeBin = 0x004E4942;
-constexpr std::size_t kMaxJsonDepth = 256;      // glTF itself needs about 8; see checkJsonText
 
 std::uint32_t readU32(std::span<const std::uint8_t> bytes, std::size_t offset) {
   return std::uint32_t{bytes[offset]} | std::uint32_t{bytes[offset + 1]} << 8 | std::uint32_t{bytes[offset + 2]} << 16 |
@@ -27,10 +29,9 @@ bool hasGlbMagic(std::span<const std::uint8_t> bytes) {
   return bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
 }
 
-// The GLB layout: header, JSON chunk, optional BIN chunk. tinygltf checks it too, but says only
-// "Invalid glTF binary." for a truncated download, and it lets a BIN chunk claim up to 8 bytes more
-// than the data holds (its bound forgets the chunk header) and then copies them: never pass it one.
-void checkGlbLayout(std::span<const std::uint8_t> bytes, std::string_view file) {
+// The GLB layout: header, JSON chunk, optional BIN chunk. Returns the BIN chunk's bytes (empty when
+// there is none).
+std::span<const std::uint8_t> checkGlbLayout(std::span<const std::uint8_t> bytes, std::string_view file) {
   const char* header = "GLB header";
   if (bytes.size() < kGlbHeaderBytes) {
     throw InputError(file, header, "file is " + std::to_string(bytes.size()) + " bytes, too short for a GLB header");
@@ -50,7 +51,7 @@ void checkGlbLayout(std::span<const std::uint8_t> bytes, std::string_view file) 
                      std::to_string(jsonLength) + " bytes do not fit in the file's " + std::to_string(length));
   }
   const std::uint32_t jsonEnd = kGlbHeaderBytes + jsonLength;
-  if (jsonEnd == length) return;  // no BIN chunk
+  if (jsonEnd == length) return {};  // no BIN chunk
   const char* bin = "GLB BIN chunk";
   if (length - jsonEnd < kChunkHeaderBytes) throw InputError(file, bin, "its header runs past the end of the data");
   const std::uint32_t binLength = readU32(bytes, jsonEnd);
@@ -60,57 +61,64 @@ void checkGlbLayout(std::span<const std::uint8_t> bytes, std::string_view file) 
                      std::to_string(binLength) + " bytes run past the end of the data (" +
                          std::to_string(length - jsonEnd - kChunkHeaderBytes) + " left)");
   }
+  return bytes.subspan(jsonEnd + kChunkHeaderBytes, binLength);
 }
 
 // The JSON text (a .gltf, or a GLB's JSON chunk) must open an object, else random bytes would get a
-// JSON parser's message; and must not nest deeper than kMaxJsonDepth: tinygltf converts `extras` and
-// `extensions` recursively, so a deeply nested file would overflow the stack.
-void checkJsonText(std::span<const std::uint8_t> text, bool glb, std::string_view file) {
+// JSON parser's message.
+void checkJsonStart(std::span<const std::uint8_t> text, bool glb, std::string_view file) {
   std::size_t i = 0;
   if (text.size() >= 3 && text[0] == 0xEF && text[1] == 0xBB && text[2] == 0xBF) i = 3;  // UTF-8 byte order mark
   while (i < text.size() && std::isspace(text[i])) ++i;
-  if (i == text.size() || text[i] != '{') {
-    if (glb) throw InputError(file, "GLB JSON chunk", "does not start with '{'");
-    throw InputError(file, "", "not glTF: neither GLB (no \"glTF\" magic) nor JSON (does not start with '{')");
-  }
-  std::size_t depth = 0;
-  bool inString = false;
-  for (; i < text.size(); ++i) {
-    const std::uint8_t c = text[i];
-    if (inString) {
-      if (c == '\\')
-        ++i;  // skips the escaped character, which may be a quote
-      else if (c == '"')
-        inString = false;
-    } else if (c == '"') {
-      inString = true;
-    } else if (c == '{' || c == '[') {
-      if (++depth > kMaxJsonDepth) {
-        throw InputError(file, "JSON", "nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+  if (i < text.size() && text[i] == '{') return;
+  if (glb) throw InputError(file, "GLB JSON chunk", "does not start with '{'");
+  throw InputError(file, "", "not glTF: neither GLB (no \"glTF\" magic) nor JSON (does not start with '{')");
+}
+
+// Each buffer's bytes, exactly its byteLength: a GLB's first buffer without a uri is its BIN chunk
+// (which may carry up to 3 bytes of padding more).
+void loadBuffers(GltfJson& json, std::span<const std::uint8_t> binChunk, bool glb, std::string_view file,
+                 const std::filesystem::path& baseDir) {
+  for (std::size_t b = 0; b < json.model.buffers.size(); ++b) {
+    tinygltf::Buffer& buffer = json.model.buffers[b];
+    const std::string element = elementName("buffer", static_cast<std::int64_t>(b));
+    const std::size_t byteLength = json.bufferLengths[b];
+    if (buffer.uri.empty()) {
+      if (!glb || b != 0) throw InputError(file, element, "has no uri (only a GLB's first buffer may omit it)");
+      if (binChunk.size() < byteLength) {
+        throw InputError(file, element,
+                         "byteLength " + std::to_string(byteLength) + " is more than the GLB BIN chunk's " +
+                             std::to_string(binChunk.size()) + " bytes");
       }
-    } else if ((c == '}' || c == ']') && depth > 0) {
-      --depth;
+      buffer.data.assign(binChunk.begin(), binChunk.begin() + static_cast<std::ptrdiff_t>(byteLength));
+      continue;
+    }
+    try {
+      buffer.data = readUri(buffer.uri, baseDir);
+    } catch (const std::runtime_error& error) {
+      throw InputError(file, element, error.what());
+    }
+    if (buffer.data.size() < byteLength) {
+      const std::string source = buffer.uri.starts_with("data:") ? "its data: URI" : "'" + buffer.uri + "'";
+      throw InputError(file, element,
+                       source + " holds " + std::to_string(buffer.data.size()) + " bytes, fewer than its byteLength " +
+                           std::to_string(byteLength));
+    }
+    buffer.data.resize(byteLength);
+  }
+}
+
+// A uri image's encoded bytes, kept for gltf_image.cpp; one that cannot be read stays empty, an
+// error only if a used texture needs it.
+void loadUriImages(tinygltf::Model& model, const std::filesystem::path& baseDir) {
+  for (tinygltf::Image& image : model.images) {
+    if (image.uri.empty()) continue;
+    try {
+      image.image = readUri(image.uri, baseDir);
+      image.as_is = true;
+    } catch (const std::runtime_error&) {
     }
   }
-}
-
-// tinygltf also looks for a relative URI in the working directory, which could quietly load an
-// unrelated file, and its fopen() test accepts directories: only regular files under the base.
-bool regularFileUnderBase(const std::string& path, void* baseDir) {
-  const std::string& base = *static_cast<const std::string*>(baseDir);
-  std::error_code ignored;
-  return path.compare(0, base.size(), base) == 0 && std::filesystem::is_regular_file(path, ignored);
-}
-
-// Keeps a URI image's encoded bytes for gltf_image.cpp. A bufferView image's bytes are left alone:
-// tinygltf hands them over without checking the view against its buffer.
-bool keepEncodedImage(tinygltf::Image* image, int, std::string*, std::string*, int, int, const unsigned char* bytes,
-                      int size, void*) {
-  if (image->bufferView == -1) {
-    image->image.assign(bytes, bytes + size);
-    image->as_is = true;
-  }
-  return true;
 }
 
 // Extensions a file may require that we implement, or whose absence changes only what we ignore anyway.
@@ -134,38 +142,15 @@ tinygltf::Model parseDocument(std::span<const std::uint8_t> bytes, const std::st
     throw InputError(file, "", "file is larger than 4 GiB, more than glTF can address");
   }
   const bool glb = hasGlbMagic(bytes);
-  if (glb) checkGlbLayout(bytes, file);
+  const std::span<const std::uint8_t> binChunk = glb ? checkGlbLayout(bytes, file) : std::span<const std::uint8_t>{};
   const std::span<const std::uint8_t> jsonText = glb ? bytes.subspan(kGlbHeaderBytes, readU32(bytes, 12)) : bytes;
-  checkJsonText(jsonText, glb, file);
-
-  std::string base = baseDir.string();
-  tinygltf::TinyGLTF loader;
-  loader.SetFsCallbacks(
-      {&regularFileUnderBase, &tinygltf::ExpandFilePath, &tinygltf::ReadWholeFile, &tinygltf::WriteWholeFile, &base});
-  loader.SetImageLoader(&keepEncodedImage, nullptr);
-  tinygltf::Model model;
-  std::string error, warning;
-  const auto size = static_cast<unsigned int>(bytes.size());
-  const bool loaded = glb ? loader.LoadBinaryFromMemory(&model, &error, &warning, bytes.data(), size, base)
-                          : loader.LoadASCIIFromString(&model, &error, &warning,
-                                                       reinterpret_cast<const char*>(bytes.data()), size, base);
-  // tinygltf reports success after dropping a primitive it could not parse, with the reason in the error
-  // text: any error text fails the import. Its one complaint about readable data, an unpadded GLB JSON
-  // chunk, is only a warning.
-  std::vector<std::string> errors = splitLines(error);
-  std::erase_if(errors, [&](const std::string& line) {
-    if (!line.starts_with("JSON Chunk end does not aligned")) return false;
-    warnings.push_back("GLB JSON chunk is not padded to 4 bytes");
-    return true;
-  });
-  if (!loaded || !errors.empty()) {
-    std::string message = oneLine(error.empty() ? warning : error);
-    if (message.empty()) message = "tinygltf could not load the file";
-    throw InputError(file, failingElement(message, jsonText, model, !loaded), message);
-  }
-  for (std::string& line : splitLines(warning)) warnings.push_back(std::move(line));
-  checkRequiredExtensions(model, file, warnings);
-  return model;
+  checkJsonStart(jsonText, glb, file);
+  if (glb && jsonText.size() % 4 != 0) warnings.push_back("GLB JSON chunk is not padded to 4 bytes");
+  GltfJson json = readGltfJson(jsonText, file);
+  loadBuffers(json, binChunk, glb, file, baseDir);
+  loadUriImages(json.model, baseDir);
+  checkRequiredExtensions(json.model, file, warnings);
+  return std::move(json.model);
 }
 
 }  // namespace pbs::gltf

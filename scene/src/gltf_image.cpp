@@ -4,7 +4,6 @@
 
 #include "gltf_accessor.hpp"
 #include "gltf_messages.hpp"
-#include "gltf_parse_errors.hpp"
 #include "pbs/scene/input_error.hpp"
 
 #include <climits>
@@ -12,6 +11,23 @@
 
 namespace pbs::gltf {
 namespace {
+
+constexpr std::size_t kMaxMessageLength = 300;
+
+// stb's messages may span lines; InputError's are one short line.
+std::string oneLine(std::string_view text) {
+  std::string line;
+  for (const char c : text) {
+    if (c == '\n' || c == '\r') {
+      if (!line.empty() && !line.ends_with("; ")) line += "; ";
+    } else {
+      line += static_cast<unsigned char>(c) < 0x20 ? ' ' : c;
+    }
+  }
+  while (!line.empty() && (line.back() == ' ' || line.back() == ';')) line.pop_back();
+  if (line.size() > kMaxMessageLength) line = line.substr(0, kMaxMessageLength) + "...";
+  return line;
+}
 
 std::span<const std::uint8_t> encodedBytes(const tinygltf::Model& model, int image, std::string_view file,
                                            const std::string& element) {
