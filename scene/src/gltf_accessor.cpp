@@ -168,7 +168,7 @@ void forEachSparse(const AccessorView& view, F&& apply) {
   }
 }
 
-void checkSparse(const tinygltf::Model& model, const tinygltf::Accessor& a, AccessorView& view, std::size_t elementSize,
+void checkSparse(const Document& model, const tinygltf::Accessor& a, AccessorView& view, std::size_t elementSize,
                  const std::string& element) {
   const auto& sparse = a.sparse;
   if (sparse.count < 0 || static_cast<std::size_t>(sparse.count) > view.count) {
@@ -198,7 +198,7 @@ void checkSparse(const tinygltf::Model& model, const tinygltf::Accessor& a, Acce
 
 }  // namespace
 
-std::span<const std::uint8_t> bufferViewBytes(const tinygltf::Model& model, int bufferView, std::string_view file,
+std::span<const std::uint8_t> bufferViewBytes(const Document& model, int bufferView, std::string_view file,
                                               std::string_view referrer) {
   if (!validIndex(bufferView, model.bufferViews.size())) {
     throw InputError(file, referrer, missingElement("bufferView", bufferView, model.bufferViews.size()));
@@ -208,7 +208,7 @@ std::span<const std::uint8_t> bufferViewBytes(const tinygltf::Model& model, int 
   if (!validIndex(view.buffer, model.buffers.size())) {
     throw InputError(file, element, missingElement("buffer", view.buffer, model.buffers.size()));
   }
-  const std::vector<unsigned char>& data = model.buffers[static_cast<std::size_t>(view.buffer)].data;
+  const std::span<const std::uint8_t> data = model.bufferBytes[static_cast<std::size_t>(view.buffer)];
   if (!rangeFits(view.byteOffset, view.byteLength, data.size())) {
     throw InputError(file, element,
                      "byteOffset " + std::to_string(view.byteOffset) + " + byteLength " +
@@ -218,7 +218,7 @@ std::span<const std::uint8_t> bufferViewBytes(const tinygltf::Model& model, int 
   return {data.data() + view.byteOffset, view.byteLength};
 }
 
-AccessorView viewAccessor(const tinygltf::Model& model, int accessor, const AccessorRules& rules, std::string_view file,
+AccessorView viewAccessor(const Document& model, int accessor, const AccessorRules& rules, std::string_view file,
                           std::string_view referrer, ZeroFilledBudget& zeros) {
   if (!validIndex(accessor, model.accessors.size())) {
     throw InputError(file, referrer, missingElement("accessor", accessor, model.accessors.size()));

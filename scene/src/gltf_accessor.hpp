@@ -3,6 +3,8 @@
 #pragma once
 
 #include <glm/glm.hpp>
+#include "gltf_document.hpp"
+
 #include <tiny_gltf.h>
 
 #include <cstddef>
@@ -61,7 +63,7 @@ struct AccessorView {
 
 // The bytes of bufferView `bufferView`, checked to lie inside its buffer; `referrer` names who asked
 // (for a missing bufferView). Throws InputError naming the bufferView otherwise.
-std::span<const std::uint8_t> bufferViewBytes(const tinygltf::Model& model, int bufferView, std::string_view file,
+std::span<const std::uint8_t> bufferViewBytes(const Document& model, int bufferView, std::string_view file,
                                               std::string_view referrer);
 
 // An accessor without a bufferView is all zeros: its elements cost memory without costing file bytes,
@@ -75,7 +77,7 @@ struct ZeroFilledBudget {
 // Checks accessor `accessor` against `rules` and the buffers, throwing InputError naming the accessor,
 // bufferView or buffer at fault. `referrer` names who asked (for a missing accessor). An accessor
 // without a bufferView spends its element count from `zeros`, throwing InputError when too few are left.
-AccessorView viewAccessor(const tinygltf::Model& model, int accessor, const AccessorRules& rules, std::string_view file,
+AccessorView viewAccessor(const Document& model, int accessor, const AccessorRules& rules, std::string_view file,
                           std::string_view referrer, ZeroFilledBudget& zeros);
 
 // Decodes every element into `out` (out.size() == view.count), as float, integers normalized per the

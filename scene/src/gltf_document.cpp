@@ -75,36 +75,38 @@ void checkJsonStart(std::span<const std::uint8_t> text, bool glb, std::string_vi
   throw InputError(file, "", "not glTF: neither GLB (no \"glTF\" magic) nor JSON (does not start with '{')");
 }
 
-// Each buffer's bytes, exactly its byteLength: a GLB's first buffer without a uri is its BIN chunk
-// (which may carry up to 3 bytes of padding more).
-void loadBuffers(GltfJson& json, std::span<const std::uint8_t> binChunk, bool glb, std::string_view file,
+// Each buffer's bytes: a GLB's first buffer without a uri is its BIN chunk (which may carry up to 3
+// bytes of padding more than the byteLength).
+void loadBuffers(Document& document, const std::vector<std::size_t>& bufferLengths,
+                 std::span<const std::uint8_t> binChunk, bool glb, std::string_view file,
                  const std::filesystem::path& baseDir) {
-  for (std::size_t b = 0; b < json.model.buffers.size(); ++b) {
-    tinygltf::Buffer& buffer = json.model.buffers[b];
+  for (std::size_t b = 0; b < document.buffers.size(); ++b) {
+    const std::string& uri = document.buffers[b].uri;
     const std::string element = elementName("buffer", static_cast<std::int64_t>(b));
-    const std::size_t byteLength = json.bufferLengths[b];
-    if (buffer.uri.empty()) {
+    const std::size_t byteLength = bufferLengths[b];
+    if (uri.empty()) {
       if (!glb || b != 0) throw InputError(file, element, "has no uri (only a GLB's first buffer may omit it)");
       if (binChunk.size() < byteLength) {
         throw InputError(file, element,
                          "byteLength " + std::to_string(byteLength) + " is more than the GLB BIN chunk's " +
                              std::to_string(binChunk.size()) + " bytes");
       }
-      buffer.data.assign(binChunk.begin(), binChunk.begin() + static_cast<std::ptrdiff_t>(byteLength));
+      document.bufferBytes.push_back(binChunk.first(byteLength));
       continue;
     }
+    std::vector<std::uint8_t>& bytes = document.loadedBuffers.emplace_back();
     try {
-      buffer.data = readUri(buffer.uri, baseDir);
+      bytes = readUri(uri, baseDir);
     } catch (const std::runtime_error& error) {
       throw InputError(file, element, error.what());
     }
-    if (buffer.data.size() < byteLength) {
-      const std::string source = buffer.uri.starts_with("data:") ? "its data: URI" : "'" + buffer.uri + "'";
+    if (bytes.size() < byteLength) {
+      const std::string source = uri.starts_with("data:") ? "its data: URI" : "'" + uri + "'";
       throw InputError(file, element,
-                       source + " holds " + std::to_string(buffer.data.size()) + " bytes, fewer than its byteLength " +
+                       source + " holds " + std::to_string(bytes.size()) + " bytes, fewer than its byteLength " +
                            std::to_string(byteLength));
     }
-    buffer.data.resize(byteLength);
+    document.bufferBytes.push_back(std::span<const std::uint8_t>(bytes).first(byteLength));
   }
 }
 
@@ -135,7 +137,7 @@ void checkRequiredExtensions(const tinygltf::Model& model, std::string_view file
 
 }  // namespace
 
-tinygltf::Model parseDocument(std::span<const std::uint8_t> bytes, const std::string& file,
+Document parseDocument(std::span<const std::uint8_t> bytes, const std::string& file,
                               const std::filesystem::path& baseDir, std::vector<std::string>& warnings) {
   if (bytes.empty()) throw InputError(file, "", "file is empty");
   if (bytes.size() > std::numeric_limits<std::uint32_t>::max()) {
@@ -147,10 +149,12 @@ tinygltf::Model parseDocument(std::span<const std::uint8_t> bytes, const std::st
   checkJsonStart(jsonText, glb, file);
   if (glb && jsonText.size() % 4 != 0) warnings.push_back("GLB JSON chunk is not padded to 4 bytes");
   GltfJson json = readGltfJson(jsonText, file);
-  loadBuffers(json, binChunk, glb, file, baseDir);
-  loadUriImages(json.model, baseDir);
-  checkRequiredExtensions(json.model, file, warnings);
-  return std::move(json.model);
+  Document document;
+  static_cast<tinygltf::Model&>(document) = std::move(json.model);
+  loadBuffers(document, json.bufferLengths, binChunk, glb, file, baseDir);
+  loadUriImages(document, baseDir);
+  checkRequiredExtensions(document, file, warnings);
+  return document;
 }
 
 }  // namespace pbs::gltf

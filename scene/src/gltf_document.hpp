@@ -1,4 +1,5 @@
-// Private to the glTF importer: file bytes to a tinygltf::Model, or an InputError naming the element.
+// Private to the glTF importer: file bytes to a Document (a tinygltf::Model and its buffers' bytes), or
+// an InputError naming the element.
 #pragma once
 
 #include <tiny_gltf.h>
@@ -12,12 +13,21 @@
 
 namespace pbs::gltf {
 
-// Parses .gltf JSON or .glb (told apart by the "glTF" magic, not the name) with tinygltf, loading
-// buffers from external files and data: URIs relative to `baseDir`. Images are left encoded: each
-// keeps its file bytes in Image::image (as_is set) or its bufferView, so that only images a used
-// texture needs are decoded, with our bounds checks (gltf_image.cpp). Rejects required extensions
-// the importer cannot honour. Appends tinygltf's warnings, one line each.
-tinygltf::Model parseDocument(std::span<const std::uint8_t> bytes, const std::string& file,
+// A parsed glTF: what its JSON says, in tinygltf's types, and each buffer's bytes, exactly its
+// byteLength. tinygltf::Buffer::data stays empty: a GLB's BIN chunk is viewed where it lies in the
+// file's bytes (which must outlive the document) rather than copied, which for a 2 GB scene is 2 GB
+// of memory; only uri buffers are read, into `loadedBuffers`.
+struct Document : tinygltf::Model {
+  std::vector<std::span<const std::uint8_t>> bufferBytes;  // one per buffer
+  std::vector<std::vector<std::uint8_t>> loadedBuffers;    // what the uri buffers' spans view
+};
+
+// Parses .gltf JSON or .glb (told apart by the "glTF" magic, not the name), loading buffers from
+// external files and data: URIs relative to `baseDir`. Images are left encoded: each keeps its file
+// bytes in Image::image (as_is set) or its bufferView, so that only images a used texture needs are
+// decoded, with our bounds checks (gltf_image.cpp). Rejects required extensions the importer cannot
+// honour. Appends warnings, one line each.
+Document parseDocument(std::span<const std::uint8_t> bytes, const std::string& file,
                               const std::filesystem::path& baseDir, std::vector<std::string>& warnings);
 
 }  // namespace pbs::gltf

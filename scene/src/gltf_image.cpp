@@ -29,7 +29,7 @@ std::string oneLine(std::string_view text) {
   return line;
 }
 
-std::span<const std::uint8_t> encodedBytes(const tinygltf::Model& model, int image, std::string_view file,
+std::span<const std::uint8_t> encodedBytes(const Document& model, int image, std::string_view file,
                                            const std::string& element) {
   const tinygltf::Image& source = model.images[static_cast<std::size_t>(image)];
   if (source.bufferView != -1) return bufferViewBytes(model, source.bufferView, file, element);
@@ -79,7 +79,7 @@ void convertToRgba8(const tinygltf::Image& decoded, std::string_view file, const
 
 }  // namespace
 
-void decodeImage(const tinygltf::Model& model, int image, std::string_view file, Texture& texture) {
+void decodeImage(const Document& model, int image, std::string_view file, Texture& texture) {
   const std::string element = elementName("image", image);
   const std::span<const std::uint8_t> encoded = encodedBytes(model, image, file, element);
   if (encoded.size() > static_cast<std::size_t>(INT_MAX)) throw InputError(file, element, "is larger than 2 GiB");

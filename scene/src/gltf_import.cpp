@@ -33,7 +33,7 @@ ImportResult importGltf(const std::filesystem::path& file) {
 ImportResult importGltfFromMemory(std::span<const std::uint8_t> bytes, const std::string& name,
                                   const std::filesystem::path& baseDir) {
   ImportResult result;
-  const tinygltf::Model model = gltf::parseDocument(bytes, name, baseDir, result.warnings);
+  const gltf::Document model = gltf::parseDocument(bytes, name, baseDir, result.warnings);
   Scene& scene = result.scene;
   gltf::MaterialImport materials(model, name, scene);
   gltf::SkippedPrimitives skipped;

@@ -43,7 +43,7 @@ TextureFilter filterMode(int value, const char* which, std::string_view file, co
 
 }  // namespace
 
-MaterialImport::MaterialImport(const tinygltf::Model& model, std::string_view file, Scene& scene)
+MaterialImport::MaterialImport(const Document& model, std::string_view file, Scene& scene)
     : model_(model),
       file_(file),
       scene_(scene),

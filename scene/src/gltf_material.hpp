@@ -2,6 +2,7 @@
 // imported once on first use and renumbered in that order.
 #pragma once
 
+#include "gltf_document.hpp"
 #include "pbs/scene/scene.hpp"
 
 #include <tiny_gltf.h>
@@ -15,7 +16,7 @@ namespace pbs::gltf {
 
 class MaterialImport {
  public:
-  MaterialImport(const tinygltf::Model& model, std::string_view file, Scene& scene);
+  MaterialImport(const Document& model, std::string_view file, Scene& scene);
 
   // The scene material for glTF material `material`, -1 meaning the shared default white one.
   // `referrer` names the primitive, for a material that does not exist.
@@ -29,7 +30,7 @@ class MaterialImport {
   std::int32_t useTexture(int texture, int material);
   Texture importTexture(int texture);
 
-  const tinygltf::Model& model_;
+  const Document& model_;
   std::string_view file_;
   Scene& scene_;
   std::vector<std::int64_t> materialIndex_;  // glTF material to scene material, -1 until used

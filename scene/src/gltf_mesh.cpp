@@ -14,7 +14,7 @@ namespace {
 
 constexpr std::size_t kMaxIndex = std::numeric_limits<std::uint32_t>::max();
 
-const tinygltf::Primitive& primitiveAt(const tinygltf::Model& model, int mesh, std::size_t primitive) {
+const tinygltf::Primitive& primitiveAt(const Document& model, int mesh, std::size_t primitive) {
   return model.meshes[static_cast<std::size_t>(mesh)].primitives[primitive];
 }
 
@@ -33,7 +33,7 @@ void checkSameCount(const AccessorView& view, const char* semantic, std::size_t 
 
 // The primitive's vertex indices: its index accessor, each checked against the vertex count, or
 // 0..n-1 for a non-indexed primitive, so that both go through one triangle conversion.
-void readPrimitiveIndices(const tinygltf::Model& model, const tinygltf::Primitive& primitive, std::size_t vertexCount,
+void readPrimitiveIndices(const Document& model, const tinygltf::Primitive& primitive, std::size_t vertexCount,
                           std::string_view file, const std::string& element, std::vector<std::uint32_t>& indices,
                           ZeroFilledBudget& zeros) {
   if (primitive.indices == -1) {
@@ -98,7 +98,7 @@ bool normaliseNormals(std::span<glm::vec3> normals) {
 }
 
 // Appends a primitive's triangles (over vertices starting at `first`) and its part.
-void appendIndexedPart(const tinygltf::Model& model, const tinygltf::Primitive& primitive, std::size_t vertexCount,
+void appendIndexedPart(const Document& model, const tinygltf::Primitive& primitive, std::size_t vertexCount,
                        std::size_t first, std::string_view file, const std::string& element,
                        MaterialImport& materials, Mesh& result, std::vector<std::uint32_t>& scratch,
                        ZeroFilledBudget& zeros) {
@@ -125,7 +125,7 @@ struct VertexSource {
 
 // Appends one triangle primitive's vertices (unless an earlier primitive of the mesh read the same
 // accessors), triangles and part. Returns whether some of its normals are still to be computed.
-bool appendPrimitive(const tinygltf::Model& model, int mesh, std::size_t p, std::string_view file,
+bool appendPrimitive(const Document& model, int mesh, std::size_t p, std::string_view file,
                      MaterialImport& materials, Mesh& result, std::vector<std::uint32_t>& scratch,
                      std::vector<VertexSource>& sources, ZeroFilledBudget& zeros) {
   const tinygltf::Primitive& primitive = primitiveAt(model, mesh, p);
@@ -181,7 +181,7 @@ void SkippedPrimitives::appendWarnings(std::vector<std::string>& warnings) const
   }
 }
 
-Mesh importMesh(const tinygltf::Model& model, int mesh, std::string_view file, MaterialImport& materials,
+Mesh importMesh(const Document& model, int mesh, std::string_view file, MaterialImport& materials,
                 SkippedPrimitives& skipped, ZeroFilledBudget& zeros) {
   const tinygltf::Mesh& source = model.meshes[static_cast<std::size_t>(mesh)];
   Mesh result;

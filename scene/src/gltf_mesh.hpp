@@ -2,6 +2,7 @@
 #pragma once
 
 #include "gltf_accessor.hpp"
+#include "gltf_document.hpp"
 #include "gltf_material.hpp"
 #include "pbs/scene/scene.hpp"
 
@@ -27,7 +28,7 @@ struct SkippedPrimitives {
 // MeshParts over one vertex array. Normals are computed where the file has none (or a zero one); uvs
 // are (0,0) for primitives without TEXCOORD_0 when others have it. With no triangles at all the
 // result is an empty Mesh. Zero-filled accessors spend from `zeros`, the import's budget.
-Mesh importMesh(const tinygltf::Model& model, int mesh, std::string_view file, MaterialImport& materials,
+Mesh importMesh(const Document& model, int mesh, std::string_view file, MaterialImport& materials,
                 SkippedPrimitives& skipped, ZeroFilledBudget& zeros);
 
 }  // namespace pbs::gltf
