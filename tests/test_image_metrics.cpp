@@ -485,5 +485,47 @@ TEST(CompareCommand, BadInputsGiveOneErrorLine) {
   expectError(runPbs("compare '" + a + "' '" + folder + "'"), folder + ": cannot read image: not a file");
 }
 
+
+// --- images pbs writes: PNG through libpng in the process, other formats through the plug-in ---
+
+std::vector<std::uint8_t> readPixels8(const std::filesystem::path& file, int& channels) {
+  auto in = OIIO::ImageInput::open(file.string());
+  EXPECT_TRUE(in) << file;
+  if (!in) return {};
+  const OIIO::ImageSpec& spec = in->spec();
+  channels = spec.nchannels;
+  std::vector<std::uint8_t> values(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(spec.nchannels));
+  EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, values.data()));
+  return values;
+}
+
+TEST(ImageFiles, PngFromLibpngHoldsThePixelsTheTiffPlugInWrites) {
+  ScratchDir dir;
+  const std::string view = "render default --size 96x64 -o '";
+  ASSERT_EQ(runPbs(view + (dir / "frame.png").string() + "'").status, 0);
+  ASSERT_EQ(runPbs(view + (dir / "frame.tif").string() + "'").status, 0);
+  int pngChannels = 0, tifChannels = 0;
+  const std::vector<std::uint8_t> png = readPixels8(dir / "frame.png", pngChannels);
+  const std::vector<std::uint8_t> tif = readPixels8(dir / "frame.tif", tifChannels);
+  EXPECT_EQ(pngChannels, 4);
+  EXPECT_EQ(tifChannels, 4);
+  ASSERT_EQ(png.size(), std::size_t(96 * 64 * 4));
+  EXPECT_EQ(png, tif);
+  std::size_t covered = 0;
+  for (std::size_t alpha = 3; alpha < png.size(); alpha += 4) covered += png[alpha] != 0;
+  EXPECT_GT(covered, 100u) << "the frame shows the scene";
+}
+
+TEST(ImageFiles, PngThatCannotBeWrittenIsOneErrorLine) {
+  ScratchDir dir;
+  writeFile(dir / "plain", "a file, not a folder\n");
+  const std::string target = (dir / "plain" / "frame.png").string();  // not a folder, even for root
+  const CommandResult r = runPbs("render default --size 32x32 -o '" + target + "'");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err.rfind("error: " + target + ": cannot write image: ", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(readFile(dir / "plain"), "a file, not a folder\n");
+}
+
 }  // namespace
 }  // namespace pbs::test

@@ -106,7 +106,7 @@ std::string geometryText(RenderMode mode, const LodStats& stats) {
 
 void run(const RenderOptions& options) {
   std::optional<ImagePluginPreload> preload;
-  if (!options.output.empty()) preload.emplace();
+  if (!options.output.empty() && !writesWithoutPlugin(frameFile(options, 0))) preload.emplace();
   const Orbit orbit = parseOrbit(options.orbit);
   const auto [width, height] = parseSize(options.size);
   const std::string modeName = !options.mode.empty() ? options.mode : options.surfels.empty() ? "exact" : "surfels";

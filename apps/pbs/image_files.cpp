@@ -1,8 +1,9 @@
-// Image input and output through the OpenImageIO plug-in, with the temporary-name-then-rename rule of
-// every pbs output.
+// Image input and output through the OpenImageIO plug-in (8-bit PNG through libpng, in the process),
+// with the temporary-name-then-rename rule of every pbs output.
 #include "image_files.hpp"
 
 #include "pbs_image_io.h"
+#include "png_writer.hpp"
 
 #include <pbs/scene/input_error.hpp>
 
@@ -80,10 +81,13 @@ ImagePluginPreload::ImagePluginPreload()
         }
       }) {}
 
+bool writesWithoutPlugin(const std::filesystem::path& file) { return file.extension() == ".png"; }
+
 void writeImage8(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height, int channels,
                  std::span<const std::uint8_t> pixels) {
   requirePixels(file, width, height, channels, pixels.size());
-  const auto write = imageFunction<PbsWriteImage8>("pbs_write_image8");
+  const auto write = writesWithoutPlugin(file) && channels <= 4 ? &writePng8
+                                                                : imageFunction<PbsWriteImage8>("pbs_write_image8");
   writeWhole(file, [&](const char* path, char* error, std::size_t errorSize) {
     return write(path, width, height, channels, pixels.data(), error, errorSize);
   });

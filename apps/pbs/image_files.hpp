@@ -23,6 +23,9 @@ class ImagePluginPreload {
   std::jthread loading_;
 };
 
+// Whether writeImage8 writes `file` without the plug-in: a .png (1 to 4 channels), by libpng.
+bool writesWithoutPlugin(const std::filesystem::path& file);
+
 // Writes width×height pixels of `channels` 8-bit values each, rows top first, to a temporary name
 // beside `file` and renames it into place. Throws std::runtime_error naming the file on failure.
 void writeImage8(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height, int channels,

@@ -1,0 +1,26 @@
+// libpng's simplified API: one call writes the whole image, errors come back in the image's message.
+#include "png_writer.hpp"
+
+#include <png.h>
+
+#include <cstring>
+
+namespace pbs::cli {
+
+int writePng8(const char* path, std::uint32_t width, std::uint32_t height, int channels, const std::uint8_t* pixels,
+              char* error, std::size_t errorSize) {
+  static constexpr png_uint_32 kFormats[] = {PNG_FORMAT_GRAY, PNG_FORMAT_GA, PNG_FORMAT_RGB, PNG_FORMAT_RGBA};
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = width;
+  image.height = height;
+  image.format = kFormats[channels - 1];
+  const png_int_32 rowStride = static_cast<png_int_32>(width) * channels;
+  if (png_image_write_to_file(&image, path, 0, pixels, rowStride, nullptr) != 0) return 1;
+  std::strncpy(error, image.message, errorSize - 1);
+  error[errorSize - 1] = '\0';
+  png_image_free(&image);
+  return 0;
+}
+
+}  // namespace pbs::cli
