@@ -15,6 +15,7 @@ int writePng8(const char* path, std::uint32_t width, std::uint32_t height, int c
   image.width = width;
   image.height = height;
   image.format = kFormats[channels - 1];
+  image.flags = PNG_IMAGE_FLAG_FAST;
   const png_int_32 rowStride = static_cast<png_int_32>(width) * channels;
   if (png_image_write_to_file(&image, path, 0, pixels, rowStride, nullptr) != 0) return 1;
   std::strncpy(error, image.message, errorSize - 1);
