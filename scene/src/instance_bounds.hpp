@@ -5,6 +5,7 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
 #include <span>
 #include <vector>
 
@@ -19,9 +20,13 @@ struct ClusteredPoints {
   static constexpr std::size_t kClusterSize = 16;
   static constexpr std::size_t kFanout = 16;  // boxes per box of the level above
   static constexpr std::size_t kMaxLevels = 8;  // 16 × 16^7 points: all a 32-bit index can reach
-  std::vector<glm::vec3> points;  // the vertices, Morton-ordered
+  // Coordinates stored per axis (x of every point, then y, then z), so that the values of a run of
+  // points or boxes are computed in vector registers.
+  using Coordinates = std::array<std::vector<float>, 3>;
+  Coordinates points;  // the vertices, Morton-ordered
   struct Level {
-    std::vector<glm::vec3> min, max;
+    Coordinates min, max;
+    std::size_t size() const { return min[0].size(); }
   };
   std::vector<Level> levels;  // [0]: per cluster of kClusterSize consecutive points; back(): the top
 };
