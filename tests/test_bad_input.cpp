@@ -59,6 +59,8 @@ TEST(BadFiles, EmptyMissingOrADirectory) {
   const std::string missing = (dir / "missing.gltf").string();
   expectInputError([&] { importGltf(missing); }, missing, {"cannot open", "No such file"});
   expectInputError([&] { importGltf(dir.path()); }, dir.path().string(), {"directory"});
+  // The file is mapped, not read: a device (which could stream forever) is refused up front.
+  expectInputError([&] { importGltf("/dev/zero"); }, "/dev/zero", {"not a regular file"});
 }
 
 TEST(BadFiles, TruncatedGlb) {

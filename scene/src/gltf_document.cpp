@@ -148,7 +148,8 @@ Document parseDocument(std::span<const std::uint8_t> bytes, const std::string& f
   const std::span<const std::uint8_t> jsonText = glb ? bytes.subspan(kGlbHeaderBytes, readU32(bytes, 12)) : bytes;
   checkJsonStart(jsonText, glb, file);
   if (glb && jsonText.size() % 4 != 0) warnings.push_back("GLB JSON chunk is not padded to 4 bytes");
-  GltfJson json = readGltfJson(jsonText, file);
+  const std::size_t readableAfter = bytes.size() - (jsonText.data() - bytes.data()) - jsonText.size();
+  GltfJson json = readGltfJson(jsonText, readableAfter, file);
   Document document;
   static_cast<tinygltf::Model&>(document) = std::move(json.model);
   loadBuffers(document, json.bufferLengths, binChunk, glb, file, baseDir);

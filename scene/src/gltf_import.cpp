@@ -1,4 +1,4 @@
-// glTF 2.0 import: reads the file, parses it (gltf_document), then builds the scene from the chosen
+// glTF 2.0 import: maps the file, parses it (gltf_document), then builds the scene from the chosen
 // scene's nodes (gltf_nodes), the meshes they use (gltf_mesh) and those meshes' materials (gltf_material).
 #include "pbs/scene/gltf_import.hpp"
 
@@ -6,28 +6,14 @@
 #include "gltf_material.hpp"
 #include "gltf_mesh.hpp"
 #include "gltf_nodes.hpp"
+#include "mapped_file.hpp"
 #include "pbs/scene/input_error.hpp"
-
-#include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 
 namespace pbs {
 
 ImportResult importGltf(const std::filesystem::path& file) {
-  const std::string name = file.string();
-  std::error_code error;
-  if (std::filesystem::is_directory(file, error)) throw InputError(name, "", "is a directory, not a file");
-  errno = 0;
-  std::ifstream in(file, std::ios::binary | std::ios::ate);
-  if (!in) throw InputError(name, "", std::string("cannot open: ") + (errno ? std::strerror(errno) : "unknown error"));
-  const std::streamsize size = in.tellg();
-  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(std::max<std::streamsize>(size, 0)));
-  if (size < 0 || !in.seekg(0) || !in.read(reinterpret_cast<char*>(bytes.data()), size)) {
-    throw InputError(name, "", std::string("cannot read: ") + (errno ? std::strerror(errno) : "unknown error"));
-  }
-  return importGltfFromMemory(bytes, name, file.parent_path());
+  const MappedFile mapped(file);
+  return importGltfFromMemory(mapped.bytes(), file.string(), file.parent_path());
 }
 
 ImportResult importGltfFromMemory(std::span<const std::uint8_t> bytes, const std::string& name,

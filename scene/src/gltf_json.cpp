@@ -294,12 +294,14 @@ void checkAsset(const Fields& document) {
   if (!version.starts_with("2.")) asset->fail("version " + version + " is not supported (only 2.x)");
 }
 
-dom::element parseJson(dom::parser& parser, std::span<const std::uint8_t> text, std::string_view file) {
+dom::element parseJson(dom::parser& parser, std::span<const std::uint8_t> text, std::size_t readableAfter,
+                       std::string_view file) {
   dom::element root;
+  const bool copy = readableAfter < simdjson::SIMDJSON_PADDING;
   const simdjson::error_code error =
       parser.allocate(text.size(), kMaxJsonDepth) != simdjson::SUCCESS
           ? simdjson::MEMALLOC
-          : parser.parse(reinterpret_cast<const char*>(text.data()), text.size()).get(root);
+          : parser.parse(text.data(), text.size(), copy).get(root);
   if (error == simdjson::DEPTH_ERROR) {
     throw InputError(file, "JSON", "nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
   }
@@ -311,9 +313,9 @@ dom::element parseJson(dom::parser& parser, std::span<const std::uint8_t> text, 
 
 }  // namespace
 
-GltfJson readGltfJson(std::span<const std::uint8_t> text, std::string_view file) {
+GltfJson readGltfJson(std::span<const std::uint8_t> text, std::size_t readableAfter, std::string_view file) {
   dom::parser parser;
-  const Fields document(parseJson(parser, text, file), "", file);
+  const Fields document(parseJson(parser, text, readableAfter, file), "", file);
   checkAsset(document);
 
   GltfJson result;

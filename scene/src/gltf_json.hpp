@@ -21,6 +21,8 @@ struct GltfJson {
 // in an InputError: "accessor 3: count must be an integer ≥ 1". Everything else (extras, extensions
 // other than extensionsRequired, animations, skins, cameras) is skipped unread. Numbers are
 // correctly rounded to the nearest double; NaN, Infinity and numbers beyond a double are JSON errors.
-GltfJson readGltfJson(std::span<const std::uint8_t> text, std::string_view file);
+// `readableAfter`: how many bytes follow the text in memory (a GLB's BIN chunk); with enough of them the
+// parser reads ahead into them instead of copying the text to a padded buffer.
+GltfJson readGltfJson(std::span<const std::uint8_t> text, std::size_t readableAfter, std::string_view file);
 
 }  // namespace pbs::gltf

@@ -1,0 +1,51 @@
+// mmap of a whole file, read-only and private; an empty file maps to no bytes (mmap refuses length 0).
+#include "mapped_file.hpp"
+
+#include "pbs/scene/input_error.hpp"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <string>
+
+namespace pbs {
+
+MappedFile::MappedFile(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  const auto fail = [&](const char* what) { throw InputError(name, "", what + std::string(std::strerror(errno))); };
+  const int descriptor = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (descriptor < 0) fail("cannot open: ");
+  struct stat status{};
+  if (::fstat(descriptor, &status) != 0) {
+    const int error = errno;
+    ::close(descriptor);
+    errno = error;
+    fail("cannot read: ");
+  }
+  if (!S_ISREG(status.st_mode)) {
+    ::close(descriptor);
+    throw InputError(name, "", S_ISDIR(status.st_mode) ? "is a directory, not a file" : "is not a regular file");
+  }
+  size_ = static_cast<std::size_t>(status.st_size);
+  if (size_ > 0) {
+    data_ = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, descriptor, 0);
+    if (data_ == MAP_FAILED) {
+      const int error = errno;
+      ::close(descriptor);
+      data_ = nullptr;
+      errno = error;
+      fail("cannot map: ");
+    }
+  }
+  ::close(descriptor);  // the mapping keeps the file
+}
+
+MappedFile::~MappedFile() {
+  if (data_) ::munmap(data_, size_);
+}
+
+}  // namespace pbs
