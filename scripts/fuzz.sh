@@ -12,10 +12,8 @@ seconds="${1:-60}"
 
 werror=OFF
 [ "${CI:-}" = "true" ] && werror=ON
-cmake -S . -B build-fuzz -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-      -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
-      -DPBS_SANITIZE=ON -DPBS_FUZZ=ON -DPBS_BUILD_TESTS=OFF -DPBS_WERROR="$werror" >/dev/null
-cmake --build build-fuzz -j"$(nproc)" --target fuzz_gltf_import fuzz_surfel_file
+cmake --preset fuzz -DPBS_WERROR="$werror" >/dev/null  # CMakePresets.json: build-fuzz/, clang, libFuzzer
+cmake --build --preset fuzz -j"$(nproc)"
 
 export ASAN_OPTIONS="halt_on_error=1:detect_leaks=1:print_summary=1"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:print_summary=1"

@@ -4,13 +4,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# -O1 -g1: fast enough for the heavier suites, stacks with file and line (full -g costs a third more
+# The asan preset's -O1 -g1: fast enough for the heavier suites, stacks with file and line (full -g costs a third more
 # build time), and assert() stays on (no NDEBUG).
 # Warnings are not errors here: the Release build (setup.sh) enforces them, and GCC's flow warnings
 # (-Wmaybe-uninitialized, -Wstringop-overflow) give false positives on sanitizer-instrumented code.
-cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
-      -DPBS_SANITIZE=ON -DPBS_WERROR=OFF >/dev/null
-cmake --build build-asan -j"$(nproc)"
+cmake --preset asan >/dev/null  # CMakePresets.json: build-asan/, RelWithDebInfo at -O1 -g1, PBS_SANITIZE
+cmake --build --preset asan -j"$(nproc)"
 
 # Any report fails the test that made it: stop at the first error, with a stack trace. LSAN_OPTIONS
 # (the suppressions for Mesa's llvmpipe) is set per test by tests/CMakeLists.txt.

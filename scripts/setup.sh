@@ -22,5 +22,5 @@ fi
 
 werror=OFF
 [ "${CI:-}" = "true" ] && werror=ON
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DPBS_WERROR="$werror" >/dev/null
-cmake --build build -j"$(nproc)"
+cmake --preset release -DPBS_WERROR="$werror" >/dev/null  # CMakePresets.json: build/, Release
+cmake --build --preset release -j"$(nproc)"
