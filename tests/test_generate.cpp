@@ -139,6 +139,10 @@ TEST(DefaultScene, UsesTexturedAndPlainMaterialsWithUvsWhereTextured) {
   const Scene& scene = plant();
   bool textured = false, plain = false;
   for (const Mesh& mesh : scene.meshes) {
+    const bool anyTexture = std::any_of(mesh.parts.begin(), mesh.parts.end(), [&](const MeshPart& part) {
+      return scene.materials[part.material].baseColorTexture >= 0;
+    });
+    EXPECT_EQ(mesh.uvs.empty(), !anyTexture) << mesh.name << ": uvs exactly where a texture reads them";
     for (const MeshPart& part : mesh.parts) {
       const Material& material = scene.materials[part.material];
       if (material.baseColorTexture >= 0) {

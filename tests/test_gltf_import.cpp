@@ -212,9 +212,13 @@ TEST(Attributes, NormalizedIntegerTexcoordsAndPositions) {
   const int uvs16 =
       b.addAccessor(std::vector<std::uint16_t>{65535, 0, 0, 65535, 13107, 0}, test::kUnsignedShort, "VEC2", true);
   const int signedUvs = b.addAccessor(std::vector<std::int8_t>{-128, 127, 0, -127, 64, 0}, test::kByte, "VEC2", true);
-  b.addMesh({{{"attributes", {{"POSITION", positions}, {"TEXCOORD_0", uvs}}}}});
-  b.addMesh({{{"attributes", {{"POSITION", positions}, {"TEXCOORD_0", uvs16}}}}});
-  b.addMesh({{{"attributes", {{"POSITION", positions}, {"TEXCOORD_0", signedUvs}}}}});
+  // A textured material, so that the meshes keep their uvs.
+  b.addMaterial({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
+  b.append("textures", {{"source", 0}});
+  b.append("images", {{"uri", std::string("data:image/png;base64,") + test::kPngRgba2x2}});
+  b.addMesh({{{"attributes", {{"POSITION", positions}, {"TEXCOORD_0", uvs}}}, {"material", 0}}});
+  b.addMesh({{{"attributes", {{"POSITION", positions}, {"TEXCOORD_0", uvs16}}}, {"material", 0}}});
+  b.addMesh({{{"attributes", {{"POSITION", positions}, {"TEXCOORD_0", signedUvs}}}, {"material", 0}}});
   b.addNode({{"children", {1, 2, 3}}});
   b.addNode({{"mesh", 0}});
   b.addNode({{"mesh", 1}});
@@ -305,6 +309,10 @@ TEST(Attributes, PrimitivesMergeShareVerticesAndUvsArePaddedWhereMissing) {
   const int uvs = b.addAccessor(std::vector<float>{0.5f, 0.5f, 1, 0, 0, 1}, test::kFloat, "VEC2");
   json textured = b.json["meshes"][0]["primitives"][0];
   textured["attributes"]["TEXCOORD_0"] = uvs;
+  textured["material"] = 0;  // a texture reads the uvs, so the mesh keeps them
+  b.addMaterial({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
+  b.append("textures", {{"source", 0}});
+  b.append("images", {{"uri", std::string("data:image/png;base64,") + test::kPngRgba2x2}});
   b.json["meshes"][0]["primitives"].push_back(textured);
   b.json["meshes"][0]["primitives"].push_back(b.json["meshes"][0]["primitives"][0]);
   const Mesh mesh = test::importText(b.gltf()).scene.meshes.at(0);
@@ -319,6 +327,24 @@ TEST(Attributes, PrimitivesMergeShareVerticesAndUvsArePaddedWhereMissing) {
   EXPECT_EQ(mesh.uvs[3], glm::vec2(0.5f));
   EXPECT_EQ(mesh.uvs[2], glm::vec2(0.0f));
   EXPECT_EQ(mesh.bounds.max, glm::dvec3(1, 1, 0));
+}
+
+// Texture coordinates nothing reads are not kept: a mesh whose parts have no textured material
+// drops them, whatever the file holds.
+TEST(Attributes, UvsOfAMeshWithoutATextureAreDropped) {
+  GltfBuilder b = test::triangleFile();
+  const int uvs = b.addAccessor(std::vector<float>{0.5f, 0.5f, 1, 0, 0, 1}, test::kFloat, "VEC2");
+  b.json["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = uvs;
+  b.json["meshes"][0]["primitives"][0]["material"] = 0;
+  b.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 1}}}}});
+  const Scene plain = test::importText(b.gltf()).scene;
+  EXPECT_TRUE(plain.meshes.at(0).uvs.empty());
+  EXPECT_EQ(meshBytes(plain.meshes[0]), 3u * 12 + 3u * 12 + 3u * 4);
+
+  b.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+  b.append("textures", {{"source", 0}});
+  b.append("images", {{"uri", std::string("data:image/png;base64,") + test::kPngRgba2x2}});
+  EXPECT_EQ(test::importText(b.gltf()).scene.meshes.at(0).uvs.size(), 3u);
 }
 
 // ---------------------------------------------------------------------------------------------

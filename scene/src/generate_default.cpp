@@ -236,6 +236,7 @@ Scene generateDefaultScene() {
   addPowerBlock(plant, root);
   addPipeRacks(plant, root);
   addTransmissionLine(plant, root);
+  dropUnreadUvs(scene);
   return scene;
 }
 

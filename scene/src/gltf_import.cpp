@@ -40,6 +40,7 @@ ImportResult importGltfFromMemory(std::span<const std::uint8_t> bytes, const std
   };
   gltf::importNodes(model, name, meshFor, scene, result.warnings);
 
+  dropUnreadUvs(scene);
   skipped.appendWarnings(result.warnings);
   materials.appendWarnings(result.warnings);
   return result;

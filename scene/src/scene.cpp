@@ -1,6 +1,7 @@
-// Small mesh utilities shared by the importer, the generator and the octree: bounds and normals.
+// Small mesh utilities shared by the importer, the generator and the octree: bounds, normals and unread uvs.
 #include "pbs/scene/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace pbs {
@@ -8,6 +9,15 @@ namespace pbs {
 std::uint64_t meshBytes(const Mesh& mesh) {
   return mesh.positions.size() * sizeof(glm::vec3) + mesh.normals.size() * sizeof(glm::vec3) +
          mesh.uvs.size() * sizeof(glm::vec2) + mesh.indices.size() * sizeof(std::uint32_t);
+}
+
+void dropUnreadUvs(Scene& scene) {
+  for (Mesh& mesh : scene.meshes) {
+    const bool textured = std::any_of(mesh.parts.begin(), mesh.parts.end(), [&](const MeshPart& part) {
+      return part.material < scene.materials.size() && scene.materials[part.material].baseColorTexture >= 0;
+    });
+    if (!textured) std::vector<glm::vec2>().swap(mesh.uvs);  // swap: frees the memory, not only the size
+  }
 }
 
 void updateMeshBounds(Mesh& mesh) {

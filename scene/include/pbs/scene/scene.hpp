@@ -51,6 +51,10 @@ struct Scene {
 // Recomputes Mesh::bounds from the positions.
 void updateMeshBounds(Mesh& mesh);
 
+// Clears the uvs of every mesh no part of which has a textured material: nothing would read them.
+// Importers and generators call it last, so a scene holds texture coordinates only where they are used.
+void dropUnreadUvs(Scene& scene);
+
 // The bytes of a mesh's arrays: 12 per position and normal, 8 per texture coordinate pair, 4 per index.
 std::uint64_t meshBytes(const Mesh& mesh);
 
