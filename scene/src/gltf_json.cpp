@@ -18,8 +18,8 @@ namespace {
 
 namespace dom = simdjson::dom;
 
-constexpr std::size_t kMaxJsonDepth = 256;                   // glTF itself needs about 8
-constexpr std::int64_t kMaxIndex = INT_MAX;                  // tinygltf keeps references as int
+constexpr std::size_t kMaxJsonDepth = 256;                      // glTF itself needs about 8
+constexpr std::int64_t kMaxIndex = INT_MAX;                     // tinygltf keeps references as int
 constexpr std::int64_t kMaxSize = (std::int64_t{1} << 53) - 1;  // largest integer every JSON reader keeps exactly
 
 std::string describe(dom::element value) {
@@ -54,7 +54,6 @@ class Fields {
     if (value.get(object_) != simdjson::SUCCESS) fail("is " + describe(value) + ", not a JSON object");
   }
 
-  const std::string& element() const { return element_; }
   [[noreturn]] void fail(const std::string& message) const { throw InputError(file_, element_, message); }
 
   std::optional<dom::element> find(const char* key) const {
