@@ -4,6 +4,8 @@
 #include "commands.hpp"
 #include "scene_report.hpp"
 
+#include <pbs/raster/raster_limits.hpp>
+
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -83,7 +85,7 @@ void addBenchCommand(CLI::App& app) {
   raster->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->capture_default_str();
   raster->add_flag("--json", options->json, "print JSON instead of text");
   raster->add_option("--resolution", options->raster.resolution, "capture and point image size")
-      ->check(CLI::Range(1, 16384))
+      ->check(CLI::Range(1u, kMaxViewportSize))
       ->capture_default_str();
   raster->add_option("--points", options->raster.points, "number of random points")
       ->check(CLI::Range(1, 1'000'000'000))

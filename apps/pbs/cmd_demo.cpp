@@ -10,6 +10,7 @@
 #include <pbs/raster/headlight_shading.hpp>
 #include <pbs/raster/image_metrics.hpp>
 #include <pbs/raster/orbit_camera.hpp>
+#include <pbs/raster/raster_limits.hpp>
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/scene/embree_caster.hpp>
 #include <pbs/surfels/frame_renderer.hpp>
@@ -148,8 +149,8 @@ void addDemoCommand(CLI::App& app) {
       ->check(CLI::Range(1u, 1u << 26))
       ->capture_default_str();
   addCaptureOptions(*command, file.resolution, file.directions);
-  command->add_option("--width", options->width, "image width")->check(CLI::Range(1u, 16384u))->capture_default_str();
-  command->add_option("--height", options->height, "image height")->check(CLI::Range(1u, 16384u))->capture_default_str();
+  command->add_option("--width", options->width, "image width")->check(CLI::Range(1u, kMaxViewportSize))->capture_default_str();
+  command->add_option("--height", options->height, "image height")->check(CLI::Range(1u, kMaxViewportSize))->capture_default_str();
   command->add_flag("--json", options->json, "print JSON instead of text");
   addThreadsOption(*command, options->threads);
   command->callback([options] { runWithThreads(options->threads, [&] { run(*options); }); });

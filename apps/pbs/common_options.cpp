@@ -1,6 +1,7 @@
 // The options several commands share, defined once so their names, checks and help agree.
 #include "commands.hpp"
 
+#include <pbs/raster/raster_limits.hpp>
 #include <pbs/raster/supersampling.hpp>
 
 #include <cmath>
@@ -19,7 +20,7 @@ void addThreadsOption(CLI::App& command, int& threads) {
 
 void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32_t& directions) {
   command.add_option("--resolution", resolution, "capture pixels along the larger side of each view")
-      ->check(CLI::Range(1u, 16384u))
+      ->check(CLI::Range(1u, kMaxViewportSize))
       ->capture_default_str();
   command.add_option("--directions", directions, "capture views: 8 for the box corners, else N spread over the sphere")
       ->check(CLI::Range(1u, 1024u))

@@ -2,6 +2,7 @@
 #include "orbit_views.hpp"
 
 #include <CLI/CLI.hpp>
+#include <pbs/raster/raster_limits.hpp>
 
 #include <algorithm>
 #include <sstream>
@@ -23,9 +24,10 @@ std::pair<std::uint32_t, std::uint32_t> parseSize(const std::string& text) {
   char x = 0;
   std::istringstream in(text);
   in >> width >> x >> height;
-  if (!in || (x != 'x' && x != 'X') || !(in >> std::ws).eof() || width < 1 || height < 1 || width > 16384 ||
-      height > 16384)
-    throw CLI::ValidationError("--size", "expected WxH with 1 ≤ W, H ≤ 16384, got " + text);
+  if (!in || (x != 'x' && x != 'X') || !(in >> std::ws).eof() || width < 1 || height < 1 || width > kMaxViewportSize ||
+      height > kMaxViewportSize)
+    throw CLI::ValidationError("--size",
+                               "expected WxH with 1 ≤ W, H ≤ " + std::to_string(kMaxViewportSize) + ", got " + text);
   return {width, height};
 }
 

@@ -4,8 +4,6 @@
 namespace pbs::points {
 
 TileGrid makeTileGrid(std::uint32_t width, std::uint32_t height) {
-  constexpr int kMinShift = 4, kMaxShift = kMaxTileShift;
-  constexpr std::uint32_t kMinTiles = 64, kMaxTiles = 4096;
   TileGrid grid;
   grid.width = width;
   grid.height = height;
@@ -13,8 +11,8 @@ TileGrid makeTileGrid(std::uint32_t width, std::uint32_t height) {
     const std::uint32_t size = 1u << shift;
     return ((width + size - 1) >> shift) * ((height + size - 1) >> shift);
   };
-  while (grid.shift < kMaxShift && tilesAt(grid.shift) > kMaxTiles) ++grid.shift;
-  while (grid.shift > kMinShift && tilesAt(grid.shift) < kMinTiles) --grid.shift;
+  while (grid.shift < kPointTileShiftMax && tilesAt(grid.shift) > kPointTilesMax) ++grid.shift;
+  while (grid.shift > kPointTileShiftMin && tilesAt(grid.shift) < kPointTilesMin) --grid.shift;
   const std::uint32_t size = grid.tileSize();
   grid.columns = (width + size - 1) >> grid.shift;
   grid.rows = (height + size - 1) >> grid.shift;

@@ -1,12 +1,14 @@
 // The screen tiles of the point rasterizer: each is drawn by one task, which owns its pixels.
 #pragma once
 
+#include "pbs/raster/raster_limits.hpp"
+
 #include <cstdint>
 
 namespace pbs::points {
 
 // The largest tile side makeTileGrid chooses.
-inline constexpr int kMaxTileShift = 8;
+inline constexpr int kMaxTileShift = kPointTileShiftMax;
 inline constexpr std::uint32_t kMaxTileSize = 1u << kMaxTileShift;
 
 // Square tiles of 2^shift pixels covering the framebuffer, numbered row-major.

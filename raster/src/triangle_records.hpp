@@ -1,6 +1,7 @@
 // The compact per-triangle records that triangle setup writes and the tile rasterizer reads.
 #pragma once
 
+#include "pbs/raster/raster_limits.hpp"
 #include "scalable_vectors.hpp"
 
 #include <glm/glm.hpp>
@@ -12,16 +13,12 @@
 
 namespace pbs::triangles {
 
-inline constexpr int kSubpixelBits = 8;
+// The sizes and the guard band: raster_limits.hpp.
+inline constexpr int kSubpixelBits = pbs::kSubpixelBits;
 inline constexpr std::int64_t kSubpixelScale = std::int64_t(1) << kSubpixelBits;
-inline constexpr int kTileSize = 64;   // pixels a side; each tile is one TBB task
-inline constexpr int kBlockSize = 8;   // pixels a side; the unit of trivial accept and reject
-
-// Guard band: vertices farther than 2^21 pixels from the window origin are clipped in x/y (in
-// homogeneous space, like near and far); everything within is rasterized unclipped. It keeps
-// snapped coordinates within ±2^29 subpixels, so an edge coefficient is below 2^30 and an edge
-// function at any pixel centre of a ≤ 16384² viewport sums two products below 2^60: exact in int64.
-inline constexpr double kGuardBandPixels = double(1 << 21);
+inline constexpr int kTileSize = kTriangleTileSize;
+inline constexpr int kBlockSize = kTriangleBlockSize;
+inline constexpr double kGuardBandPixels = pbs::kGuardBandPixels;
 
 // The least and the greatest of three snapped coordinates, without a branch: a branch here
 // mispredicts on about every other triangle, and GCC turns std::min and std::max of the same pair

@@ -34,17 +34,15 @@ TriangleBatch::TriangleBatch(Framebuffer& framebuffer, const Camera& camera, con
 
 namespace {
 
-constexpr std::uint32_t kMaxViewport = 16384;
-
 void checkTarget(const Framebuffer& framebuffer, const Camera& camera) {
   const auto fail = [](const std::string& what) { throw std::invalid_argument("drawTriangles: " + what); };
   if (framebuffer.width != camera.width || framebuffer.height != camera.height)
     fail("framebuffer " + std::to_string(framebuffer.width) + "x" + std::to_string(framebuffer.height) +
          " does not match camera viewport " + std::to_string(camera.width) + "x" + std::to_string(camera.height));
-  if (framebuffer.width == 0 || framebuffer.height == 0 || framebuffer.width > kMaxViewport ||
-      framebuffer.height > kMaxViewport)
+  if (framebuffer.width == 0 || framebuffer.height == 0 || framebuffer.width > kMaxViewportSize ||
+      framebuffer.height > kMaxViewportSize)
     fail("viewport " + std::to_string(framebuffer.width) + "x" + std::to_string(framebuffer.height) +
-         " outside 1 … 16384");
+         " outside 1 … " + std::to_string(kMaxViewportSize));
   const std::size_t pixels = framebuffer.pixelCount();
   const bool sized = framebuffer.depth.size() == pixels &&
                      (!framebuffer.has(kChannelColor) || framebuffer.color.size() == pixels) &&
