@@ -138,7 +138,7 @@ void checkRequiredExtensions(const tinygltf::Model& model, std::string_view file
 }  // namespace
 
 Document parseDocument(std::span<const std::uint8_t> bytes, const std::string& file,
-                              const std::filesystem::path& baseDir, std::vector<std::string>& warnings) {
+                       const std::filesystem::path& baseDir, std::vector<std::string>& warnings) {
   if (bytes.empty()) throw InputError(file, "", "file is empty");
   if (bytes.size() > std::numeric_limits<std::uint32_t>::max()) {
     throw InputError(file, "", "file is larger than 4 GiB, more than glTF can address");
@@ -148,8 +148,8 @@ Document parseDocument(std::span<const std::uint8_t> bytes, const std::string& f
   const std::span<const std::uint8_t> jsonText = glb ? bytes.subspan(kGlbHeaderBytes, readU32(bytes, 12)) : bytes;
   checkJsonStart(jsonText, glb, file);
   if (glb && jsonText.size() % 4 != 0) warnings.push_back("GLB JSON chunk is not padded to 4 bytes");
-  const std::size_t readableAfter = bytes.size() - (jsonText.data() - bytes.data()) - jsonText.size();
-  GltfJson json = readGltfJson(jsonText, readableAfter, file);
+  const std::size_t jsonEnd = glb ? kGlbHeaderBytes + jsonText.size() : bytes.size();
+  GltfJson json = readGltfJson(jsonText, bytes.size() - jsonEnd, file);
   Document document;
   static_cast<tinygltf::Model&>(document) = std::move(json.model);
   loadBuffers(document, json.bufferLengths, binChunk, glb, file, baseDir);

@@ -28,6 +28,6 @@ struct Document : tinygltf::Model {
 // decoded, with our bounds checks (gltf_image.cpp). Rejects required extensions the importer cannot
 // honour. Appends warnings, one line each.
 Document parseDocument(std::span<const std::uint8_t> bytes, const std::string& file,
-                              const std::filesystem::path& baseDir, std::vector<std::string>& warnings);
+                       const std::filesystem::path& baseDir, std::vector<std::string>& warnings);
 
 }  // namespace pbs::gltf
