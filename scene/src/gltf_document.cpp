@@ -1,5 +1,5 @@
-// glTF/GLB bytes to a tinygltf::Model: our checks of the GLB layout, the JSON read by gltf_json.cpp,
-// then the buffers and images its uris name.
+// glTF/GLB bytes to a Document: our checks of the GLB layout, the JSON read by gltf_json.cpp, then
+// the buffers its uris name.
 #include "gltf_document.hpp"
 
 #include "gltf_json.hpp"
@@ -110,19 +110,6 @@ void loadBuffers(Document& document, const std::vector<std::size_t>& bufferLengt
   }
 }
 
-// A uri image's encoded bytes, kept for gltf_image.cpp; one that cannot be read stays empty, an
-// error only if a used texture needs it.
-void loadUriImages(tinygltf::Model& model, const std::filesystem::path& baseDir) {
-  for (tinygltf::Image& image : model.images) {
-    if (image.uri.empty()) continue;
-    try {
-      image.image = readUri(image.uri, baseDir);
-      image.as_is = true;
-    } catch (const std::runtime_error&) {
-    }
-  }
-}
-
 // Extensions a file may require that we implement, or whose absence changes only what we ignore anyway.
 void checkRequiredExtensions(const tinygltf::Model& model, std::string_view file, std::vector<std::string>& warnings) {
   for (const std::string& extension : model.extensionsRequired) {
@@ -152,8 +139,8 @@ Document parseDocument(std::span<const std::uint8_t> bytes, const std::string& f
   GltfJson json = readGltfJson(jsonText, bytes.size() - jsonEnd, file);
   Document document;
   static_cast<tinygltf::Model&>(document) = std::move(json.model);
+  document.baseDir = baseDir;
   loadBuffers(document, json.bufferLengths, binChunk, glb, file, baseDir);
-  loadUriImages(document, baseDir);
   checkRequiredExtensions(document, file, warnings);
   return document;
 }

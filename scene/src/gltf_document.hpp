@@ -20,13 +20,13 @@ namespace pbs::gltf {
 struct Document : tinygltf::Model {
   std::vector<std::span<const std::uint8_t>> bufferBytes;  // one per buffer
   std::vector<std::vector<std::uint8_t>> loadedBuffers;    // what the uri buffers' spans view
+  std::filesystem::path baseDir;                           // where relative uris (of images) are read from
 };
 
 // Parses .gltf JSON or .glb (told apart by the "glTF" magic, not the name), loading buffers from
-// external files and data: URIs relative to `baseDir`. Images are left encoded: each keeps its file
-// bytes in Image::image (as_is set) or its bufferView, so that only images a used texture needs are
-// decoded, with our bounds checks (gltf_image.cpp). Rejects required extensions the importer cannot
-// honour. Appends warnings, one line each.
+// external files and data: URIs relative to `baseDir`. Images are not read here: gltf_image.cpp reads
+// and decodes, with our bounds checks, only those a used texture needs. Rejects required extensions the
+// importer cannot honour. Appends warnings, one line each.
 Document parseDocument(std::span<const std::uint8_t> bytes, const std::string& file,
                        const std::filesystem::path& baseDir, std::vector<std::string>& warnings);
 

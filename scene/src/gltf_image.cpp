@@ -1,13 +1,15 @@
 // Decodes the images that used textures need: finds their encoded bytes (a checked bufferView, or
-// what parseDocument kept from a URI), decodes them with tinygltf's stb_image and converts to RGBA8.
+// the uri's, read only now), decodes them with tinygltf's stb_image and converts to RGBA8.
 #include "gltf_image.hpp"
 
 #include "gltf_accessor.hpp"
 #include "gltf_messages.hpp"
+#include "gltf_uri.hpp"
 #include "pbs/scene/input_error.hpp"
 
 #include <climits>
 #include <cstring>
+#include <stdexcept>
 
 namespace pbs::gltf {
 namespace {
@@ -29,14 +31,20 @@ std::string oneLine(std::string_view text) {
   return line;
 }
 
-std::span<const std::uint8_t> encodedBytes(const Document& model, int image, std::string_view file,
-                                           const std::string& element) {
+// The image's encoded bytes: its bufferView's, or those its uri names, read now that a texture uses it.
+std::vector<std::uint8_t> encodedBytes(const Document& model, int image, std::string_view file,
+                                       const std::string& element) {
   const tinygltf::Image& source = model.images[static_cast<std::size_t>(image)];
-  if (source.bufferView != -1) return bufferViewBytes(model, source.bufferView, file, element);
-  if (!source.image.empty()) return source.image;
-  // parseDocument's loader keeps every readable URI image, so an empty one is a file that was not there.
-  if (!source.uri.empty()) throw InputError(file, element, "cannot read '" + source.uri + "'");
-  throw InputError(file, element, "has neither a uri nor a bufferView");
+  if (source.bufferView != -1) {
+    const std::span<const std::uint8_t> view = bufferViewBytes(model, source.bufferView, file, element);
+    return {view.begin(), view.end()};
+  }
+  if (source.uri.empty()) throw InputError(file, element, "has neither a uri nor a bufferView");
+  try {
+    return readUri(source.uri, model.baseDir);
+  } catch (const std::runtime_error& error) {
+    throw InputError(file, element, error.what());
+  }
 }
 
 // tinygltf's decoder asks stb for RGBA today, but its Image contract is 1 to 4 channels (grey,
@@ -81,7 +89,7 @@ void convertToRgba8(const tinygltf::Image& decoded, std::string_view file, const
 
 void decodeImage(const Document& model, int image, std::string_view file, Texture& texture) {
   const std::string element = elementName("image", image);
-  const std::span<const std::uint8_t> encoded = encodedBytes(model, image, file, element);
+  const std::vector<std::uint8_t> encoded = encodedBytes(model, image, file, element);
   if (encoded.size() > static_cast<std::size_t>(INT_MAX)) throw InputError(file, element, "is larger than 2 GiB");
   tinygltf::Image decoded;
   std::string error, warning;
