@@ -4,7 +4,6 @@
 
 #include "gltf_json.hpp"
 #include "gltf_messages.hpp"
-#include "gltf_uri.hpp"
 #include "pbs/scene/input_error.hpp"
 
 #include <cctype>
@@ -94,9 +93,9 @@ void loadBuffers(Document& document, const std::vector<std::size_t>& bufferLengt
       document.bufferBytes.push_back(binChunk.first(byteLength));
       continue;
     }
-    std::vector<std::uint8_t>& bytes = document.loadedBuffers.emplace_back();
+    std::span<const std::uint8_t> bytes;
     try {
-      bytes = readUri(uri, baseDir);
+      bytes = document.loadedBuffers.emplace_back(readUri(uri, baseDir)).bytes();
     } catch (const std::runtime_error& error) {
       throw InputError(file, element, error.what());
     }
@@ -106,7 +105,7 @@ void loadBuffers(Document& document, const std::vector<std::size_t>& bufferLengt
                        source + " holds " + std::to_string(bytes.size()) + " bytes, fewer than its byteLength " +
                            std::to_string(byteLength));
     }
-    document.bufferBytes.push_back(std::span<const std::uint8_t>(bytes).first(byteLength));
+    document.bufferBytes.push_back(bytes.first(byteLength));
   }
 }
 

@@ -2,6 +2,8 @@
 // an InputError naming the element.
 #pragma once
 
+#include "gltf_uri.hpp"
+
 #include <tiny_gltf.h>
 
 #include <cstdint>
@@ -16,10 +18,10 @@ namespace pbs::gltf {
 // A parsed glTF: what its JSON says, in tinygltf's types, and each buffer's bytes, exactly its
 // byteLength. tinygltf::Buffer::data stays empty: a GLB's BIN chunk is viewed where it lies in the
 // file's bytes (which must outlive the document) rather than copied, which for a 2 GB scene is 2 GB
-// of memory; only uri buffers are read, into `loadedBuffers`.
+// of memory; a uri buffer's file is mapped, a data: URI decoded, into `loadedBuffers`.
 struct Document : tinygltf::Model {
   std::vector<std::span<const std::uint8_t>> bufferBytes;  // one per buffer
-  std::vector<std::vector<std::uint8_t>> loadedBuffers;    // what the uri buffers' spans view
+  std::vector<UriBytes> loadedBuffers;                     // what the uri buffers' spans view
   std::filesystem::path baseDir;                           // where relative uris (of images) are read from
 };
 

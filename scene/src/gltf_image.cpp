@@ -4,7 +4,6 @@
 
 #include "gltf_accessor.hpp"
 #include "gltf_messages.hpp"
-#include "gltf_uri.hpp"
 #include "pbs/scene/input_error.hpp"
 
 #include <climits>
@@ -31,20 +30,19 @@ std::string oneLine(std::string_view text) {
   return line;
 }
 
-// The image's encoded bytes: its bufferView's, or those its uri names, read now that a texture uses it.
-std::vector<std::uint8_t> encodedBytes(const Document& model, int image, std::string_view file,
-                                       const std::string& element) {
+// The image's encoded bytes: its bufferView's, or those its uri names, read (into `read`) now that a
+// texture uses it.
+std::span<const std::uint8_t> encodedBytes(const Document& model, int image, std::string_view file,
+                                           const std::string& element, UriBytes& read) {
   const tinygltf::Image& source = model.images[static_cast<std::size_t>(image)];
-  if (source.bufferView != -1) {
-    const std::span<const std::uint8_t> view = bufferViewBytes(model, source.bufferView, file, element);
-    return {view.begin(), view.end()};
-  }
+  if (source.bufferView != -1) return bufferViewBytes(model, source.bufferView, file, element);
   if (source.uri.empty()) throw InputError(file, element, "has neither a uri nor a bufferView");
   try {
-    return readUri(source.uri, model.baseDir);
+    read = readUri(source.uri, model.baseDir);
   } catch (const std::runtime_error& error) {
     throw InputError(file, element, error.what());
   }
+  return read.bytes();
 }
 
 // tinygltf's decoder asks stb for RGBA today, but its Image contract is 1 to 4 channels (grey,
@@ -89,7 +87,8 @@ void convertToRgba8(const tinygltf::Image& decoded, std::string_view file, const
 
 void decodeImage(const Document& model, int image, std::string_view file, Texture& texture) {
   const std::string element = elementName("image", image);
-  const std::vector<std::uint8_t> encoded = encodedBytes(model, image, file, element);
+  UriBytes read;
+  const std::span<const std::uint8_t> encoded = encodedBytes(model, image, file, element, read);
   if (encoded.size() > static_cast<std::size_t>(INT_MAX)) throw InputError(file, element, "is larger than 2 GiB");
   tinygltf::Image decoded;
   std::string error, warning;

@@ -1,11 +1,10 @@
-// glTF uris: base64 data: URIs and files relative to the glTF. Written here rather than taken from
-// tinygltf, whose decoders are private to its loader, and short enough not to need another library.
+// glTF uris: base64 data: URIs and files relative to the glTF (mapped, as the glTF itself is). The
+// decoders are written here rather than taken from tinygltf, whose are private to its loader, and are
+// short enough not to need another library.
 #include "gltf_uri.hpp"
 
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <stdexcept>
+#include <type_traits>
 
 namespace pbs::gltf {
 namespace {
@@ -62,36 +61,42 @@ std::string percentDecoded(const std::string& uri) {
   return path;
 }
 
-std::vector<std::uint8_t> readRelativeFile(const std::string& uri, const std::filesystem::path& baseDir) {
+MappedFile mapRelativeFile(const std::string& uri, const std::filesystem::path& baseDir) {
   const std::filesystem::path relative(percentDecoded(uri));
   if (relative.is_absolute() || relative.has_root_name() || uri.find("://") != std::string::npos) {
     throw std::runtime_error("cannot read '" + uri + "': only files relative to the glTF are read");
   }
   const std::filesystem::path path = baseDir / relative;
   std::error_code ignored;
-  if (!std::filesystem::is_regular_file(path, ignored)) {
-    throw std::runtime_error("cannot read '" + uri + "': " +
-                             (std::filesystem::exists(path, ignored) ? "not a regular file" : "no such file"));
+  if (!std::filesystem::exists(path, ignored)) throw std::runtime_error("cannot read '" + uri + "': no such file");
+  try {
+    return MappedFile(path);
+  } catch (const std::runtime_error& error) {  // MappedFile's InputError names the whole path
+    throw std::runtime_error("cannot read '" + uri + "': " + error.what());
   }
-  errno = 0;
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  const std::streamsize size = in ? static_cast<std::streamsize>(in.tellg()) : -1;
-  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(std::max<std::streamsize>(size, 0)));
-  if (size < 0 || !in.seekg(0) || !in.read(reinterpret_cast<char*>(bytes.data()), size)) {
-    throw std::runtime_error("cannot read '" + uri + "': " + (errno ? std::strerror(errno) : "read failed"));
-  }
-  return bytes;
 }
 
 }  // namespace
 
-std::vector<std::uint8_t> readUri(const std::string& uri, const std::filesystem::path& baseDir) {
-  if (!uri.starts_with("data:")) return readRelativeFile(uri, baseDir);
+std::span<const std::uint8_t> UriBytes::bytes() const {
+  return std::visit(
+      [](const auto& held) -> std::span<const std::uint8_t> {
+        if constexpr (std::is_same_v<std::decay_t<decltype(held)>, MappedFile>) {
+          return held.bytes();
+        } else {
+          return held;
+        }
+      },
+      storage);
+}
+
+UriBytes readUri(const std::string& uri, const std::filesystem::path& baseDir) {
+  if (!uri.starts_with("data:")) return {mapRelativeFile(uri, baseDir)};
   const std::size_t comma = uri.find(',');
   if (comma == std::string::npos || !std::string_view(uri).substr(0, comma).ends_with(";base64")) {
     throw std::runtime_error("its data: URI is not base64 (\"data:<type>;base64,...\")");
   }
-  return decodeBase64(std::string_view(uri).substr(comma + 1));
+  return {decodeBase64(std::string_view(uri).substr(comma + 1))};
 }
 
 }  // namespace pbs::gltf

@@ -10,6 +10,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <memory>
 #include <string>
 
 namespace pbs {
@@ -19,29 +20,20 @@ MappedFile::MappedFile(const std::filesystem::path& file) {
   const auto fail = [&](const char* what) { throw InputError(name, "", what + std::string(std::strerror(errno))); };
   const int descriptor = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
   if (descriptor < 0) fail("cannot open: ");
+  // The mapping keeps the file; the descriptor is closed on every way out.
+  const std::unique_ptr<const int, void (*)(const int*)> closing(&descriptor, [](const int* d) { ::close(*d); });
   struct stat status{};
-  if (::fstat(descriptor, &status) != 0) {
-    const int error = errno;
-    ::close(descriptor);
-    errno = error;
-    fail("cannot read: ");
-  }
+  if (::fstat(descriptor, &status) != 0) fail("cannot read: ");
   if (!S_ISREG(status.st_mode)) {
-    ::close(descriptor);
     throw InputError(name, "", S_ISDIR(status.st_mode) ? "is a directory, not a file" : "is not a regular file");
   }
   size_ = static_cast<std::size_t>(status.st_size);
-  if (size_ > 0) {
-    data_ = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, descriptor, 0);
-    if (data_ == MAP_FAILED) {
-      const int error = errno;
-      ::close(descriptor);
-      data_ = nullptr;
-      errno = error;
-      fail("cannot map: ");
-    }
+  if (size_ == 0) return;
+  data_ = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, descriptor, 0);
+  if (data_ == MAP_FAILED) {
+    data_ = nullptr;
+    fail("cannot map: ");
   }
-  ::close(descriptor);  // the mapping keeps the file
 }
 
 MappedFile::~MappedFile() {
