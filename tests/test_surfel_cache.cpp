@@ -11,8 +11,10 @@
 #include <pbs/surfels/frame_renderer.hpp>
 #include <pbs/surfels/surfel_cache.hpp>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 
@@ -78,6 +80,50 @@ TEST(SurfelCache, AnotherScenesFileIsRefused) {
   const Hierarchy hierarchy = analyzeHierarchy(other);
   ASSERT_NE(sceneFingerprint(other), sceneFingerprint(test::twoIdenticalGroups()));
   EXPECT_THROW(SurfelCache(scratch / "g.surfels", other, hierarchy, 1 << 20), InputError);
+}
+
+// The file's instance boxes stand in for the scene's vertices: the hierarchy made from them is
+// analyzeHierarchy's, bit for bit, here with one group turned about an oblique axis (where a box of the
+// turned corners would be loose) and far from the origin.
+TEST(SurfelCache, TheFilesInstanceBoxesGiveTheScenesHierarchyBitForBit) {
+  ScratchDir scratch;
+  Scene scene = test::twoIdenticalGroups();
+  scene.nodes[scene.roots.front()].local =
+      glm::translate(glm::dmat4(1.0), glm::dvec3(3e5, -2e4, 7.25)) *
+      glm::rotate(glm::dmat4(1.0), 0.52, glm::normalize(glm::dvec3(1.0, 2.0, -0.5)));
+  const Hierarchy computed = analyzeHierarchy(scene);
+  SurfelizeOptions options;
+  options.file.threshold = 1000;
+  options.file.maxSurfels = 100;
+  options.file.resolution = 32;
+  surfelizeToFile(scene, computed, options, scratch / "r.surfels");
+
+  SurfelFileReader reader(scratch / "r.surfels");
+  ASSERT_EQ(reader.sceneTable().instanceBounds.size(), scene.nodes.size());
+  const Hierarchy stored = hierarchyWithSurfels(scene, reader);
+  EXPECT_TRUE(reader.sceneRequired());
+  ASSERT_EQ(stored.preorder, computed.preorder);
+  EXPECT_EQ(stored.parent, computed.parent);
+  EXPECT_EQ(stored.depth, computed.depth);
+  EXPECT_EQ(stored.subtreeTriangles, computed.subtreeTriangles);
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n) {
+    EXPECT_EQ(stored.world[n], computed.world[n]) << n;
+    EXPECT_EQ(stored.instanceBounds[n].min, computed.instanceBounds[n].min) << n;
+    EXPECT_EQ(stored.instanceBounds[n].max, computed.instanceBounds[n].max) << n;
+    EXPECT_EQ(stored.worldBounds[n].min, computed.worldBounds[n].min) << n;
+    EXPECT_EQ(stored.worldBounds[n].max, computed.worldBounds[n].max) << n;
+  }
+  // The turned group's boxes are the exact ones, tighter than its turned corners.
+  const std::uint32_t mesh = std::uint32_t(std::find_if(scene.nodes.begin(), scene.nodes.end(),
+                                                        [](const Node& n) { return n.mesh >= 0; }) -
+                                           scene.nodes.begin());
+  const Bounds corners = transformCorners(scene.meshes[std::size_t(scene.nodes[mesh].mesh)].bounds, computed.world[mesh]);
+  EXPECT_LT(glm::length(stored.instanceBounds[mesh].size()), glm::length(corners.size()));
+
+  // A reader not required for the scene cannot feed a cache.
+  EXPECT_THROW(SurfelCache(SurfelFileReader(scratch / "r.surfels"), scene, stored, 1 << 20), std::logic_error);
+  // Given boxes must match the scene's nodes.
+  EXPECT_THROW(analyzeHierarchy(scene, std::span(reader.sceneTable().instanceBounds).first(1)), std::invalid_argument);
 }
 
 TEST(SurfelFileReader, RangesAreSlicesOfThePrefix) {

@@ -75,6 +75,10 @@ SurfelFile sampleFile() {
   file.arrays.push_back(makeArray(0, makeBox({0, 0, 0}, {1, 1, 1}), 2));
   file.arrays.push_back(makeArray(5, makeBox({-3, 2, 1}, {1e-3, 2e-3, 0.0}), 3));
   file.nodes = {{"/0/3", 0}, {"/0/3/1", 2}, {"/1", 0}, {"/2", 1}};
+  file.sceneTable = {.structure = 0xFEDCBA9876543210ull,
+                     .meshes = {7, 8},
+                     .instanceBounds = {makeBox({1e6, -2e6, 3.5e5}, {10.0, 4.0, 0.5}), Bounds{},
+                                        makeBox({-3, 2, 1}, {0, 0, 0})}};
   return file;
 }
 
@@ -85,6 +89,7 @@ SurfelFile smallFile() {
   file.arrays.push_back(makeArray(3, makeBox({1, 2, 3}, {1, 1, 1}), 4));
   file.arrays.push_back(makeArray(2, makeBox({0, 0, 0}, {2, 2, 2}), 5));
   file.nodes = {{"/0", 0}, {"/0/1", 1}, {"/1", 0}};
+  file.sceneTable = {.structure = 3, .meshes = {5}, .instanceBounds = {Bounds{}, makeBox({1, 2, 3}, {1, 1, 1})}};
   return file;
 }
 
@@ -115,6 +120,10 @@ std::string errorOf(const std::filesystem::path& path) {
 void putU32(std::string& bytes, std::size_t at, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) bytes[at + i] = char(std::uint8_t(v >> (8 * i)));
 }
+std::uint64_t u64At(const std::string& bytes, std::size_t at) {
+  return surfel_file::readU64(reinterpret_cast<const std::uint8_t*>(bytes.data() + at));
+}
+
 void putU64(std::string& bytes, std::size_t at, std::uint64_t v) {
   for (int i = 0; i < 8; ++i) bytes[at + i] = char(std::uint8_t(v >> (8 * i)));
 }
@@ -143,6 +152,13 @@ TEST(SurfelFile, RoundTripKeepsEverything) {
   for (std::size_t n = 0; n < file.nodes.size(); ++n) {
     EXPECT_EQ(back.nodes[n].path, file.nodes[n].path);
     EXPECT_EQ(back.nodes[n].array, file.nodes[n].array);
+  }
+  EXPECT_EQ(back.sceneTable.structure, file.sceneTable.structure);
+  EXPECT_EQ(back.sceneTable.meshes, file.sceneTable.meshes);
+  ASSERT_EQ(back.sceneTable.instanceBounds.size(), file.sceneTable.instanceBounds.size());
+  for (std::size_t n = 0; n < file.sceneTable.instanceBounds.size(); ++n) {
+    EXPECT_EQ(back.sceneTable.instanceBounds[n].min, file.sceneTable.instanceBounds[n].min) << n;
+    EXPECT_EQ(back.sceneTable.instanceBounds[n].max, file.sceneTable.instanceBounds[n].max) << n;
   }
   ASSERT_EQ(back.arrays.size(), file.arrays.size());
   for (std::size_t a = 0; a < file.arrays.size(); ++a) {
@@ -179,8 +195,9 @@ TEST(SurfelFile, NoArraysNoNodesIsLegal) {
   SurfelFile file;
   file.sceneFingerprint = 9;
   writeSurfelFile(dir / "empty.surfels", file);
-  // Header, an empty array table and an empty node table, each with its checksum.
-  EXPECT_EQ(std::filesystem::file_size(dir / "empty.surfels"), surfel_file::kHeaderBytes + 8u + 8u);
+  // Header, an empty array table, an empty node table and an empty scene table, each with its checksum.
+  EXPECT_EQ(std::filesystem::file_size(dir / "empty.surfels"),
+            surfel_file::kHeaderBytes + 8u + 8u + surfel_file::sceneTableBytes(0, 0));
   const SurfelFile back = readSurfelFile(dir / "empty.surfels");
   EXPECT_EQ(back.sceneFingerprint, 9u);
   EXPECT_TRUE(back.arrays.empty());
@@ -263,56 +280,55 @@ TEST(SurfelFile, NodePathsAreFrontCoded) {
   ASSERT_EQ(reader.nodes().size(), file.nodes.size());
   for (std::size_t n = 0; n < file.nodes.size(); ++n) ASSERT_EQ(reader.nodes()[n].path, file.nodes[n].path);
   const std::uint64_t nodeTable = reader.tablesBytes() - surfel_file::kHeaderBytes -
-                                  surfel_file::arrayRecordBytes(kSurfelFileVersion) - 2 * 8;
+                                  surfel_file::arrayRecordBytes(kSurfelFileVersion) - 2 * 8 -
+                                  surfel_file::sceneTableBytes(0, 0);
   // Suffixes: "/0/0/0" first, then "c" (900 times), "b/0" (90), "a/0/0" (9).
   EXPECT_EQ(nodeTable, 1000u * 12u + 6u + 900u * 1u + 90u * 3u + 9u * 5u);
   EXPECT_LT(nodeTable, wholePaths);
 }
 
 // A version 2 file (every surfel RGBA, 96-byte array records, whole paths in the node records) still
-// reads: made here from a version 3 file of RGBA arrays by rewriting its tables in version 2's layout.
+// reads: made here from a version 4 file of RGBA arrays by rewriting its tables in version 2's layout
+// (and leaving out the scene table).
 TEST(SurfelFile, VersionTwoFilesStillRead) {
   using namespace surfel_file;
   ScratchDir dir;
   const SurfelFile file = sampleFile();
-  writeSurfelFile(dir / "v3.surfels", file);
-  const std::string v3 = readFile(dir / "v3.surfels");
-  auto getU64 = [](const std::string& bytes, std::size_t at) {
-    std::uint64_t v = 0;
-    for (int i = 7; i >= 0; --i) v = (v << 8) | std::uint8_t(bytes[at + std::size_t(i)]);
-    return v;
-  };
+  writeSurfelFile(dir / "v4.surfels", file);
+  const std::string v4 = readFile(dir / "v4.surfels");
   const std::size_t arrays = file.arrays.size();
-  const std::size_t newRecord = arrayRecordBytes(2), oldRecord = arrayRecordBytes(3);
+  const std::size_t newRecord = arrayRecordBytes(2), oldRecord = arrayRecordBytes(4);
   std::string nodes;
   for (const SurfelNodeRecord& node : file.nodes) {
     nodes += std::string(4, '\0') + node.path + std::string(4, '\0');
     putU32(nodes, nodes.size() - 8 - node.path.size(), std::uint32_t(node.path.size()));
     putU32(nodes, nodes.size() - 4, node.array);
   }
-  const std::size_t v3Data = kHeaderBytes + arrays * oldRecord + 8 + getU64(v3, 88) + 8;
+  const std::size_t v4Data =
+      kHeaderBytes + arrays * oldRecord + 8 + u64At(v4, 88) + 8 +
+      sceneTableBytes(file.sceneTable.instanceBounds.size(), file.sceneTable.meshes.size());
   const std::size_t v2Data = kHeaderBytes + arrays * newRecord + 8 + nodes.size() + 8;
-  const std::size_t shift = v3Data - v2Data;
-  std::string v2 = v3.substr(0, kHeaderBytes);
+  const std::size_t shift = v4Data - v2Data;
+  std::string v2 = v4.substr(0, kHeaderBytes);
   putU32(v2, 8, 2);
   putU64(v2, 80, kHeaderBytes + arrays * newRecord + 8);  // node table offset
   putU64(v2, 88, nodes.size());                           // node table bytes
-  putU64(v2, 96, getU64(v3, 96) - shift);                 // file size
+  putU64(v2, 96, u64At(v4, 96) - shift);                 // file size
   reseal(v2, 0, kHeaderChecksumOffset, kHeaderSeed);
   for (std::size_t a = 0; a < arrays; ++a) {
-    std::string record = v3.substr(kHeaderBytes + a * oldRecord, newRecord);
+    std::string record = v4.substr(kHeaderBytes + a * oldRecord, newRecord);
     ASSERT_EQ(record.substr(84, 4), std::string(4, '\0')) << "RGBA is encoding 0, version 2's reserved value";
-    putU64(record, 88, getU64(record, 88) - shift);  // data offset
+    putU64(record, 88, u64At(record, 88) - shift);  // data offset
     v2 += record;
   }
   v2 += std::string(8, '\0');
   reseal(v2, kHeaderBytes, kHeaderBytes + arrays * newRecord, kArrayTableSeed);
   v2 += nodes + std::string(8, '\0');
   reseal(v2, v2.size() - 8 - nodes.size(), v2.size() - 8, kNodeTableSeed);
-  v2 += v3.substr(v3Data);  // the data, unchanged
+  v2 += v4.substr(v4Data);  // the data, unchanged
   writeFile(dir / "v2.surfels", v2);
 
-  const SurfelFile a = readSurfelFile(dir / "v3.surfels"), b = readSurfelFile(dir / "v2.surfels");
+  const SurfelFile a = readSurfelFile(dir / "v4.surfels"), b = readSurfelFile(dir / "v2.surfels");
   ASSERT_EQ(a.arrays.size(), b.arrays.size());
   for (std::size_t i = 0; i < a.arrays.size(); ++i) {
     ASSERT_EQ(a.arrays[i].surfels.size(), b.arrays[i].surfels.size());
@@ -333,6 +349,62 @@ TEST(SurfelFile, VersionTwoFilesStillRead) {
   writeFile(dir / "v2.surfels", v2);
   EXPECT_NE(errorOf(dir / "v2.surfels").find("reserved field is 2, not 0"), std::string::npos)
       << errorOf(dir / "v2.surfels");
+}
+
+// A version 3 file (no scene table) still reads, with an empty table: made here from a version 4 file by
+// leaving the table out. A damaged table is named; a box that is NaN is refused even when resealed.
+TEST(SurfelFile, SceneTableIsCheckedAndVersionThreeFilesHaveNone) {
+  using namespace surfel_file;
+  ScratchDir dir;
+  const SurfelFile file = sampleFile();
+  writeSurfelFile(dir / "v4.surfels", file);
+  const std::string v4 = readFile(dir / "v4.surfels");
+  const std::size_t table = u64At(v4, 80) + u64At(v4, 88) + 8;  // after the node table and its checksum
+  const std::size_t tableBytes = sceneTableBytes(3, 2);
+  ASSERT_EQ(v4.substr(table, 8), std::string("\x03\0\0\0\x02\0\0\0", 8)) << "three boxes, two meshes";
+
+  std::string v3 = v4.substr(0, table) + v4.substr(table + tableBytes);
+  putU32(v3, 8, 3);
+  putU64(v3, 96, v4.size() - tableBytes);
+  reseal(v3, 0, kHeaderChecksumOffset, kHeaderSeed);
+  for (std::size_t a = 0; a < file.arrays.size(); ++a) {
+    const std::size_t offset = kHeaderBytes + a * arrayRecordBytes(3) + 88;
+    putU64(v3, offset, u64At(v3, offset) - tableBytes);
+  }
+  reseal(v3, kHeaderBytes, kHeaderBytes + file.arrays.size() * arrayRecordBytes(3), kArrayTableSeed);
+  writeFile(dir / "v3.surfels", v3);
+  const SurfelFile old = readSurfelFile(dir / "v3.surfels");
+  EXPECT_TRUE(old.sceneTable.instanceBounds.empty());
+  EXPECT_TRUE(old.sceneTable.meshes.empty());
+  ASSERT_EQ(old.arrays.size(), file.arrays.size());
+  EXPECT_EQ(old.arrays[0].surfels.size(), file.arrays[0].surfels.size());
+  EXPECT_EQ(old.arrays[0].surfels.back().position, readSurfelFile(dir / "v4.surfels").arrays[0].surfels.back().position);
+  SurfelFileReader oldReader(dir / "v3.surfels");
+  try {
+    oldReader.requireStructure(0);
+    ADD_FAILURE() << "a file without a scene table cannot check a scene opened without its meshes";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scene table: none in a file of version 3"), std::string::npos) << e.what();
+  }
+
+  std::string damaged = v4;
+  damaged[table + 20] ^= 0x10;
+  writeFile(dir / "d.surfels", damaged);
+  EXPECT_NE(errorOf(dir / "d.surfels").find("scene table: checksum mismatch"), std::string::npos)
+      << errorOf(dir / "d.surfels");
+  std::string nan = v4;
+  putU64(nan, table + 16 + 2 * 8 + 48 * 2, 0x7FF8'0000'0000'0000ull);  // the third box's min.x
+  reseal(nan, table, table + tableBytes - 8, kSceneTableSeed);
+  writeFile(dir / "n.surfels", nan);
+  EXPECT_NE(errorOf(dir / "n.surfels").find("scene table: box of node 2 is neither empty nor finite"),
+            std::string::npos)
+      << errorOf(dir / "n.surfels");
+
+  SurfelFileReader reader(dir / "v4.surfels");
+  EXPECT_THROW(reader.requireStructure(0xFEDCBA9876543211ull), InputError);
+  EXPECT_FALSE(reader.sceneRequired());
+  reader.requireStructure(0xFEDCBA9876543210ull);
+  EXPECT_TRUE(reader.sceneRequired());
 }
 
 // ---- codec bounds --------------------------------------------------------------------------------
@@ -596,12 +668,12 @@ TEST(SurfelFile, BadMagicFutureVersionAndMissingFiles) {
   EXPECT_NE(errorOf(path).find("header: bad magic"), std::string::npos) << errorOf(path);
 
   // Version 1 (before the colour filter joined the header) and a future version are refused by name.
-  for (std::uint32_t version : {1u, 4u}) {
+  for (std::uint32_t version : {1u, kSurfelFileVersion + 1}) {
     std::string other = bytes;
     putU32(other, 8, version);
     writeFile(path, other);
     EXPECT_NE(
-        errorOf(path).find("unsupported version " + std::to_string(version) + " (this build reads versions 2 to 3)"),
+        errorOf(path).find("unsupported version " + std::to_string(version) + " (this build reads versions 2 to 4)"),
         std::string::npos)
         << errorOf(path);
   }
@@ -655,7 +727,9 @@ TEST(SurfelFile, AbsurdCountsAndOffsetsAreRefused) {
   const std::size_t nodeTable = arrayTableEnd + 8;
   forged = bytes;
   putU32(forged, nodeTable + 4, 0xFFFFFFF0u);
-  const std::size_t nodeTableEnd = bytes.size() - (3 * 16 + 8) - (2 * 16 + 8) - 8;
+  const std::size_t nodeTableEnd =
+      bytes.size() - (3 * 16 + 8) - (2 * 16 + 8) - 8 -
+      sceneTableBytes(smallFile().sceneTable.instanceBounds.size(), smallFile().sceneTable.meshes.size());
   reseal(forged, nodeTable, nodeTableEnd, kNodeTableSeed);
   writeFile(path, forged);
   EXPECT_NE(errorOf(path).find("node table"), std::string::npos) << errorOf(path);
@@ -717,7 +791,8 @@ TEST(SurfelFileWriter, ArraysInAnyOrderGiveTheSameBytes) {
   const SurfelFile file = sampleFile();
   writeSurfelFile(dir / "whole.surfels", file);
   {
-    SurfelFileWriter writer(dir / "streamed.surfels", file.sceneFingerprint, file.options, file.nodes, 3);
+    SurfelFileWriter writer(dir / "streamed.surfels", file.sceneFingerprint, file.options, file.nodes,
+                            file.sceneTable, 3);
     writer.add(2, file.arrays[2]);
     writer.add(1, file.arrays[1]);
     EXPECT_EQ(writer.bytesWaiting(), (5 + 0) * kSurfelBytes + 8) << "arrays 1 and 2 wait for array 0";
@@ -734,7 +809,8 @@ TEST(SurfelFileWriter, UnfinishedWritersLeaveNothing) {
   ScratchDir dir;
   const SurfelFile file = sampleFile();
   {
-    SurfelFileWriter writer(dir / "f.surfels", file.sceneFingerprint, file.options, file.nodes, 3);
+    SurfelFileWriter writer(dir / "f.surfels", file.sceneFingerprint, file.options, file.nodes, file.sceneTable,
+                            3);
     writer.add(0, file.arrays[0]);
     EXPECT_THROW(writer.add(0, file.arrays[0]), std::invalid_argument) << "each array once";
     EXPECT_THROW(writer.add(3, file.arrays[1]), std::invalid_argument) << "out of range";
@@ -744,8 +820,13 @@ TEST(SurfelFileWriter, UnfinishedWritersLeaveNothing) {
     EXPECT_THROW(writer.finish(), std::logic_error) << "arrays 1 and 2 are missing";
   }
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
-  EXPECT_THROW(SurfelFileWriter(dir / "g.surfels", 1, {}, {{"/0", 3}}, 3), std::invalid_argument)
+  EXPECT_THROW(SurfelFileWriter(dir / "g.surfels", 1, {}, {{"/0", 3}}, {}, 3), std::invalid_argument)
       << "a node naming a missing array";
+  Bounds inverted = makeBox({0, 0, 0}, {1, 1, 1});
+  std::swap(inverted.min.x, inverted.max.x);
+  const SurfelSceneTable badTable{.structure = 0, .meshes = {}, .instanceBounds = {inverted}};
+  EXPECT_THROW(SurfelFileWriter(dir / "g.surfels", 1, {}, {}, badTable, 3), std::invalid_argument)
+      << "an instance box neither empty nor finite with min <= max";
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
 

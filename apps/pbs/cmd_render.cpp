@@ -113,14 +113,27 @@ void run(const RenderOptions& options) {
   const RenderMode mode = *renderModeFromName(modeName);
   if (mode == RenderMode::Surfels && options.surfels.empty())
     throw CLI::ValidationError("--mode surfels", "needs --surfels FILE (make one with pbs surfelize)");
+  // With surfels, the file is opened first: it holds the exact box of every instance and, from version 4,
+  // the fingerprints that let a glTF scene be opened without its mesh arrays, each read when a frame
+  // first draws it as geometry (a stream simulates its own link for meshes, so it reads them whole).
+  std::optional<SurfelFileReader> surfelFile;
+  if (mode == RenderMode::Surfels) surfelFile.emplace(options.surfels);
+  const bool meshesOnDemand = surfelFile && options.scene != "default" && options.streamMBps <= 0.0 &&
+                              !surfelFile->sceneTable().instanceBounds.empty();
   // Per pixel: the G-buffer (depth, colour, normal), the shaded image and its 8-bit copy, the sums of
-  // a supersampled frame; the surfels read on demand, up to the cache's budget.
+  // a supersampled frame; the surfels and the meshes read on demand, each up to the cache's budget.
   std::uint64_t estimate = std::uint64_t(width) * height * (4 + 4 + 12 + 16 + 4 + (options.samples > 1 ? 16 : 0));
   const std::uint64_t cacheBytes = options.cacheMb << 20;
   if (mode == RenderMode::Surfels) estimate += cacheBytes;
+  if (meshesOnDemand) estimate += cacheBytes;
   requireMemory(estimate, "rendering " + std::to_string(width) + "x" + std::to_string(height), options.maxMemory);
 
-  const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
+  LoadedScene loaded = meshesOnDemand ? openWithoutMeshes(options.scene, *surfelFile)
+                       : surfelFile   ? loadAndAnalyze(options.scene, LoadOptions{}, *surfelFile)
+                                      : loadAndAnalyze(options.scene, LoadOptions{});
+  std::optional<LazyMeshes> meshes;
+  if (meshesOnDemand)
+    meshes.emplace(loaded.scene, loaded.decodeMesh, surfelFile->sceneTable().meshes, loaded.name, cacheBytes);
   const std::uint64_t bvhEstimate = mode == RenderMode::Embree ? embreeMemoryEstimate(loaded.scene, loaded.hierarchy) : 0;
   if (mode == RenderMode::Embree) {
     // The rays' BVHs come on top of the scene: refuse a build that would not fit before starting it.
@@ -132,7 +145,7 @@ void run(const RenderOptions& options) {
                   options.maxMemory);
   }
   std::optional<SurfelCache> surfels;
-  if (mode == RenderMode::Surfels) surfels.emplace(options.surfels, loaded.scene, loaded.hierarchy, cacheBytes);
+  if (surfelFile) surfels.emplace(std::move(*surfelFile), loaded.scene, loaded.hierarchy, cacheBytes);
   if (options.streamMBps > 0.0 && !surfels)
     throw CLI::ValidationError("--stream", options.surfels.empty() ? "streams a .surfels file: give --surfels FILE"
                                                                    : "streams surfels: not with --mode " + modeName);
@@ -143,7 +156,9 @@ void run(const RenderOptions& options) {
                                  .order = *streamOrderFromName(options.streamOrder)});
   FrameRenderer renderer(loaded.scene, loaded.hierarchy, {.mode = mode, .lod = options.lod, .samples = options.samples},
                          width, height,
-                         {.cache = surfels ? &*surfels : nullptr, .stream = stream ? &*stream : nullptr});
+                         {.cache = surfels ? &*surfels : nullptr,
+                          .stream = stream ? &*stream : nullptr,
+                          .meshes = meshes ? &*meshes : nullptr});
 
   const std::vector<PathView> views = pathViews(loaded, options.path, orbit, options.frames, width, height);
   const std::uint32_t frames = std::uint32_t(views.size());
@@ -163,6 +178,7 @@ void run(const RenderOptions& options) {
     report["bvh_peak_bytes"] = renderer.bvhPeakBytes();
     report["bvh_estimate_bytes"] = bvhEstimate;
   }
+  report["used"]["meshes"] = meshes ? "read as frames draw them" : "read whole";
   std::vector<double> seconds;
   for (std::uint32_t f = 0; f < frames; ++f) {
     // Frame f shows what the link delivered by (f + 1) / fps.
@@ -205,6 +221,16 @@ void run(const RenderOptions& options) {
     report["surfel_bytes_read"] = surfels->stats().bytesRead;
     report["surfel_peak_bytes_loaded"] = surfels->stats().peakBytesLoaded;
   }
+  if (meshes) {
+    const LazyMeshStats& read = meshes->stats();
+    report["meshes_decoded"] = read.decoded;
+    report["mesh_peak_bytes_loaded"] = read.peakBytesLoaded;
+    report["mesh_decode_seconds"] = read.decodeSeconds;
+    if (!options.json)
+      std::printf("meshes read as frames drew them: %s decoded of %s (peak %.1f MB)\n",
+                  withThousands(read.decoded).c_str(), withThousands(loaded.scene.meshes.size()).c_str(),
+                  read.peakBytesLoaded / 1e6);
+  }
   if (options.json) std::cout << report.dump(2) << "\n";
 }
 
@@ -233,8 +259,8 @@ void addRenderCommand(CLI::App& app) {
       ->check(CLI::Range(1u, 100000u));
   command->add_flag("--json", options->json, "print JSON (per-frame figures with --frames)");
   command->add_option("--cache-mb", options->cacheMb,
-                      "surfels are read from the file as frames draw them; the least recently drawn arrays are "
-                      "dropped beyond this many MB")
+                      "surfels (and, for a glTF scene with a version 4 .surfels file, meshes) are read as frames "
+                      "draw them; the least recently drawn arrays and meshes are dropped beyond this many MB each")
       ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 30))
       ->capture_default_str();
   command->add_option("--stream", options->streamMBps,

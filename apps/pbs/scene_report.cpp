@@ -4,6 +4,8 @@
 #include "report_numbers.hpp"
 
 #include <pbs/scene/input_error.hpp>
+#include <pbs/scene/scene_fingerprint.hpp>
+#include <pbs/surfels/surfel_cache.hpp>
 
 #include <chrono>
 #include <cstdio>
@@ -40,20 +42,52 @@ std::uint32_t findNode(const LoadedScene& loaded, const std::string& wanted) {
   throw InputError(loaded.name, "node " + wanted, "no node has this name or index");
 }
 
-LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options) {
+namespace {
+
+// Loads the scene with `load(spec)`, then analyses it with `analyze(scene)`, each step timed.
+template <class Load, class Analyze>
+LoadedScene loadTimed(const std::string& spec, Load load, Analyze analyze) {
   LoadedScene loaded;
   loaded.name = spec;
   auto start = std::chrono::steady_clock::now();
-  ImportResult imported = loadScene(spec, options);
+  ImportResult imported = load(spec, loaded);
   loaded.parseSeconds = secondsSince(start);
   for (const std::string& warning : imported.warnings) std::cerr << "warning: " << warning << "\n";
   loaded.scene = std::move(imported.scene);
 
   start = std::chrono::steady_clock::now();
-  loaded.hierarchy = analyzeHierarchy(loaded.scene);
+  loaded.hierarchy = analyze(loaded.scene);
   loaded.summary = summarizeScene(loaded.scene, loaded.hierarchy);
   loaded.hierarchySeconds = secondsSince(start);
   return loaded;
+}
+
+}  // namespace
+
+LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options) {
+  return loadTimed(
+      spec, [&](const std::string&, LoadedScene&) { return loadScene(spec, options); },
+      [](const Scene& scene) { return analyzeHierarchy(scene); });
+}
+
+LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, SurfelFileReader& surfels) {
+  return loadTimed(
+      spec, [&](const std::string&, LoadedScene&) { return loadScene(spec, options); },
+      [&](const Scene& scene) { return hierarchyWithSurfels(scene, surfels); });
+}
+
+LoadedScene openWithoutMeshes(const std::string& spec, SurfelFileReader& surfels) {
+  return loadTimed(
+      spec,
+      [&](const std::string&, LoadedScene& loaded) {
+        LazyGltf lazy = loadSceneWithoutMeshes(spec);
+        loaded.decodeMesh = std::move(lazy.decode);
+        return std::move(lazy.imported);
+      },
+      [&](const Scene& scene) {
+        surfels.requireStructure(structureFingerprint(scene));
+        return analyzeHierarchy(scene, surfels.sceneTable().instanceBounds);
+      });
 }
 
 nlohmann::json summaryJson(const LoadedScene& loaded) {

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <pbs/scene/hierarchy.hpp>
+#include <pbs/scene/lazy_meshes.hpp>
 #include <pbs/scene/load_scene.hpp>
+#include <pbs/surfels/surfel_file.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -17,10 +19,20 @@ struct LoadedScene {
   SceneSummary summary;
   double parseSeconds = 0;      // import (or generation) and validation
   double hierarchySeconds = 0;  // world transforms, exact bounds, subtree counts
+  LazyMeshes::Decode decodeMesh;  // set when opened without its mesh arrays (openWithoutMeshes)
 };
 
 // Loads and analyses; prints the importer's warnings to stderr as "warning: …" lines.
 LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options);
+// The same for a scene with its .surfels file: requires the file to be the scene's and takes the exact
+// instance boxes from it where it stores them (hierarchyWithSurfels), so no vertex is read for them.
+LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, SurfelFileReader& surfels);
+
+// A glTF scene opened without its mesh arrays for drawing with its .surfels file: the structure is required
+// to be the file's (SurfelFileReader::requireStructure) and the hierarchy comes from the file's instance
+// boxes; the meshes are read by decodeMesh (for LazyMeshes, which checks each against the file's
+// fingerprints). Needs a file with a scene table (version 4).
+LoadedScene openWithoutMeshes(const std::string& spec, SurfelFileReader& surfels);
 
 // The node named `wanted`, or with that index; the first root when `wanted` is empty. Throws
 // InputError when no node matches or the scene has no root.

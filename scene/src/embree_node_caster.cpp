@@ -68,4 +68,10 @@ EmbreeBuilds EmbreeNodeCaster::render(const Camera& camera, std::span<const std:
 
 bool EmbreeNodeCaster::built(std::uint32_t mesh) const { return bool(impl_->meshes.scenes.at(mesh)); }
 
+void EmbreeNodeCaster::forget(std::uint32_t mesh) {
+  impl_->instances = EmbreeInstances{};
+  impl_->topNodes.clear();
+  impl_->meshes.scenes.at(mesh) = EmbreeSceneHandle{};
+}
+
 }  // namespace pbs

@@ -7,6 +7,7 @@
 #include "pbs/scene/input_error.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace pbs::gltf {
 namespace {
@@ -64,6 +65,16 @@ std::uint32_t MaterialImport::use(int material, std::string_view referrer) {
   std::int64_t& index = materialIndex_[static_cast<std::size_t>(material)];
   if (index < 0) index = importMaterial(material);
   return static_cast<std::uint32_t>(index);
+}
+
+std::function<std::uint32_t(int, std::string_view)> MaterialImport::used() const {
+  return [index = materialIndex_, defaultMaterial = defaultMaterial_](int material, std::string_view) {
+    const std::int64_t chosen = material == -1 ? defaultMaterial
+                                : validIndex(material, index.size()) ? index[static_cast<std::size_t>(material)]
+                                                                     : -1;
+    if (chosen < 0) throw std::logic_error("glTF material " + std::to_string(material) + " was not used at import");
+    return static_cast<std::uint32_t>(chosen);
+  };
 }
 
 void MaterialImport::appendWarnings(std::vector<std::string>& warnings) const {

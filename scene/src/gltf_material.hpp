@@ -8,6 +8,7 @@
 #include <tiny_gltf.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,6 +22,10 @@ class MaterialImport {
   // The scene material for glTF material `material`, -1 meaning the shared default white one.
   // `referrer` names the primitive, for a material that does not exist.
   std::uint32_t use(int material, std::string_view referrer);
+
+  // use() as it stands now, for materials already used: what reading a mesh later needs, without this
+  // object or the scene it imports into. A material not used yet is a std::logic_error.
+  std::function<std::uint32_t(int material, std::string_view referrer)> used() const;
 
   // One line for all materials whose base colour reads a texCoord other than 0, if any.
   void appendWarnings(std::vector<std::string>& warnings) const;

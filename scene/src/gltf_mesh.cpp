@@ -100,7 +100,7 @@ bool normaliseNormals(std::span<glm::vec3> normals) {
 // Appends a primitive's triangles (over vertices starting at `first`) and its part.
 void appendIndexedPart(const Document& model, const tinygltf::Primitive& primitive, std::size_t vertexCount,
                        std::size_t first, std::string_view file, const std::string& element,
-                       MaterialImport& materials, Mesh& result, std::vector<std::uint32_t>& scratch,
+                       const MaterialOf& materialOf, Mesh& result, std::vector<std::uint32_t>& scratch,
                        ZeroFilledBudget& zeros) {
   readPrimitiveIndices(model, primitive, vertexCount, file, element, scratch, zeros);
   const std::size_t firstIndex = result.indices.size();
@@ -108,7 +108,7 @@ void appendIndexedPart(const Document& model, const tinygltf::Primitive& primiti
   if (result.indices.size() > firstIndex) {
     result.parts.push_back(MeshPart{static_cast<std::uint32_t>(firstIndex),
                                     static_cast<std::uint32_t>(result.indices.size() - firstIndex),
-                                    materials.use(primitive.material, element)});
+                                    materialOf(primitive.material, element)});
   }
 }
 
@@ -126,7 +126,7 @@ struct VertexSource {
 // Appends one triangle primitive's vertices (unless an earlier primitive of the mesh read the same
 // accessors), triangles and part. Returns whether some of its normals are still to be computed.
 bool appendPrimitive(const Document& model, int mesh, std::size_t p, std::string_view file,
-                     MaterialImport& materials, Mesh& result, std::vector<std::uint32_t>& scratch,
+                     const MaterialOf& materialOf, Mesh& result, std::vector<std::uint32_t>& scratch,
                      std::vector<VertexSource>& sources, ZeroFilledBudget& zeros) {
   const tinygltf::Primitive& primitive = primitiveAt(model, mesh, p);
   const std::string element = primitiveName(mesh, p);
@@ -137,7 +137,7 @@ bool appendPrimitive(const Document& model, int mesh, std::size_t p, std::string
   VertexSource source{*position, normal ? *normal : -1, texcoord ? *texcoord : -1};
   for (const VertexSource& seen : sources) {
     if (seen.sameAccessors(source)) {
-      appendIndexedPart(model, primitive, seen.count, seen.first, file, element, materials, result, scratch, zeros);
+      appendIndexedPart(model, primitive, seen.count, seen.first, file, element, materialOf, result, scratch, zeros);
       return false;  // its normals were dealt with when the vertices were read
     }
   }
@@ -166,7 +166,7 @@ bool appendPrimitive(const Document& model, int mesh, std::size_t p, std::string
     readVectors<2>(uvs, std::span(result.uvs).subspan(first));
   }
 
-  appendIndexedPart(model, primitive, vertexCount, first, file, element, materials, result, scratch, zeros);
+  appendIndexedPart(model, primitive, vertexCount, first, file, element, materialOf, result, scratch, zeros);
   return computeNormals;
 }
 
@@ -181,24 +181,34 @@ void SkippedPrimitives::appendWarnings(std::vector<std::string>& warnings) const
   }
 }
 
-Mesh importMesh(const Document& model, int mesh, std::string_view file, MaterialImport& materials,
-                SkippedPrimitives& skipped, ZeroFilledBudget& zeros) {
+// Calls each(p, mode) for the mesh's triangle primitives, counting the point and line ones in `skipped`
+// and refusing a mode glTF does not have.
+template <class Each>
+void forTrianglePrimitives(const Document& model, int mesh, std::string_view file, SkippedPrimitives& skipped,
+                           Each each) {
   const tinygltf::Mesh& source = model.meshes[static_cast<std::size_t>(mesh)];
-  Mesh result;
-  result.name = source.name;
-  std::vector<std::uint32_t> scratch;  // one primitive's indices, reused
-  std::vector<VertexSource> sources;
-  bool computeNormals = false;
   for (std::size_t p = 0; p < source.primitives.size(); ++p) {
     const int mode = source.primitives[p].mode;
     if (mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP) {
       ++skipped.byMode[static_cast<std::size_t>(mode)];
     } else if (mode >= TINYGLTF_MODE_TRIANGLES && mode <= TINYGLTF_MODE_TRIANGLE_FAN) {
-      computeNormals |= appendPrimitive(model, mesh, p, file, materials, result, scratch, sources, zeros);
+      each(p);
     } else {
       throw InputError(file, primitiveName(mesh, p), "mode " + std::to_string(mode) + " is not a glTF primitive mode");
     }
   }
+}
+
+Mesh importMesh(const Document& model, int mesh, std::string_view file, const MaterialOf& materialOf,
+                SkippedPrimitives& skipped, ZeroFilledBudget& zeros) {
+  Mesh result;
+  result.name = model.meshes[static_cast<std::size_t>(mesh)].name;
+  std::vector<std::uint32_t> scratch;  // one primitive's indices, reused
+  std::vector<VertexSource> sources;
+  bool computeNormals = false;
+  forTrianglePrimitives(model, mesh, file, skipped, [&](std::size_t p) {
+    computeNormals |= appendPrimitive(model, mesh, p, file, materialOf, result, scratch, sources, zeros);
+  });
   if (result.indices.empty()) return Mesh{};
 
   if (computeNormals) {
@@ -211,6 +221,34 @@ Mesh importMesh(const Document& model, int mesh, std::string_view file, Material
   }
   if (!result.uvs.empty()) result.uvs.resize(result.positions.size());  // later primitives without uvs
   updateMeshBounds(result);
+  return result;
+}
+
+Mesh describeMesh(const Document& model, int mesh, std::string_view file, const MaterialOf& materialOf,
+                  SkippedPrimitives& skipped) {
+  Mesh result;
+  result.name = model.meshes[static_cast<std::size_t>(mesh)].name;
+  std::uint64_t indexCount = 0;
+  forTrianglePrimitives(model, mesh, file, skipped, [&](std::size_t p) {
+    const tinygltf::Primitive& primitive = primitiveAt(model, mesh, p);
+    const std::string element = primitiveName(mesh, p);
+    const int* position = findAttribute(primitive, "POSITION");
+    if (!position) throw InputError(file, element, "has no POSITION attribute");
+    // The count appendTriangles converts: the index accessor's, else one index per vertex.
+    const int counted = primitive.indices != -1 ? primitive.indices : *position;
+    if (!validIndex(counted, model.accessors.size()))
+      throw InputError(file, element, missingElement("accessor", counted, model.accessors.size()));
+    const std::size_t n = model.accessors[static_cast<std::size_t>(counted)].count;
+    if (primitive.mode == TINYGLTF_MODE_TRIANGLES && n % 3 != 0)
+      throw InputError(file, element, "TRIANGLES needs a multiple of 3 indices, not " + std::to_string(n));
+    const std::size_t triangles = primitive.mode == TINYGLTF_MODE_TRIANGLES ? n / 3 : (n >= 3 ? n - 2 : 0);
+    if (3 * triangles > kMaxIndex - indexCount)
+      throw InputError(file, element, "mesh has more indices than 32-bit offsets can address");
+    if (triangles == 0) return;
+    result.parts.push_back(MeshPart{static_cast<std::uint32_t>(indexCount), static_cast<std::uint32_t>(3 * triangles),
+                                    materialOf(primitive.material, element)});
+    indexCount += 3 * triangles;
+  });
   return result;
 }
 

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <limits>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -35,9 +36,28 @@ bool allFinite(const std::vector<Vec>& values) {
   return true;
 }
 
+// The parts of a mesh: in order, whole triangles each, materials that exist. All a mesh whose arrays are
+// not loaded has; returns the indices they cover.
+std::size_t validateParts(const Scene& scene, const Mesh& mesh, const std::string& name, std::string_view source) {
+  std::size_t covered = 0;
+  for (std::size_t p = 0; p < mesh.parts.size(); ++p) {
+    const MeshPart& part = mesh.parts[p];
+    const std::string partName = name + " part " + std::to_string(p);
+    if (part.firstIndex != covered || part.indexCount % 3 != 0)
+      throw InputError(source, partName, "parts must cover the indices in order, whole triangles each");
+    if (part.material >= scene.materials.size()) throw InputError(source, partName, "material out of range");
+    covered += part.indexCount;
+  }
+  return covered;
+}
+
 void validateMesh(const Scene& scene, std::size_t m, std::string_view source) {
   const Mesh& mesh = scene.meshes[m];
   const std::string name = element("mesh", m);
+  if (!mesh.loaded()) {
+    validateParts(scene, mesh, name, source);  // the arrays are checked by their fingerprint when read
+    return;
+  }
   if (!allFinite(mesh.positions)) throw InputError(source, name, "a position is not finite");
   if (mesh.normals.size() != mesh.positions.size()) throw InputError(source, name, "normal count differs from position count");
   if (!allFinite(mesh.normals)) throw InputError(source, name, "a normal is not finite");
@@ -50,16 +70,7 @@ void validateMesh(const Scene& scene, std::size_t m, std::string_view source) {
       throw InputError(source, name,
                        "index " + std::to_string(mesh.indices[i]) + " out of range (" +
                            std::to_string(mesh.positions.size()) + " vertices)");
-  std::size_t covered = 0;
-  for (std::size_t p = 0; p < mesh.parts.size(); ++p) {
-    const MeshPart& part = mesh.parts[p];
-    const std::string partName = name + " part " + std::to_string(p);
-    if (part.firstIndex != covered || part.indexCount % 3 != 0)
-      throw InputError(source, partName, "parts must cover the indices in order, whole triangles each");
-    if (part.material >= scene.materials.size()) throw InputError(source, partName, "material out of range");
-    covered += part.indexCount;
-  }
-  if (covered != mesh.indices.size()) throw InputError(source, name, "parts do not cover every index");
+  if (validateParts(scene, mesh, name, source) != mesh.indices.size()) throw InputError(source, name, "parts do not cover every index");
 }
 
 }  // namespace
@@ -137,15 +148,17 @@ void validateScene(const Scene& scene, std::string_view source) {
 
 namespace {
 
-// The hierarchy below `starts`; a start's world transform is its local one, or the identity when
-// `startsInOwnFrame` (then everything is seen from the start node's own frame).
-Hierarchy analyzeFrom(const Scene& scene, std::span<const std::uint32_t> starts, bool startsInOwnFrame) {
+// The hierarchy below `starts` without its boxes and counts: parents, depths, world transforms and the
+// preorder. A start's world transform is its local one, or the identity when `startsInOwnFrame` (then
+// everything is seen from the start node's own frame).
+Hierarchy walkFrom(const Scene& scene, std::span<const std::uint32_t> starts, bool startsInOwnFrame) {
   const std::size_t count = scene.nodes.size();
   Hierarchy h;
   h.parent.assign(count, -1);
   h.depth.assign(count, 0);
   h.world.assign(count, glm::dmat4(1.0));
   h.worldBounds.assign(count, Bounds{});
+  h.instanceBounds.assign(count, Bounds{});
   h.subtreeTriangles.assign(count, 0);
   h.preorder.reserve(count);
 
@@ -163,10 +176,14 @@ Hierarchy analyzeFrom(const Scene& scene, std::span<const std::uint32_t> starts,
       stack.push_back(*child);
     }
   }
+  return h;
+}
 
-  // Exact bounds: the tight box of every vertex of every instance through its full world transform,
-  // found by branch and bound over per-mesh point clusters (built once per mesh, in parallel). Each
-  // node's box is independent, so the nodes split across threads with no effect on the result.
+// Exact instance boxes: the tight box of every vertex of every instance through its full world
+// transform, found by branch and bound over per-mesh point clusters (built once per mesh, in
+// parallel). Each node's box is independent, so the nodes split across threads with no effect on the
+// result.
+void boundInstances(const Scene& scene, Hierarchy& h) {
   std::vector<std::uint32_t> instances;
   std::vector<char> meshUsed(scene.meshes.size(), 0);
   for (std::uint32_t n : h.preorder) {
@@ -180,23 +197,48 @@ Hierarchy analyzeFrom(const Scene& scene, std::span<const std::uint32_t> starts,
   });
   tbb::parallel_for(std::size_t(0), instances.size(), [&](std::size_t i) {
     const std::uint32_t n = instances[i];
-    const std::size_t mesh = std::size_t(scene.nodes[n].mesh);
-    h.worldBounds[n] = detail::transformedPointBounds(clustered[mesh], h.world[n]);
-    h.subtreeTriangles[n] = scene.meshes[mesh].triangleCount();
+    h.instanceBounds[n] = detail::transformedPointBounds(clustered[std::size_t(scene.nodes[n].mesh)], h.world[n]);
   });
+}
 
+// Subtree boxes and triangle counts, children into parents, from the instances' boxes.
+void sumSubtrees(const Scene& scene, Hierarchy& h) {
+  for (std::uint32_t n : h.preorder) {
+    if (scene.nodes[n].mesh < 0) continue;
+    h.worldBounds[n] = h.instanceBounds[n];
+    h.subtreeTriangles[n] = scene.meshes[std::size_t(scene.nodes[n].mesh)].triangleCount();
+  }
   for (auto it = h.preorder.rbegin(); it != h.preorder.rend(); ++it) {
     const std::int32_t p = h.parent[*it];
     if (p < 0) continue;
     h.worldBounds[p].extend(h.worldBounds[*it]);
     h.subtreeTriangles[p] += h.subtreeTriangles[*it];
   }
+}
+
+Hierarchy analyzeFrom(const Scene& scene, std::span<const std::uint32_t> starts, bool startsInOwnFrame) {
+  Hierarchy h = walkFrom(scene, starts, startsInOwnFrame);
+  boundInstances(scene, h);
+  sumSubtrees(scene, h);
   return h;
 }
 
 }  // namespace
 
 Hierarchy analyzeHierarchy(const Scene& scene) { return analyzeFrom(scene, scene.roots, false); }
+
+Hierarchy analyzeHierarchy(const Scene& scene, std::span<const Bounds> instanceBounds) {
+  if (instanceBounds.size() != scene.nodes.size())
+    throw std::invalid_argument("analyzeHierarchy: " + std::to_string(instanceBounds.size()) + " instance boxes for " +
+                                std::to_string(scene.nodes.size()) + " nodes");
+  for (std::size_t n = 0; n < scene.nodes.size(); ++n)
+    if (scene.nodes[n].mesh < 0 && !instanceBounds[n].empty())
+      throw std::invalid_argument("analyzeHierarchy: node " + std::to_string(n) + " has no mesh but a box");
+  Hierarchy h = walkFrom(scene, scene.roots, false);
+  h.instanceBounds.assign(instanceBounds.begin(), instanceBounds.end());
+  sumSubtrees(scene, h);
+  return h;
+}
 
 Hierarchy analyzeSubtree(const Scene& scene, std::uint32_t node) {
   const std::uint32_t start[] = {node};

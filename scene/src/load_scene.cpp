@@ -8,6 +8,20 @@
 
 namespace pbs {
 
+namespace {
+
+// Validates, and refuses a scene with nothing to draw: every later step (capture, surfels, images) would be
+// empty. (After validation every node is reachable, so summing over all nodes counts every instance.)
+void requireDrawable(const Scene& scene, const std::string& spec) {
+  validateScene(scene, spec);
+  std::uint64_t triangles = 0;
+  for (const Node& node : scene.nodes)
+    if (node.mesh >= 0) triangles += scene.meshes[std::size_t(node.mesh)].triangleCount();
+  if (triangles == 0) throw InputError(spec, "scene", "nothing to draw (no triangles)");
+}
+
+}  // namespace
+
 ImportResult loadScene(const std::string& spec, const LoadOptions& options) {
   ImportResult result;
   if (spec == "default") {
@@ -15,20 +29,18 @@ ImportResult loadScene(const std::string& spec, const LoadOptions& options) {
   } else {
     result = importGltf(spec);
   }
-  validateScene(result.scene, spec);
-
-  // A scene must draw something: every later step (capture, surfels, images) would be empty.
-  // (After validation every node is reachable, so summing over all nodes counts every instance.)
-  std::uint64_t triangles = 0;
-  for (const Node& node : result.scene.nodes)
-    if (node.mesh >= 0) triangles += result.scene.meshes[std::size_t(node.mesh)].triangleCount();
-  if (triangles == 0) throw InputError(spec, "scene", "nothing to draw (no triangles)");
-
+  requireDrawable(result.scene, spec);
   if (options.octreeLeafTriangles > 0) {
     result.scene = buildLooseOctree(result.scene, options.octreeLeafTriangles);
     validateScene(result.scene, spec);
   }
   return result;
+}
+
+LazyGltf loadSceneWithoutMeshes(const std::string& spec) {
+  LazyGltf lazy = openGltfWithoutMeshes(spec);
+  requireDrawable(lazy.imported.scene, spec);
+  return lazy;
 }
 
 }  // namespace pbs

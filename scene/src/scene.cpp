@@ -11,13 +11,15 @@ std::uint64_t meshBytes(const Mesh& mesh) {
          mesh.uvs.size() * sizeof(glm::vec2) + mesh.indices.size() * sizeof(std::uint32_t);
 }
 
+void dropUnreadUvs(const Scene& scene, Mesh& mesh) {
+  const bool textured = std::any_of(mesh.parts.begin(), mesh.parts.end(), [&](const MeshPart& part) {
+    return part.material < scene.materials.size() && scene.materials[part.material].baseColorTexture >= 0;
+  });
+  if (!textured) std::vector<glm::vec2>().swap(mesh.uvs);  // swap: frees the memory, not only the size
+}
+
 void dropUnreadUvs(Scene& scene) {
-  for (Mesh& mesh : scene.meshes) {
-    const bool textured = std::any_of(mesh.parts.begin(), mesh.parts.end(), [&](const MeshPart& part) {
-      return part.material < scene.materials.size() && scene.materials[part.material].baseColorTexture >= 0;
-    });
-    if (!textured) std::vector<glm::vec2>().swap(mesh.uvs);  // swap: frees the memory, not only the size
-  }
+  for (Mesh& mesh : scene.meshes) dropUnreadUvs(scene, mesh);
 }
 
 void updateMeshBounds(Mesh& mesh) {

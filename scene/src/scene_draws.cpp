@@ -21,16 +21,7 @@ SceneMaterials makeSceneMaterials(const Scene& scene) {
 }
 
 Bounds instanceWorldBounds(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node) {
-  const std::int32_t mesh = scene.nodes[node].mesh;
-  if (mesh < 0) return {};
-  // Both boxes hold the mesh's world vertices: the transformed corners (loose under rotation) and
-  // the exact subtree box (loose when the node has children), so their intersection does too.
-  const Bounds corners = transformCorners(scene.meshes[std::size_t(mesh)].bounds, hierarchy.world[node]);
-  const Bounds& subtree = hierarchy.worldBounds[node];
-  Bounds result;
-  result.min = glm::max(corners.min, subtree.min);
-  result.max = glm::min(corners.max, subtree.max);
-  return result;
+  return scene.nodes[node].mesh < 0 ? Bounds{} : hierarchy.instanceBounds[node];
 }
 
 bool outsideClipVolume(const Camera& camera, const Bounds& worldBox) {

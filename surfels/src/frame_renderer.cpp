@@ -42,6 +42,8 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, con
   if (mode == RenderMode::Surfels && sources.cache) sources_.surfels = &sources.cache->surfels();
   if (sources.stream && (mode != RenderMode::Surfels || !sources.cache))
     throw std::invalid_argument("a stream draws in surfels mode from its surfel cache");
+  if (sources.meshes && (mode != RenderMode::Surfels || !sources.cache || sources.stream))
+    throw std::invalid_argument("meshes read on demand are drawn in surfels mode from a surfel cache, not a stream");
   if ((mode == RenderMode::Surfels || mode == RenderMode::Simplified) && !sources_.surfels)
     throw std::invalid_argument("surfels and simplified modes need a surfel file");
   if (mode == RenderMode::Simplified && !sources.simplified)
@@ -60,6 +62,15 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, con
     else
       geometryRays_.emplace(scene, hierarchy);
   }
+}
+
+void FrameRenderer::loadGeometry(const LodDraws& draws) {
+  std::vector<std::uint32_t> meshes;
+  for (std::uint32_t node : draws.geometryNodes)
+    if (const std::int32_t mesh = scene_.nodes[node].mesh; mesh >= 0) meshes.push_back(std::uint32_t(mesh));
+  sources_.meshes->require(meshes);
+  for (std::uint32_t mesh : sources_.meshes->unloadOverBudget())
+    if (geometryRays_) geometryRays_->forget(mesh);
 }
 
 LodStats FrameRenderer::drawPass(const Camera& camera, double& loadSeconds) {
@@ -82,6 +93,7 @@ LodStats FrameRenderer::drawPass(const Camera& camera, double& loadSeconds) {
       } else {
         const auto load = detail::Clock::now();
         sources_.cache->load(draws);
+        if (sources_.meshes) loadGeometry(draws);
         loadSeconds += detail::secondsSince(load);
       }
       pass = drawLod(scene_, hierarchy_, *sources_.surfels, draws, camera, gbuffer_, options_.lod, rays);

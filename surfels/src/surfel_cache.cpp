@@ -4,17 +4,37 @@
 #include "pbs/scene/scene_fingerprint.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 #include <utility>
 
 namespace pbs {
 
+Hierarchy hierarchyWithSurfels(const Scene& scene, SurfelFileReader& reader) {
+  reader.requireScene(sceneFingerprint(scene));
+  // The fingerprint ties the boxes to this scene: a file of the same scene holds one per node.
+  const std::span<const Bounds> boxes = reader.sceneTable().instanceBounds;
+  if (boxes.size() == scene.nodes.size()) return analyzeHierarchy(scene, boxes);
+  return analyzeHierarchy(scene);
+}
+
 SurfelCache::SurfelCache(const std::filesystem::path& file, const Scene& scene, const Hierarchy& hierarchy,
                          std::uint64_t budgetBytes)
-    : reader_(file), budget_(budgetBytes) {
-  reader_.requireScene(sceneFingerprint(scene));
+    : SurfelCache(
+          [&] {
+            SurfelFileReader reader(file);
+            reader.requireScene(sceneFingerprint(scene));
+            return reader;
+          }(),
+          scene, hierarchy, budgetBytes) {}
+
+SurfelCache::SurfelCache(SurfelFileReader reader, const Scene& scene, const Hierarchy& hierarchy,
+                         std::uint64_t budgetBytes)
+    : reader_(std::move(reader)), budget_(budgetBytes) {
+  if (!reader_.sceneRequired())
+    throw std::logic_error("SurfelCache: the reader was not required for the scene (SurfelFileReader::requireScene)");
   surfels_.arrays.reserve(reader_.arrays().size());
   for (const SurfelArrayInfo& info : reader_.arrays()) surfels_.arrays.push_back(splatArrayOf(info));
-  surfels_.arrayOfNode = arrayOfNodes(reader_.nodes(), scene, hierarchy, file.string());
+  surfels_.arrayOfNode = arrayOfNodes(reader_.nodes(), scene, hierarchy, reader_.path().string());
   lastDrawn_.assign(surfels_.arrays.size(), 0);
   lastCount_.assign(surfels_.arrays.size(), 0);
 }

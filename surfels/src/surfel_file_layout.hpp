@@ -1,7 +1,7 @@
 // The byte layout of a .surfels file, shared by the writer and the reader: each record's fields are
 // listed once, in a layout function that a byte sink (writing) and a byte source (reading) both walk.
 //
-// Version 3, all integers little-endian, doubles as their IEEE-754 bits:
+// Version 4, all integers little-endian, doubles as their IEEE-754 bits:
 //   header (112 bytes at offset 0)
 //     0  magic "PBSURFEL"          8 bytes
 //     8  version                   u32
@@ -28,10 +28,14 @@
 //   node table: node count × (shared u32, suffix length u32, suffix bytes, array index u32), then u64
 //     checksum; a node's path is the first `shared` bytes of the previous node's path, then the suffix
 //     (front coding: paths in preorder share most of their bytes with the one before)
+//   scene table (version 4), right after the node table's checksum: scene node count u32, mesh count u32,
+//     structure fingerprint u64, per mesh its fingerprint u64, then per scene node in index order its mesh
+//     instance's exact world box, min xyz f64×3 and max xyz f64×3 (an empty box, +inf then -inf, for a node
+//     without a mesh), then u64 checksum
 //   data, per array at its data offset: count × surfelBytes(encoding) surfels (chunks of kSurfelsPerChunk), then
 //     one u64 checksum per chunk (Hash64 of the chunk's bytes, seeded by the chunk's index); a surfel is
 //     position u64, normal 2 × i16, then its colour: RGBA u8×4, RGB u8×3 or nothing
-// Version 2 differs in its 96-byte array records (the colour encoding's place is reserved, 0 so RGBA,
+// Version 3 has no scene table. Version 2 differs in its 96-byte array records (the colour encoding's place is reserved, 0 so RGBA,
 // and the record ends after the data offset) and in its node records (path length u32, the whole path,
 // array index u32).
 #pragma once
@@ -60,12 +64,19 @@ inline constexpr std::uint64_t arrayRecordBytes(std::uint32_t version) { return 
 // The least a node record takes (an empty path or suffix) in a file of `version`.
 inline constexpr std::uint64_t nodeRecordMinBytes(std::uint32_t version) { return version >= 3 ? 12 : 8; }
 inline constexpr std::uint64_t kChecksumBytes = 8;
+// The scene table of `nodes` boxes and `meshes` fingerprints with its checksum (version 4).
+inline constexpr std::uint64_t kSceneTableHeadBytes = 16;  // the counts and the structure's fingerprint
+inline constexpr std::uint64_t kBoxBytes = 48;
+inline constexpr std::uint64_t sceneTableBytes(std::uint64_t nodes, std::uint64_t meshes) {
+  return kSceneTableHeadBytes + meshes * 8 + nodes * kBoxBytes + kChecksumBytes;
+}
 
 // Distinct seeds, so that a table's bytes never pass for another element's.
 inline constexpr std::uint64_t kHeaderSeed = 0x50425348'45414452ull;
 inline constexpr std::uint64_t kArrayTableSeed = 0x50425341'52524159ull;
 inline constexpr std::uint64_t kNodeTableSeed = 0x5042534E'4F444553ull;
 inline constexpr std::uint64_t kChunkSeed = 0x50425344'41544100ull;
+inline constexpr std::uint64_t kSceneTableSeed = 0x50425353'43454E45ull;
 
 struct Header {
   std::array<std::uint8_t, 8> magic = kMagic;
@@ -112,11 +123,17 @@ void layoutHeader(Io& io, Header& h) {
 }
 
 // An array record of a file of `version`. The encoding is read as a number: the reader checks it.
+// A box: min xyz, then max xyz.
+template <class Io>
+void layoutBox(Io& io, Bounds& box) {
+  for (int i = 0; i < 3; ++i) io.f64(box.min[i]);
+  for (int i = 0; i < 3; ++i) io.f64(box.max[i]);
+}
+
 template <class Io>
 void layoutArray(Io& io, SurfelArrayInfo& a, std::uint32_t& encoding, std::uint32_t version) {
   std::uint32_t reserved = 0;
-  for (int i = 0; i < 3; ++i) io.f64(a.box.min[i]);
-  for (int i = 0; i < 3; ++i) io.f64(a.box.max[i]);
+  layoutBox(io, a.box);
   io.f64(a.coverage);
   io.f64(a.packing);
   io.f64(a.packingEnd);
@@ -161,6 +178,15 @@ const char* nonFiniteArrayValue(const Array& a) {
   if (!std::isfinite(a.packing) || !std::isfinite(a.packingEnd)) return "packing";
   if (!std::isfinite(a.area)) return "area";
   return nullptr;
+}
+
+// An instance box as the file allows it: empty (as Bounds{} is, +inf then -inf) or finite with min ≤ max.
+inline bool validInstanceBox(const Bounds& box) {
+  const Bounds none;
+  if (box.min == none.min && box.max == none.max) return true;
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(box.min[i]) || !std::isfinite(box.max[i]) || box.min[i] > box.max[i]) return false;
+  return true;
 }
 
 inline std::uint64_t chunkCount(std::uint64_t surfels) { return (surfels + kSurfelsPerChunk - 1) / kSurfelsPerChunk; }

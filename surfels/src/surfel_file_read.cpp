@@ -83,6 +83,7 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
                      "file size " + number(fileSize) + " exceeds the " + number(header.fileBytes) + " bytes it declares");
   }
   fingerprint_ = header.fingerprint;
+  version_ = header.version;
   options_ = {.threshold = header.threshold,
               .maxSurfels = header.maxSurfels,
               .resolution = header.resolution,
@@ -142,10 +143,38 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
     }
   }
 
-  // Every array's data inside the file, after the tables.
-  const std::uint64_t dataStart =
-      std::max(header.arrayTableOffset + arrayTable.size(), header.nodeTableOffset + nodeTable.size());
+  // Scene table (version 4): right after the node table, its counts bounded by the file size.
+  std::uint64_t tablesEnd = std::max(header.arrayTableOffset + arrayTable.size(), header.nodeTableOffset + nodeTable.size());
   tablesBytes_ = headerBytes.size() + arrayTable.size() + nodeTable.size();
+  if (header.version >= 4) {
+    const std::uint64_t offset = header.nodeTableOffset + nodeTable.size();
+    const std::vector<std::uint8_t> head = readRange("scene table", offset, kSceneTableHeadBytes);
+    std::uint32_t nodeCount = 0, meshCount = 0;
+    ByteSource counts{head};
+    counts.u32(nodeCount);
+    counts.u32(meshCount);
+    if (nodeCount > fileSize / kBoxBytes || meshCount > fileSize / 8)
+      throw InputError(file, "scene table",
+                       "counts absurd: " + number(nodeCount) + " boxes and " + number(meshCount) +
+                           " fingerprints cannot fit in " + number(fileSize) + " bytes");
+    const std::vector<std::uint8_t> table = readRange("scene table", offset, sceneTableBytes(nodeCount, meshCount));
+    checkTable("scene table", table, kSceneTableSeed);
+    ByteSource source{std::span(table).subspan(8)};
+    source.u64(sceneTable_.structure);
+    sceneTable_.meshes.resize(meshCount);
+    for (std::uint64_t& mesh : sceneTable_.meshes) source.u64(mesh);
+    sceneTable_.instanceBounds.resize(nodeCount);
+    for (std::uint32_t n = 0; n < nodeCount; ++n) {
+      layoutBox(source, sceneTable_.instanceBounds[n]);
+      if (!validInstanceBox(sceneTable_.instanceBounds[n]))
+        throw InputError(file, "scene table", "box of node " + number(n) + " is neither empty nor finite");
+    }
+    tablesEnd = std::max(tablesEnd, offset + table.size());
+    tablesBytes_ += table.size();
+  }
+
+  // Every array's data inside the file, after the tables.
+  const std::uint64_t dataStart = tablesEnd;
   // Errors name the first node using the array: one pass finds them all (a search per array would be
   // arrays × nodes, seconds on a city).
   constexpr std::size_t kUnused = std::numeric_limits<std::size_t>::max();
@@ -171,13 +200,29 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
   }
 }
 
-void SurfelFileReader::requireScene(std::uint64_t fingerprint) const {
-  if (fingerprint == fingerprint_) return;
+void SurfelFileReader::requireScene(std::uint64_t fingerprint) {
+  sceneRequired_ = fingerprint == fingerprint_;
+  if (sceneRequired_) return;
   char text[160];
   std::snprintf(text, sizeof text,
                 "made for another scene (fingerprint %016llx, this scene's is %016llx): run pbs surfelize again",
                 static_cast<unsigned long long>(fingerprint_), static_cast<unsigned long long>(fingerprint));
   throw InputError(path_.string(), "header", text);
+}
+
+void SurfelFileReader::requireStructure(std::uint64_t structure) {
+  if (sceneTable_.instanceBounds.empty())
+    throw InputError(path_.string(), "scene table",
+                     "none in a file of version " + number(version_) + ": run pbs surfelize again to read the scene's "
+                     "meshes as frames draw them");
+  sceneRequired_ = structure == sceneTable_.structure;
+  if (sceneRequired_) return;
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "made for another scene (structure fingerprint %016llx, this scene's is %016llx): run pbs surfelize "
+                "again",
+                static_cast<unsigned long long>(sceneTable_.structure), static_cast<unsigned long long>(structure));
+  throw InputError(path_.string(), "scene table", text);
 }
 
 std::vector<Surfel> SurfelFileReader::readPrefix(std::uint32_t array, std::uint32_t count) {
@@ -250,6 +295,7 @@ SurfelFile readSurfelFile(const std::filesystem::path& path) {
   file.sceneFingerprint = reader.sceneFingerprint();
   file.options = reader.options();
   file.nodes.assign(reader.nodes().begin(), reader.nodes().end());
+  file.sceneTable = reader.sceneTable();
   const auto infos = reader.arrays();
   file.arrays.resize(infos.size());
   for (std::uint32_t a = 0; a < infos.size(); ++a) {

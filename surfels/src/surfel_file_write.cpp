@@ -55,10 +55,21 @@ std::uint64_t nodeTableBytes(std::span<const StoredNode> stored) {
   return bytes;
 }
 
-// Where the data begins: after the header and both tables with their checksums.
-std::uint64_t dataStart(std::uint64_t arrayCount, std::span<const SurfelNodeRecord> nodes) {
+void checkSceneTable(const SurfelSceneTable& table) {
+  if (table.instanceBounds.size() > kU32Max || table.meshes.size() > kU32Max)
+    throw std::invalid_argument("surfel file: too many nodes or meshes in the scene table");
+  const std::span<const Bounds> boxes = table.instanceBounds;
+  for (std::size_t n = 0; n < boxes.size(); ++n)
+    if (!validInstanceBox(boxes[n]))
+      throw std::invalid_argument("surfel file: instance box of node " + std::to_string(n) +
+                                  " is neither empty nor finite with min <= max");
+}
+
+// Where the data begins: after the header and the three tables with their checksums.
+std::uint64_t dataStart(std::uint64_t arrayCount, std::span<const SurfelNodeRecord> nodes, const SurfelSceneTable& scene) {
   return kHeaderBytes + arrayCount * arrayRecordBytes(kSurfelFileVersion) + kChecksumBytes +
-         nodeTableBytes(storedNodes(nodes)) + kChecksumBytes;
+         nodeTableBytes(storedNodes(nodes)) + kChecksumBytes +
+         sceneTableBytes(scene.instanceBounds.size(), scene.meshes.size());
 }
 
 // The smallest colour encoding that keeps every surfel's colour: one colour for all, or no alpha where
@@ -101,15 +112,16 @@ std::vector<std::uint8_t> encodeArrayData(const SurfelArray& array, SurfelColorE
 
 SurfelFileWriter::SurfelFileWriter(const std::filesystem::path& path, std::uint64_t sceneFingerprint,
                                    const SurfelFileOptions& options, std::vector<SurfelNodeRecord> nodes,
-                                   std::uint32_t arrayCount)
-    : path_(path), fingerprint_(sceneFingerprint), options_(options), nodes_(std::move(nodes)), infos_(arrayCount),
-      waiting_(arrayCount) {
+                                   SurfelSceneTable sceneTable, std::uint32_t arrayCount)
+    : path_(path), fingerprint_(sceneFingerprint), options_(options), nodes_(std::move(nodes)),
+      sceneTable_(std::move(sceneTable)), infos_(arrayCount), waiting_(arrayCount) {
   checkNodes(nodes_, arrayCount);
+  checkSceneTable(sceneTable_);
   temporary_ = path_;
   temporary_ += ".tmp-" + std::to_string(::getpid());
   out_.open(temporary_, std::ios::binary | std::ios::trunc);
   if (!out_) fail(path_, "cannot create " + temporary_.string());
-  dataEnd_ = dataStart(arrayCount, nodes_);
+  dataEnd_ = dataStart(arrayCount, nodes_, sceneTable_);
   out_.seekp(std::streamoff(dataEnd_));
   if (!out_) fail(path_, "cannot seek in " + temporary_.string());
 }
@@ -184,6 +196,13 @@ void SurfelFileWriter::finish() {
   const std::size_t nodeTable = sink.bytes.size();
   for (StoredNode& node : stored) layoutNode(sink, node, header.version);
   appendChecksum(sink, nodeTable, kNodeTableSeed);
+  const std::size_t sceneTable = sink.bytes.size();
+  sink.u32(std::uint32_t(sceneTable_.instanceBounds.size()));
+  sink.u32(std::uint32_t(sceneTable_.meshes.size()));
+  sink.u64(sceneTable_.structure);
+  for (const std::uint64_t mesh : sceneTable_.meshes) sink.u64(mesh);
+  for (Bounds& box : sceneTable_.instanceBounds) layoutBox(sink, box);
+  appendChecksum(sink, sceneTable, kSceneTableSeed);
 
   out_.seekp(0);
   out_.write(reinterpret_cast<const char*>(sink.bytes.data()), std::streamsize(sink.bytes.size()));
@@ -201,8 +220,10 @@ void writeSurfelFile(const std::filesystem::path& path, const SurfelFile& file) 
   if (file.arrays.size() > kU32Max) throw std::invalid_argument("surfel file: too many arrays");
   // Every check before the first byte: a bad file writes nothing at all.
   checkNodes(file.nodes, file.arrays.size());
+  checkSceneTable(file.sceneTable);
   for (std::size_t a = 0; a < file.arrays.size(); ++a) checkArray(a, file.arrays[a]);
-  SurfelFileWriter writer(path, file.sceneFingerprint, file.options, file.nodes, std::uint32_t(file.arrays.size()));
+  SurfelFileWriter writer(path, file.sceneFingerprint, file.options, file.nodes, file.sceneTable,
+                          std::uint32_t(file.arrays.size()));
   for (std::size_t a = 0; a < file.arrays.size(); ++a) writer.add(std::uint32_t(a), file.arrays[a]);
   writer.finish();
 }

@@ -13,6 +13,7 @@
 #include "pbs/surfels/prefilter_colors.hpp"
 #include "pbs/surfels/surfel_nodes.hpp"
 
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
@@ -280,6 +281,15 @@ std::string_view captureSourceName(CaptureSource source) {
   return "unknown";
 }
 
+SurfelSceneTable sceneTableOf(const Scene& scene, const Hierarchy& hierarchy) {
+  SurfelSceneTable table{.structure = structureFingerprint(scene),
+                         .meshes = std::vector<std::uint64_t>(scene.meshes.size()),
+                         .instanceBounds = hierarchy.instanceBounds};
+  tbb::parallel_for(std::size_t(0), scene.meshes.size(),
+                    [&](std::size_t m) { table.meshes[m] = meshFingerprint(scene.meshes[m]); });
+  return table;
+}
+
 SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                      SurfelizeStats* stats) {
   ArrayMaker maker{scene, hierarchy, options};
@@ -287,6 +297,7 @@ SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const Surfe
   file.sceneFingerprint = sceneFingerprint(scene);
   file.options = options.file;
   file.nodes = maker.nodeRecords();
+  file.sceneTable = sceneTableOf(scene, hierarchy);
   file.arrays = maker.make(false, stats, [](std::uint32_t, const SurfelArray&) {});
   return file;
 }
@@ -294,7 +305,7 @@ SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const Surfe
 void surfelizeToFile(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                      const std::filesystem::path& path, SurfelizeStats* stats) {
   ArrayMaker maker{scene, hierarchy, options};
-  SurfelFileWriter writer(path, sceneFingerprint(scene), options.file, maker.nodeRecords(),
+  SurfelFileWriter writer(path, sceneFingerprint(scene), options.file, maker.nodeRecords(), sceneTableOf(scene, hierarchy),
                           std::uint32_t(maker.plan.representative.size()));
   maker.make(true, stats, [&](std::uint32_t a, const SurfelArray& array) { writer.add(a, array); });
   writer.finish();

@@ -199,6 +199,9 @@ int main(int argc, char** argv) {
   small.options.colors = SurfelColors::Pixel;
   small.arrays = {array(3, 1.0), array(0, 2.0), array(17, 0.0)};
   small.nodes = {{"/0", 0}, {"/0/1", 0}, {"/1", 1}, {"/2/0", 2}};
+  small.sceneTable = {.structure = 11,
+                      .meshes = {12, 13},
+                      .instanceBounds = {Bounds{}, Bounds{glm::dvec3(-1.0, 0.0, 2.0), glm::dvec3(1.0, 0.5, 2.0)}}};
   writeSurfelFile(surfelDir / "small.surfels", small);
   SurfelFile chunks;
   chunks.arrays = {array(kSurfelsPerChunk + 9, 10.0)};

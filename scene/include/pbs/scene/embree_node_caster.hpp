@@ -45,6 +45,10 @@ class EmbreeNodeCaster {
 
   // Whether mesh `mesh`'s BVH is there (so a caller can weigh what a render would build).
   bool built(std::uint32_t mesh) const;
+  // Lets go of mesh `mesh`'s BVH, and of the top level that may hold it, before the mesh's arrays are
+  // unloaded (LazyMeshes): the BVH reads the mesh's indices where they lie. A later render that needs the
+  // mesh builds it again.
+  void forget(std::uint32_t mesh);
 
  private:
   struct Impl;

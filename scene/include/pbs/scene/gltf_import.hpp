@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -24,5 +25,18 @@ ImportResult importGltf(const std::filesystem::path& file);
 // relative URIs (external buffers and images).
 ImportResult importGltfFromMemory(std::span<const std::uint8_t> bytes, const std::string& name,
                                   const std::filesystem::path& baseDir);
+
+// A scene opened without its mesh arrays, and what reads them (for LazyMeshes).
+struct LazyGltf {
+  ImportResult imported;  // every mesh with its name and parts only (Mesh::loaded() false)
+  std::function<Mesh(std::uint32_t mesh)> decode;  // mesh `mesh`'s arrays, as importGltf gives them
+};
+
+// importGltf's scene without reading any accessor's data (the counts that give each mesh's parts come
+// from the JSON): the file stays mapped for `decode`, which reads one mesh at a time, from any thread.
+// Errors in the structure are thrown here; errors in a mesh's data when `decode` reads it. Importing the
+// same file whole gives the same scene once every mesh is decoded; only the budget for zero-filled
+// accessors is per mesh here instead of per file.
+LazyGltf openGltfWithoutMeshes(const std::filesystem::path& file);
 
 }  // namespace pbs

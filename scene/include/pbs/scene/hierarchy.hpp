@@ -5,6 +5,7 @@
 #include "pbs/scene/scene.hpp"
 
 #include <cstdint>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -22,12 +23,20 @@ struct Hierarchy {
   std::vector<std::uint32_t> depth;          // 0 for roots
   std::vector<glm::dmat4> world;             // world-from-node
   std::vector<Bounds> worldBounds;           // tight box of every world-space vertex in the subtree
+  std::vector<Bounds> instanceBounds;        // tight world box of the node's own mesh; empty without one
   std::vector<std::uint64_t> subtreeTriangles;  // counting every instance
   std::vector<std::uint32_t> preorder;       // every reachable node, parents before children
 };
 
 // Requires a scene that passed validateScene. Runs in parallel over the nodes that carry meshes.
 Hierarchy analyzeHierarchy(const Scene& scene);
+
+// The same with every instance's box given (one per node, empty for nodes without a mesh, as a
+// .surfels file of this scene stores them): reads no vertex, so it needs only the scene's structure,
+// and it is the same Hierarchy, bit for bit, when the boxes are analyzeHierarchy's. Throws
+// std::invalid_argument when the count differs from the scene's nodes or a node without a mesh has a
+// box that is not empty.
+Hierarchy analyzeHierarchy(const Scene& scene, std::span<const Bounds> instanceBounds);
 
 // The same for `node`'s subtree alone, seen from the node's own frame: world[node] is the identity
 // (its own transform left out), world[n] below it chains the local transforms, worldBounds are tight

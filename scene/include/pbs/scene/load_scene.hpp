@@ -16,4 +16,8 @@ struct LoadOptions {
 // optionally rebuilds as a loose octree.
 ImportResult loadScene(const std::string& spec, const LoadOptions& options = {});
 
+// The same for a glTF file opened without its mesh arrays (openGltfWithoutMeshes; `default` is not a
+// file), validated as far as its structure goes. No octree: it would split the meshes.
+LazyGltf loadSceneWithoutMeshes(const std::string& spec);
+
 }  // namespace pbs

@@ -29,7 +29,15 @@ struct Mesh {
   std::vector<MeshPart> parts;         // cover `indices` in order; materials index Scene::materials
   Bounds bounds;                       // of `positions`, in the mesh's own frame
 
-  std::uint64_t triangleCount() const { return indices.size() / 3; }
+  // From the parts, so that it is known for a mesh whose arrays are not loaded.
+  std::uint64_t triangleCount() const {
+    std::uint64_t indexCount = 0;
+    for (const MeshPart& part : parts) indexCount += part.indexCount;
+    return indexCount / 3;
+  }
+  // False for a mesh of a scene opened without its arrays (LazyMeshes) until they are read: then it has
+  // its name and parts, and no positions, normals, uvs, indices or bounds.
+  bool loaded() const { return parts.empty() || !indices.empty(); }
 };
 
 struct Node {
@@ -54,6 +62,8 @@ void updateMeshBounds(Mesh& mesh);
 // Clears the uvs of every mesh no part of which has a textured material: nothing would read them.
 // Importers and generators call it last, so a scene holds texture coordinates only where they are used.
 void dropUnreadUvs(Scene& scene);
+// The same for one mesh, with the scene's materials.
+void dropUnreadUvs(const Scene& scene, Mesh& mesh);
 
 // The bytes of a mesh's arrays: 12 per position and normal, 8 per texture coordinate pair, 4 per index.
 std::uint64_t meshBytes(const Mesh& mesh);

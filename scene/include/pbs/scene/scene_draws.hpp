@@ -29,7 +29,8 @@ struct SceneMaterials {
 
 SceneMaterials makeSceneMaterials(const Scene& scene);
 
-// A world box around node `node`'s own mesh (not its subtree); empty for nodes without a mesh.
+// The tight world box of node `node`'s own mesh (not its subtree), Hierarchy::instanceBounds: known
+// without the mesh's vertices for a scene whose meshes are read on demand. Empty for nodes without a mesh.
 Bounds instanceWorldBounds(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node);
 
 // True when the box lies entirely outside one plane of the camera's clip volume. Conservative:

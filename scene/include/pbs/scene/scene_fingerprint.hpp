@@ -14,4 +14,11 @@ namespace pbs {
 // 64-bit collisions).
 std::uint64_t sceneFingerprint(const Scene& scene);
 
+// The two halves a scene opened without its mesh arrays (lazy_meshes.hpp) is checked by: the structure
+// (the node graph and transforms, each mesh's parts, the materials and textures: all but the arrays) at
+// open, and each mesh's arrays and parts when they are first read. Equal scenes give equal values of both;
+// a change to anything sceneFingerprint hashes changes the structure's or some mesh's.
+std::uint64_t structureFingerprint(const Scene& scene);
+std::uint64_t meshFingerprint(const Mesh& mesh);
+
 }  // namespace pbs

@@ -7,6 +7,7 @@
 #include "pbs/scene/embree_caster.hpp"
 #include "pbs/scene/embree_node_caster.hpp"
 #include "pbs/scene/hierarchy.hpp"
+#include "pbs/scene/lazy_meshes.hpp"
 #include "pbs/surfels/lod_render.hpp"
 #include "pbs/surfels/surfel_cache.hpp"
 #include "pbs/surfels/surfel_stream.hpp"
@@ -43,7 +44,8 @@ struct FrameResult {
   // (0 or 1 at one sample), colour (0, 0, 0) where it is 0.
   std::vector<glm::vec4> image;
   double seconds = 0.0;  // every pass: clear, traverse, raster or rays, shading; plus the resolve
-  double surfelLoadSeconds = 0.0;  // of those, reading prefixes on demand (FrameSources::cache)
+  // Of those, reading prefixes on demand (FrameSources::cache) and meshes on demand (FrameSources::meshes).
+  double surfelLoadSeconds = 0.0;
   // Traversal and raster times summed over the passes; the counts are those of one pass.
   LodStats stats;
 };
@@ -57,6 +59,9 @@ struct FrameSources {
   // Surfels mode with `cache`: a link that the caller advances between frames (the stream's cache must
   // be `cache`); each pass draws only what has arrived, and loads nothing itself.
   const SurfelStream* stream = nullptr;
+  // Surfels mode with `cache` and no stream, for a scene opened without its mesh arrays: each pass first
+  // loads the meshes of the nodes it draws as geometry, and unloads others past the budget (lazy_meshes.hpp).
+  LazyMeshes* meshes = nullptr;
   const Scene* simplified = nullptr;      // Simplified mode: the scene's simplifyScene copy
   // Embree mode: a BVH built elsewhere and shared; null: built here. Surfels mode: mesh BVHs the geometry
   // nodes' rays reuse; null: each built the first time a frame needs it.
@@ -84,8 +89,11 @@ class FrameRenderer {
   std::uint64_t bvhPeakBytes() const { return ownRays_ ? ownRays_->peakBytes() : 0; }
 
  private:
-  // One pass at the camera's pixel centres into gbuffer_; adds its prefix loading to `loadSeconds`.
+  // One pass at the camera's pixel centres into gbuffer_; adds its prefix and mesh loading to `loadSeconds`.
   LodStats drawPass(const Camera& camera, double& loadSeconds);
+  // Makes the meshes of `draws`' geometry nodes loaded (sources_.meshes), letting the ray caster forget
+  // those unloaded to stay within the budget.
+  void loadGeometry(const LodDraws& draws);
 
   const Scene& scene_;
   const Hierarchy& hierarchy_;

@@ -23,6 +23,11 @@ struct SurfelCacheStats {
   std::uint64_t arraysDropped = 0;  // to keep within the budget
 };
 
+// Requires `reader`'s file to belong to `scene` (its fingerprint; InputError naming the file otherwise),
+// then analyses the scene's hierarchy with the instance boxes the file stores (version 4), reading no
+// vertex, or from the vertices (analyzeHierarchy) for an older file. Either way the same Hierarchy.
+Hierarchy hierarchyWithSurfels(const Scene& scene, SurfelFileReader& reader);
+
 class SurfelCache {
  public:
   // Reads and checks the header and tables, requires the file to belong to `scene` (its fingerprint)
@@ -30,6 +35,9 @@ class SurfelCache {
   // surfels between frames; a frame that needs more than the budget still gets all of it.
   SurfelCache(const std::filesystem::path& file, const Scene& scene, const Hierarchy& hierarchy,
               std::uint64_t budgetBytes);
+  // The same from a reader already opened and required for `scene` (SurfelFileReader::requireScene, as
+  // hierarchyWithSurfels does); std::logic_error for one that was not.
+  SurfelCache(SurfelFileReader reader, const Scene& scene, const Hierarchy& hierarchy, std::uint64_t budgetBytes);
 
   // Every array with its length and packing values; of the surfels, only what load() brought in.
   const SceneSurfels& surfels() const { return surfels_; }

@@ -1,13 +1,16 @@
 // The .surfels file: every surfel array of a scene, stored so that any prefix of any array can be read
 // on its own, checked by checksums, and tied to the scene it was made from by a fingerprint.
 //
-// Layout (version 3, little-endian, every offset in bytes from the start of the file):
+// Layout (version 4, little-endian, every offset in bytes from the start of the file):
 //   header      fixed size: magic "PBSURFEL", version, scene fingerprint, the options the arrays were
 //               made with, the counts and offsets of the two tables, a checksum of the header itself
 //   array table one fixed-size record per array: box, coverage, packing at 1000 and at the end, area, surfel count,
 //               colour encoding, data offset, the constant colour; followed by a checksum of the whole table
 //   node table  one record per node: its stable path and the array it uses (instances share arrays);
 //               followed by a checksum of the whole table
+//   scene table the fingerprints of the scene's structure and of each mesh, and the exact world box of every
+//               mesh instance, so that a renderer reads no vertex to check the scene or to know where each node
+//               lies; followed by its checksum
 //   data        per array: its surfels in order, surfelBytes(encoding) each, in chunks of kSurfelsPerChunk, and
 //               after the last chunk one 64-bit checksum per chunk. Reading the first k surfels reads
 //               the chunks holding them (and their checksums) and nothing else.
@@ -36,9 +39,10 @@
 namespace pbs {
 
 // Version 2 added the colour filter to the header (and made normals face their capture view); version 3
-// stores colours by what varies per array (SurfelColorEncoding). Version 2 files are still read
-// (every surfel RGBA); a version 1 file is refused: run pbs surfelize again.
-inline constexpr std::uint32_t kSurfelFileVersion = 3;
+// stores colours by what varies per array (SurfelColorEncoding); version 4 adds the scene table.
+// Version 2 and 3 files are still read (version 2: every surfel RGBA; both: the boxes are computed from
+// the scene's vertices); a version 1 file is refused: run pbs surfelize again.
+inline constexpr std::uint32_t kSurfelFileVersion = 4;
 inline constexpr std::uint32_t kOldestReadSurfelFileVersion = 2;
 inline constexpr std::size_t kSurfelBytes = 16;  // a surfel with every field (PackedSurfel)
 inline constexpr std::uint32_t kSurfelsPerChunk = 1024;
@@ -99,11 +103,22 @@ struct SurfelNodeRecord {
   std::uint32_t array;  // index into the arrays
 };
 
+// What a renderer needs of the scene without reading a vertex (version 4): the fingerprints that check a
+// scene opened without its mesh arrays (structureFingerprint at open, meshFingerprint of each mesh when it
+// is read; scene_fingerprint.hpp) and Hierarchy::instanceBounds, one per scene node. All empty (and
+// structure 0) in a file of version 3 or 2.
+struct SurfelSceneTable {
+  std::uint64_t structure = 0;
+  std::vector<std::uint64_t> meshes;
+  std::vector<Bounds> instanceBounds;
+};
+
 struct SurfelFile {
   std::uint64_t sceneFingerprint = 0;  // sceneFingerprint() of the scene the arrays belong to
   SurfelFileOptions options;
   std::vector<SurfelArray> arrays;
   std::vector<SurfelNodeRecord> nodes;  // in preorder of the scene
+  SurfelSceneTable sceneTable;
 };
 
 // The per-array values of the array table, without the surfels.
@@ -132,12 +147,12 @@ void writeSurfelFile(const std::filesystem::path& path, const SurfelFile& file);
 // the tables in front of the data and renames the temporary over `path`; a writer destroyed before
 // finish() removes its temporary, so a failed run leaves no file under `path`. The bytes are the same
 // as writeSurfelFile's (which is this writer fed every array in order). One call at a time. Errors as
-// for writeSurfelFile: std::invalid_argument for a bad node (constructor) or array (add), then
-// nothing more is written; std::runtime_error for I/O.
+// for writeSurfelFile: std::invalid_argument for a bad node or instance box (constructor) or array (add),
+// then nothing more is written; std::runtime_error for I/O.
 class SurfelFileWriter {
  public:
   SurfelFileWriter(const std::filesystem::path& path, std::uint64_t sceneFingerprint, const SurfelFileOptions& options,
-                   std::vector<SurfelNodeRecord> nodes, std::uint32_t arrayCount);
+                   std::vector<SurfelNodeRecord> nodes, SurfelSceneTable sceneTable, std::uint32_t arrayCount);
   ~SurfelFileWriter();
   SurfelFileWriter(const SurfelFileWriter&) = delete;
   SurfelFileWriter& operator=(const SurfelFileWriter&) = delete;
@@ -158,6 +173,7 @@ class SurfelFileWriter {
   std::uint64_t fingerprint_;
   SurfelFileOptions options_;
   std::vector<SurfelNodeRecord> nodes_;
+  SurfelSceneTable sceneTable_;
   std::vector<SurfelArrayInfo> infos_;
   std::vector<std::optional<std::vector<std::uint8_t>>> waiting_;  // encoded data by index, until written
   std::uint32_t written_ = 0;  // arrays [0, written_) are in the file
@@ -175,14 +191,22 @@ class SurfelFileReader {
  public:
   explicit SurfelFileReader(const std::filesystem::path& path);
 
+  const std::filesystem::path& path() const { return path_; }
   std::uint64_t sceneFingerprint() const { return fingerprint_; }
   const SurfelFileOptions& options() const { return options_; }
   std::span<const SurfelArrayInfo> arrays() const { return arrays_; }
   std::span<const SurfelNodeRecord> nodes() const { return nodes_; }
+  const SurfelSceneTable& sceneTable() const { return sceneTable_; }
 
   // Throws InputError naming the file and "header" unless the file was made for the scene with this
   // sceneFingerprint(): surfels of another scene (or an edited one) must never be drawn in its place.
-  void requireScene(std::uint64_t fingerprint) const;
+  // Once it passed, sceneRequired() is true.
+  void requireScene(std::uint64_t fingerprint);
+  // The same for a scene opened without its mesh arrays, by structureFingerprint against the scene
+  // table's (InputError naming "scene table" for a file without one: version 3 or 2); each mesh is
+  // checked when it is read (LazyMeshes).
+  void requireStructure(std::uint64_t structure);
+  bool sceneRequired() const { return sceneRequired_; }
 
   // The first min(count, arrays()[array].count) surfels of an array, decoded (positions relative to the
   // box centre). Throws std::out_of_range for an array index out of range.
@@ -202,9 +226,12 @@ class SurfelFileReader {
   std::filesystem::path path_;
   std::ifstream stream_;
   std::uint64_t fingerprint_ = 0;
+  std::uint32_t version_ = 0;
   SurfelFileOptions options_;
   std::vector<SurfelArrayInfo> arrays_;
   std::vector<SurfelNodeRecord> nodes_;
+  SurfelSceneTable sceneTable_;
+  bool sceneRequired_ = false;
   std::uint64_t dataBytesRead_ = 0;
   std::uint64_t tablesBytes_ = 0;
 };

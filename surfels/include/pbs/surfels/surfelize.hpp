@@ -63,6 +63,10 @@ struct SurfelizeStats {
 SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                      SurfelizeStats* stats = nullptr);
 
+// The scene table a .surfels file of `scene` stores (surfel_file.hpp): structure and mesh fingerprints,
+// and `hierarchy`'s instance boxes (it must be analyzeHierarchy's).
+SurfelSceneTable sceneTableOf(const Scene& scene, const Hierarchy& hierarchy);
+
 // surfelize straight into the .surfels file at `path`, byte for byte writeSurfelFile(path, surfelize(…)):
 // each array goes to the file (SurfelFileWriter) as soon as the arrays before it are there, and its
 // surfels are freed once no capture still to come may draw them, so memory follows the arrays being
