@@ -129,4 +129,34 @@ inline Scene twoIdenticalGroups() {
   return scene;
 }
 
+// twoIdenticalGroups with four different meshes over its four instances.
+inline Scene groupsOfFourMeshes() {
+  Scene scene = twoIdenticalGroups();
+  scene.meshes.push_back(tessellatedBox(6));
+  scene.meshes.push_back(tessellatedBox(14));
+  scene.meshes.push_back(tessellatedBox(3));
+  for (std::size_t n = 0, next = 0; n < scene.nodes.size(); ++n)
+    if (scene.nodes[n].mesh >= 0) scene.nodes[n].mesh = std::int32_t(next++ % scene.meshes.size());
+  validateScene(scene, "four meshes");
+  return scene;
+}
+
+// groupsOfFourMeshes with the transforms that take each whole-scene computation down its slow roads: group
+// B scaled unevenly (an inner node placed by a non-similarity), and a third group C, unevenly scaled too,
+// holding a mesh with a mesh of its own (an inner instance) and a nested group D with a mirrored instance,
+// so meshes are shared between subtrees of different frames.
+inline Scene layeredScene() {
+  Scene scene = groupsOfFourMeshes();
+  scene.nodes[2].local = placed({6, 1, 2}, 1.1, {2.0, 1.0, 0.5});
+  const std::uint32_t c = std::uint32_t(scene.nodes.size());
+  scene.nodes.push_back(Node{"C", placed({0, 4, 0}, 0.4, {1, 1, 3}), {c + 1, c + 2}, 3});
+  scene.nodes.push_back(Node{"C leaf", placed({1, 0, 1}, -0.2, {1, 1, 1}), {}, 1});
+  scene.nodes.push_back(Node{"D", placed({-2, 0, 0}, 0.9, {1.5, 1.5, 1.5}), {c + 3, c + 4}, -1});
+  scene.nodes.push_back(Node{"D leaf", placed({0, 1, 0}, 0.3, {1, 1, 1}), {}, 0});
+  scene.nodes.push_back(Node{"D mirrored", placed({0, -1, 0}, 0.3, {-1, 1, 1}), {}, 2});
+  scene.nodes[0].children.push_back(c);
+  validateScene(scene, "layered");
+  return scene;
+}
+
 }  // namespace pbs::test

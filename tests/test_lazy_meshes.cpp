@@ -18,6 +18,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <tbb/parallel_for.h>
+
+#include <atomic>
 #include <numeric>
 
 namespace pbs {
@@ -87,7 +90,7 @@ void expectSameSceneOnceDecoded(const std::filesystem::path& file) {
   EXPECT_EQ(structureFingerprint(scene), structureFingerprint(whole.scene));
 
   LazyMeshes meshes(scene, lazy.decode, meshFingerprints(whole.scene), file.string(), std::uint64_t(1) << 30);
-  meshes.require(allMeshes(scene));
+  const LazyMeshes::Lease all = meshes.require(allMeshes(scene));
   EXPECT_EQ(meshes.stats().decoded, scene.meshes.size());
   EXPECT_EQ(sceneFingerprint(scene), sceneFingerprint(whole.scene));
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
@@ -124,14 +127,16 @@ TEST(LazyMeshes, UnloadsTheLeastRecentlyDrawnAndRefusesAChangedMesh) {
   Scene& scene = lazy.imported.scene;
   LazyMeshes meshes(scene, lazy.decode, meshFingerprints(whole.scene), "varied.glb", 1);
   const std::uint32_t first[] = {0}, second[] = {1};
-  meshes.require(first);
-  EXPECT_TRUE(meshes.unloadOverBudget().empty()) << "never what the last require drew";
-  meshes.require(second);
+  {
+    const LazyMeshes::Lease drawing = meshes.require(first);
+    EXPECT_TRUE(meshes.unloadOverBudget().empty()) << "never a leased mesh";
+  }
+  LazyMeshes::Lease drawing = meshes.require(second);
   EXPECT_EQ(meshes.unloadOverBudget(), std::vector<std::uint32_t>{0});
   EXPECT_FALSE(scene.meshes[0].loaded());
   EXPECT_EQ(scene.meshes[0].triangleCount(), whole.scene.meshes[0].triangleCount()) << "the parts stay";
   EXPECT_TRUE(scene.meshes[1].loaded());
-  meshes.require(first);
+  drawing = meshes.require(first);
   EXPECT_EQ(meshes.stats().decoded, 3u);
   EXPECT_EQ(meshes.stats().unloaded, 1u);
   EXPECT_EQ(meshFingerprint(scene.meshes[0]), meshFingerprint(whole.scene.meshes[0]));
@@ -141,7 +146,7 @@ TEST(LazyMeshes, UnloadsTheLeastRecentlyDrawnAndRefusesAChangedMesh) {
   wrong[1] ^= 1;
   LazyMeshes changed(again.imported.scene, again.decode, wrong, "varied.glb", 1 << 20);
   try {
-    changed.require(second);
+    (void)changed.require(second);
     ADD_FAILURE() << "a mesh unlike the one the surfels were made from was drawn";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("varied.glb: mesh 1: differs from the mesh the surfels were made from"),
@@ -151,23 +156,11 @@ TEST(LazyMeshes, UnloadsTheLeastRecentlyDrawnAndRefusesAChangedMesh) {
   EXPECT_THROW(LazyMeshes(again.imported.scene, again.decode, {1}, "varied.glb", 1), std::invalid_argument);
 }
 
-// Four different meshes under the two groups, so that frames draw some as geometry and not others.
-Scene groupsOfFourMeshes() {
-  Scene scene = test::twoIdenticalGroups();
-  scene.meshes.push_back(test::tessellatedBox(6));
-  scene.meshes.push_back(test::tessellatedBox(14));
-  scene.meshes.push_back(test::tessellatedBox(3));
-  for (std::size_t n = 0, next = 0; n < scene.nodes.size(); ++n)
-    if (scene.nodes[n].mesh >= 0) scene.nodes[n].mesh = std::int32_t(next++ % scene.meshes.size());
-  validateScene(scene, "four meshes");
-  return scene;
-}
-
 // The frames of a scene whose meshes are read as they are drawn are those of the scene read whole, bit for
 // bit, with a budget so small that every mesh a frame does not draw is unloaded (and its ray BVH let go).
 TEST(LazyMeshes, FramesAreTheWholeScenesBitForBitWhateverTheBudget) {
   ScratchDir scratch;
-  writeGlb(groupsOfFourMeshes(), scratch / "four.glb");
+  writeGlb(test::groupsOfFourMeshes(), scratch / "four.glb");
   const ImportResult whole = importGltf(scratch / "four.glb");
   const Hierarchy hierarchy = analyzeHierarchy(whole.scene);
   SurfelizeOptions options;
@@ -210,6 +203,53 @@ TEST(LazyMeshes, FramesAreTheWholeScenesBitForBitWhateverTheBudget) {
       }
     }
   }
+}
+
+// Captures run side by side and require overlapping meshes: each mesh is decoded once (a call that finds
+// it being decoded waits for it), is whole while leased, and a decoder's failure reaches every caller that
+// needed the mesh and leaves no lease behind.
+TEST(LazyMeshes, ConcurrentRequiresDecodeEachMeshOnceAndShareFailures) {
+  ScratchDir scratch;
+  writeGlb(test::groupsOfFourMeshes(), scratch / "four.glb");
+  const ImportResult whole = importGltf(scratch / "four.glb");
+  LazyGltf lazy = openGltfWithoutMeshes(scratch / "four.glb");
+  const std::size_t meshCount = lazy.imported.scene.meshes.size();
+  ASSERT_EQ(meshCount, 4u);
+  std::vector<std::atomic<int>> decodes(meshCount);
+  const auto counted = [&](std::uint32_t m) {
+    ++decodes[m];
+    return lazy.decode(m);
+  };
+  LazyMeshes meshes(lazy.imported.scene, counted, meshFingerprints(whole.scene), "four.glb", std::uint64_t(1) << 30);
+  std::atomic<int> wrong{0};
+  tbb::parallel_for(0, 64, [&](int i) {
+    const std::uint32_t wanted[] = {std::uint32_t(i % 4), std::uint32_t((i + 1) % 4)};
+    const LazyMeshes::Lease lease = meshes.require(wanted);
+    for (std::uint32_t m : wanted)
+      if (meshFingerprint(lazy.imported.scene.meshes[m]) != meshFingerprint(whole.scene.meshes[m])) ++wrong;
+  });
+  EXPECT_EQ(wrong.load(), 0);
+  for (std::size_t m = 0; m < meshCount; ++m) EXPECT_EQ(decodes[m].load(), 1) << "mesh " << m;
+
+  LazyGltf again = openGltfWithoutMeshes(scratch / "four.glb");
+  const auto failing = [&](std::uint32_t m) -> Mesh {
+    if (m == 2) throw InputError("four.glb", "mesh 2", "cannot be read");
+    return again.decode(m);
+  };
+  LazyMeshes broken(again.imported.scene, failing, meshFingerprints(whole.scene), "four.glb", 0);
+  std::atomic<int> failures{0};
+  tbb::parallel_for(0, 16, [&](int i) {
+    const std::uint32_t wanted[] = {std::uint32_t(i % 2 == 0 ? 2 : 1), 2};
+    try {
+      const LazyMeshes::Lease lease = broken.require(wanted);
+    } catch (const InputError&) {
+      ++failures;
+    }
+  });
+  EXPECT_EQ(failures.load(), 16) << "every caller that needed mesh 2 hears of it";
+  EXPECT_FALSE(again.imported.scene.meshes[2].loaded());
+  broken.unloadOverBudget();
+  EXPECT_EQ(broken.stats().loaded, 0u) << "no lease was left behind";
 }
 
 // From the command line: a glTF scene with a version 4 .surfels file is read as frames draw it, and a

@@ -222,7 +222,7 @@ void run(const RenderOptions& options) {
     report["surfel_peak_bytes_loaded"] = surfels->stats().peakBytesLoaded;
   }
   if (meshes) {
-    const LazyMeshStats& read = meshes->stats();
+    const LazyMeshStats read = meshes->stats();
     report["meshes_decoded"] = read.decoded;
     report["mesh_peak_bytes_loaded"] = read.peakBytesLoaded;
     report["mesh_decode_seconds"] = read.decodeSeconds;
@@ -258,11 +258,9 @@ void addRenderCommand(CLI::App& app) {
   command->add_option("--frames", options->frames, "render N frames along the --path (default: one view, its first)")
       ->check(CLI::Range(1u, 100000u));
   command->add_flag("--json", options->json, "print JSON (per-frame figures with --frames)");
-  command->add_option("--cache-mb", options->cacheMb,
-                      "surfels (and, for a glTF scene with a version 4 .surfels file, meshes) are read as frames "
-                      "draw them; the least recently drawn arrays and meshes are dropped beyond this many MB each")
-      ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 30))
-      ->capture_default_str();
+  addCacheOption(*command, options->cacheMb,
+                 "surfels (and, for a glTF scene with a version 4 .surfels file, meshes) are read as frames draw "
+                 "them; the least recently drawn arrays and meshes are dropped beyond this many MB each");
   command->add_option("--stream", options->streamMBps,
                       "MB/s: as if the .surfels file and the meshes came over a link of this many megabytes (10^6 "
                       "bytes) a second; each frame draws what has arrived (prefixes cut short, geometry only where "

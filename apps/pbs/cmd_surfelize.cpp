@@ -20,6 +20,17 @@
 namespace pbs::cli {
 namespace {
 
+// What reading a glTF's meshes as captures draw them holds besides the captures: the cache's budget and
+// up to two meshes a worker in the scan (their arrays estimated from the parts: a vertex per triangle).
+std::uint64_t lazyMeshMemory(const Scene& scene, std::uint64_t cacheBytes, int workers) {
+  std::uint64_t largest = 0;
+  for (const Mesh& mesh : scene.meshes) {
+    const std::uint64_t indices = 3 * mesh.triangleCount();
+    largest = std::max(largest, indices * 4 + indices / 3 * (12 + 12 + 8));
+  }
+  return cacheBytes + 2 * std::uint64_t(std::max(workers, 1)) * largest;
+}
+
 std::string progressDetail(const SurfelizeProgress& p) {
   return std::to_string(p.arraysDone) + "/" + std::to_string(p.arraysTotal) + " arrays, " + withThousands(p.surfels) +
          " surfels";
@@ -35,6 +46,7 @@ void addSurfelizeCommand(CLI::App& app) {
     bool json = false;
     bool quiet = false;
     std::uint64_t maxMemory = 0;
+    std::uint64_t cacheMb = 1024;
     int threads = 0;
   };
   auto options = std::make_shared<Options>();
@@ -64,14 +76,24 @@ void addSurfelizeCommand(CLI::App& app) {
   command->add_option("--seed", file.seed, "seed of the orderings")->capture_default_str();
   command->add_flag("--json", options->json, "print JSON instead of text");
   command->add_flag("-q,--quiet", options->quiet, "no progress on stderr");
+  addCacheOption(*command, options->cacheMb,
+                 "a glTF scene's meshes are read as the captures draw them; those no capture is drawing are "
+                 "dropped, least recently used first, beyond this many MB");
   addMaxMemoryOption(*command, options->maxMemory);
   addThreadsOption(*command, options->threads);
   command->callback([options] {
     runWithThreads(options->threads, [&] {
       const auto start = std::chrono::steady_clock::now();
-      const LoadedScene loaded = loadAndAnalyze(options->scene, LoadOptions{});
+      // A glTF file is opened without its mesh arrays, which are read as the captures draw them (the
+      // embedded scene is made whole in memory).
+      const bool meshesOnDemand = options->scene != "default";
+      LoadedScene loaded =
+          meshesOnDemand ? openWithoutMeshes(options->scene) : loadAndAnalyze(options->scene, LoadOptions{});
       SurfelizeOptions settings = options->surfelize;
-      requireMemory(surfelizeMemoryEstimate(loaded.scene, loaded.hierarchy, settings, resolveThreadCount(options->threads)),
+      const int workers = resolveThreadCount(options->threads);
+      const std::uint64_t cacheBytes = options->cacheMb << 20;
+      requireMemory(surfelizeMemoryEstimate(loaded.scene, loaded.hierarchy, settings, workers) +
+                        (meshesOnDemand ? lazyMeshMemory(loaded.scene, cacheBytes, workers) : 0),
                     "surfelize " + loaded.name, options->maxMemory);
       ProgressMeter meter("surfelize", ProgressMeter::styleFor(options->quiet || options->json));
       settings.onProgress = [&](const SurfelizeProgress& p) {
@@ -82,7 +104,10 @@ void addSurfelizeCommand(CLI::App& app) {
         meter.update(fraction, progressDetail(p));
       };
       SurfelizeStats stats;
-      surfelizeToFile(loaded.scene, loaded.hierarchy, settings, options->output, &stats);
+      if (meshesOnDemand)
+        surfelizeToFile(loaded.scene, loaded.decodeMesh, cacheBytes, loaded.name, settings, options->output, &stats);
+      else
+        surfelizeToFile(loaded.scene, loaded.hierarchy, settings, options->output, &stats);
       if (stats.arrays > 0) meter.finish(std::to_string(stats.arrays) + " arrays, " + withThousands(stats.surfels) + " surfels");
       const std::uint64_t bytes = std::filesystem::file_size(options->output);
       const double seconds = secondsSince(start);
@@ -105,7 +130,10 @@ void addSurfelizeCommand(CLI::App& app) {
             {"bytes", bytes},
             {"bytes_per_surfel", stats.surfels > 0 ? double(bytes) / double(stats.surfels) : 0.0},
             {"color_encodings", encodings},
-            {"used", {{"capture_gbuffer", channelNames(kCaptureChannels)},
+            {"meshes_decoded", stats.meshesDecoded},
+            {"mesh_peak_bytes_loaded", stats.meshPeakBytesLoaded},
+            {"used", {{"meshes", meshesOnDemand ? "read as captures draw them" : "read whole"},
+                      {"capture_gbuffer", channelNames(kCaptureChannels)},
                       {"cleared_each_view", channelNames(kCaptureClearedChannels)},
                       {"color_encodings", encodings}}},
             {"threshold", settings.file.threshold},

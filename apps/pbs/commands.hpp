@@ -38,6 +38,8 @@ void addFigureCommand(CLI::App& app);
 void addThreadsOption(CLI::App& command, int& threads);
 
 // `--resolution` and `--directions` of the commands that capture nodes (see CaptureOptions).
+// --cache-mb: the budget of what a command reads on demand (surfel arrays, meshes), in MB.
+void addCacheOption(CLI::App& command, std::uint64_t& cacheMb, const std::string& help);
 void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32_t& directions);
 
 // The LOD options of `pbs render` (and the baseline `pbs eval` sweeps from): --threshold, --band,

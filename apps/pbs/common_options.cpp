@@ -18,6 +18,12 @@ void addThreadsOption(CLI::App& command, int& threads) {
       ->capture_default_str();
 }
 
+void addCacheOption(CLI::App& command, std::uint64_t& cacheMb, const std::string& help) {
+  command.add_option("--cache-mb", cacheMb, help)
+      ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 30))
+      ->capture_default_str();
+}
+
 void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32_t& directions) {
   command.add_option("--resolution", resolution, "capture pixels along the larger side of each view")
       ->check(CLI::Range(1u, kMaxViewportSize))

@@ -44,13 +44,14 @@ std::uint32_t findNode(const LoadedScene& loaded, const std::string& wanted) {
 
 namespace {
 
-// Loads the scene with `load(spec)`, then analyses it with `analyze(scene)`, each step timed.
+// Loads the scene with `load(loaded)` (which may set more of `loaded`), then analyses it with
+// `analyze(scene)`, each step timed.
 template <class Load, class Analyze>
 LoadedScene loadTimed(const std::string& spec, Load load, Analyze analyze) {
   LoadedScene loaded;
   loaded.name = spec;
   auto start = std::chrono::steady_clock::now();
-  ImportResult imported = load(spec, loaded);
+  ImportResult imported = load(loaded);
   loaded.parseSeconds = secondsSince(start);
   for (const std::string& warning : imported.warnings) std::cerr << "warning: " << warning << "\n";
   loaded.scene = std::move(imported.scene);
@@ -62,32 +63,42 @@ LoadedScene loadTimed(const std::string& spec, Load load, Analyze analyze) {
   return loaded;
 }
 
+// A glTF scene opened without its mesh arrays, which decodeMesh reads later.
+template <class Analyze>
+LoadedScene openLazily(const std::string& spec, Analyze analyze) {
+  return loadTimed(
+      spec,
+      [&](LoadedScene& loaded) {
+        LazyGltf lazy = loadSceneWithoutMeshes(spec);
+        loaded.decodeMesh = std::move(lazy.decode);
+        return std::move(lazy.imported);
+      },
+      analyze);
+}
+
 }  // namespace
 
 LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options) {
   return loadTimed(
-      spec, [&](const std::string&, LoadedScene&) { return loadScene(spec, options); },
+      spec, [&](LoadedScene&) { return loadScene(spec, options); },
       [](const Scene& scene) { return analyzeHierarchy(scene); });
 }
 
 LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, SurfelFileReader& surfels) {
   return loadTimed(
-      spec, [&](const std::string&, LoadedScene&) { return loadScene(spec, options); },
+      spec, [&](LoadedScene&) { return loadScene(spec, options); },
       [&](const Scene& scene) { return hierarchyWithSurfels(scene, surfels); });
 }
 
 LoadedScene openWithoutMeshes(const std::string& spec, SurfelFileReader& surfels) {
-  return loadTimed(
-      spec,
-      [&](const std::string&, LoadedScene& loaded) {
-        LazyGltf lazy = loadSceneWithoutMeshes(spec);
-        loaded.decodeMesh = std::move(lazy.decode);
-        return std::move(lazy.imported);
-      },
-      [&](const Scene& scene) {
-        surfels.requireStructure(structureFingerprint(scene));
-        return analyzeHierarchy(scene, surfels.sceneTable().instanceBounds);
-      });
+  return openLazily(spec, [&](const Scene& scene) {
+    surfels.requireStructure(structureFingerprint(scene));
+    return analyzeHierarchy(scene, surfels.sceneTable().instanceBounds);
+  });
+}
+
+LoadedScene openWithoutMeshes(const std::string& spec) {
+  return openLazily(spec, [](const Scene& scene) { return analyzeStructure(scene); });
 }
 
 nlohmann::json summaryJson(const LoadedScene& loaded) {

@@ -33,6 +33,9 @@ LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, 
 // boxes; the meshes are read by decodeMesh (for LazyMeshes, which checks each against the file's
 // fingerprints). Needs a file with a scene table (version 4).
 LoadedScene openWithoutMeshes(const std::string& spec, SurfelFileReader& surfels);
+// A glTF scene opened without its mesh arrays and without a .surfels file: the hierarchy has no boxes
+// (analyzeStructure), the meshes are read by decodeMesh.
+LoadedScene openWithoutMeshes(const std::string& spec);
 
 // The node named `wanted`, or with that index; the first root when `wanted` is empty. Throws
 // InputError when no node matches or the scene has no root.

@@ -252,4 +252,20 @@ Mesh describeMesh(const Document& model, int mesh, std::string_view file, const 
   return result;
 }
 
+std::vector<std::span<const std::uint8_t>> meshViewBytes(const Document& model, int mesh) {
+  std::vector<std::span<const std::uint8_t>> views;
+  const auto add = [&](int accessor) {
+    if (accessor < 0) return;
+    const int view = model.accessors[static_cast<std::size_t>(accessor)].bufferView;
+    if (view >= 0) views.push_back(bufferViewBytes(model, view, "", ""));
+  };
+  for (const tinygltf::Primitive& primitive : model.meshes[static_cast<std::size_t>(mesh)].primitives) {
+    if (primitive.mode < TINYGLTF_MODE_TRIANGLES) continue;  // skipped: never read, nor checked
+    add(primitive.indices);
+    for (const char* name : {"POSITION", "NORMAL", "TEXCOORD_0"})
+      if (const int* accessor = findAttribute(primitive, name)) add(*accessor);
+  }
+  return views;
+}
+
 }  // namespace pbs::gltf

@@ -42,4 +42,8 @@ Mesh importMesh(const Document& model, int mesh, std::string_view file, const Ma
 Mesh describeMesh(const Document& model, int mesh, std::string_view file, const MaterialOf& materialOf,
                   SkippedPrimitives& skipped);
 
+// The bytes of the buffer views importMesh reads for mesh `mesh` (of a mesh it imported: every reference
+// is checked), so that a reader can let them go once the mesh is decoded.
+std::vector<std::span<const std::uint8_t>> meshViewBytes(const Document& model, int mesh);
+
 }  // namespace pbs::gltf

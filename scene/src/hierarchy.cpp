@@ -240,9 +240,47 @@ Hierarchy analyzeHierarchy(const Scene& scene, std::span<const Bounds> instanceB
   return h;
 }
 
+Hierarchy analyzeStructure(const Scene& scene) {
+  return analyzeHierarchy(scene, std::vector<Bounds>(scene.nodes.size()));
+}
+
 Hierarchy analyzeSubtree(const Scene& scene, std::uint32_t node) {
   const std::uint32_t start[] = {node};
   return analyzeFrom(scene, start, true);
+}
+
+std::vector<SubtreeInstance> subtreeInstances(const Scene& scene, std::uint32_t node) {
+  // walkFrom's walk, with each transform on the stack instead of in a per-scene array: children pushed
+  // last to first, so popped first to last; world of a child = world of its parent × its local.
+  std::vector<SubtreeInstance> instances;
+  std::vector<std::pair<std::uint32_t, glm::dmat4>> stack{{node, glm::dmat4(1.0)}};
+  while (!stack.empty()) {
+    const auto [n, world] = stack.back();
+    stack.pop_back();
+    const Node& current = scene.nodes[n];
+    if (current.mesh >= 0) instances.push_back({n, world});
+    for (auto child = current.children.rbegin(); child != current.children.rend(); ++child)
+      stack.emplace_back(*child, world * scene.nodes[*child].local);
+  }
+  return instances;
+}
+
+Hierarchy analyzeSubtree(const Scene& scene, std::uint32_t node, std::span<const Bounds> instanceBounds) {
+  const std::uint32_t start[] = {node};
+  Hierarchy h = walkFrom(scene, start, true);
+  std::size_t next = 0;
+  for (std::uint32_t n : h.preorder) {
+    if (scene.nodes[n].mesh < 0) continue;
+    if (next == instanceBounds.size()) break;
+    h.instanceBounds[n] = instanceBounds[next++];
+  }
+  std::size_t instances = 0;
+  for (std::uint32_t n : h.preorder) instances += scene.nodes[n].mesh >= 0 ? 1 : 0;
+  if (instances != instanceBounds.size())
+    throw std::invalid_argument("analyzeSubtree: " + std::to_string(instanceBounds.size()) + " instance boxes for " +
+                                std::to_string(instances) + " instances");
+  sumSubtrees(scene, h);
+  return h;
 }
 
 SceneSummary summarizeScene(const Scene& scene, const Hierarchy& hierarchy) {

@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <memory>
@@ -34,6 +35,17 @@ MappedFile::MappedFile(const std::filesystem::path& file) {
     data_ = nullptr;
     fail("cannot map: ");
   }
+}
+
+void MappedFile::releasePages(std::span<const std::uint8_t> range) const {
+  const auto begin = reinterpret_cast<std::uintptr_t>(data_);
+  const std::uintptr_t first = std::max(reinterpret_cast<std::uintptr_t>(range.data()), begin);
+  const std::uintptr_t last = std::min(reinterpret_cast<std::uintptr_t>(range.data()) + range.size(), begin + size_);
+  if (!data_ || first >= last) return;
+  const auto page = static_cast<std::uintptr_t>(::sysconf(_SC_PAGESIZE));
+  const std::uintptr_t from = first / page * page;  // the mapping starts on a page: `from` is inside it
+  // MADV_DONTNEED on a private mapping that was never written drops clean pages only: no data is lost.
+  ::madvise(reinterpret_cast<void*>(from), last - from, MADV_DONTNEED);
 }
 
 MappedFile::~MappedFile() {

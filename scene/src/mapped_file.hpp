@@ -25,6 +25,12 @@ class MappedFile {
 
   std::span<const std::uint8_t> bytes() const { return {static_cast<const std::uint8_t*>(data_), size_}; }
 
+  // Lets the pages that hold the part of `range` within this mapping go from the process's memory (they
+  // stay in the page cache, and are read again if touched): what a mesh decoded from the file no longer
+  // needs. Whole pages, so a neighbour's bytes may have to be read again too; nothing changes for readers,
+  // the mapping being read-only. Ranges outside the mapping are ignored.
+  void releasePages(std::span<const std::uint8_t> range) const;
+
  private:
   void* data_ = nullptr;
   std::size_t size_ = 0;

@@ -3,6 +3,10 @@
 
 #include "pbs/raster/hash64.hpp"
 
+#include <bit>
+#include <stdexcept>
+#include <string>
+
 namespace pbs {
 namespace {
 
@@ -22,17 +26,27 @@ void hashParts(Hash64& h, const Mesh& mesh) {
   });
 }
 
+// A list of 32-bit values (floats by their bits) with its length first: each value's little-endian bytes,
+// which on a little-endian machine are the array's own bytes, fed at once (a mesh's arrays are most of
+// what a scene's fingerprint hashes).
+template <class Vector>
+void hashWords(Hash64& h, const std::vector<Vector>& items) {
+  static_assert(sizeof(Vector) % 4 == 0);
+  h.u64(items.size());
+  if constexpr (std::endian::native == std::endian::little) {
+    h.bytes(items.data(), items.size() * sizeof(Vector));
+  } else {
+    const auto* words = reinterpret_cast<const std::uint32_t*>(items.data());
+    for (std::size_t i = 0; i < items.size() * sizeof(Vector) / 4; ++i) h.u32(words[i]);
+  }
+}
+
 void hashMesh(Hash64& h, const Mesh& mesh) {
-  hashList(h, mesh.positions, [&](const glm::vec3& p) {
-    for (int i = 0; i < 3; ++i) h.f32(p[i]);
-  });
-  hashList(h, mesh.normals, [&](const glm::vec3& n) {
-    for (int i = 0; i < 3; ++i) h.f32(n[i]);
-  });
-  hashList(h, mesh.uvs, [&](const glm::vec2& uv) {
-    for (int i = 0; i < 2; ++i) h.f32(uv[i]);
-  });
-  hashList(h, mesh.indices, [&](std::uint32_t index) { h.u32(index); });
+  static_assert(sizeof(glm::vec3) == 12 && sizeof(glm::vec2) == 8, "packed vectors");
+  hashWords(h, mesh.positions);
+  hashWords(h, mesh.normals);
+  hashWords(h, mesh.uvs);
+  hashWords(h, mesh.indices);
   hashParts(h, mesh);
 }
 
@@ -64,23 +78,44 @@ void hashLooks(Hash64& h, const Scene& scene) {
   });
 }
 
-// The node graph, each mesh as `hashEachMesh` hashes it, and the materials and textures, from `seed`.
-template <class HashMesh>
-std::uint64_t fingerprintWith(std::uint64_t seed, const Scene& scene, HashMesh hashEachMesh) {
-  Hash64 h(seed);
-  hashNodes(h, scene);
-  hashList(h, scene.meshes, [&](const Mesh& mesh) { hashEachMesh(h, mesh); });
-  hashLooks(h, scene);
-  return h.digest();
-}
+// The seeds are version tags: change one when what its fingerprint hashes changes.
+constexpr std::uint64_t kSceneSeed = 0x5042'5343'454E'4531ull;
+constexpr std::uint64_t kStructureSeed = 0x5042'5353'5452'5543ull;
 
 }  // namespace
 
-// The seeds are version tags: change one when what its fingerprint hashes changes.
-std::uint64_t sceneFingerprint(const Scene& scene) { return fingerprintWith(0x5042'5343'454E'4531ull, scene, hashMesh); }
+// Both fingerprints hash the node graph, then each mesh (whole, or its parts alone), then the materials
+// and textures.
+SceneFingerprinter::SceneFingerprinter(const Scene& scene) : scene_(scene), hash_(kSceneSeed) {
+  hashNodes(hash_, scene);
+  hash_.u64(scene.meshes.size());
+}
+
+void SceneFingerprinter::add(const Mesh& mesh) {
+  ++added_;
+  hashMesh(hash_, mesh);
+}
+
+std::uint64_t SceneFingerprinter::finish() {
+  if (added_ != scene_.meshes.size())
+    throw std::logic_error("SceneFingerprinter: " + std::to_string(added_) + " meshes added of " +
+                           std::to_string(scene_.meshes.size()));
+  hashLooks(hash_, scene_);
+  return hash_.digest();
+}
+
+std::uint64_t sceneFingerprint(const Scene& scene) {
+  SceneFingerprinter fingerprint(scene);
+  for (const Mesh& mesh : scene.meshes) fingerprint.add(mesh);
+  return fingerprint.finish();
+}
 
 std::uint64_t structureFingerprint(const Scene& scene) {
-  return fingerprintWith(0x5042'5353'5452'5543ull, scene, hashParts);
+  Hash64 h(kStructureSeed);
+  hashNodes(h, scene);
+  hashList(h, scene.meshes, [&](const Mesh& mesh) { hashParts(h, mesh); });
+  hashLooks(h, scene);
+  return h.digest();
 }
 
 std::uint64_t meshFingerprint(const Mesh& mesh) {

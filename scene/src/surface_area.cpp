@@ -11,17 +11,6 @@
 namespace pbs {
 namespace {
 
-double meshArea(const Mesh& mesh, const glm::dmat3& linear) {
-  double area = 0.0;
-  for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
-    const glm::dvec3 a = linear * glm::dvec3(mesh.positions[mesh.indices[i]]);
-    const glm::dvec3 b = linear * glm::dvec3(mesh.positions[mesh.indices[i + 1]]);
-    const glm::dvec3 c = linear * glm::dvec3(mesh.positions[mesh.indices[i + 2]]);
-    area += 0.5 * glm::length(glm::cross(b - a, c - a));
-  }
-  return area;
-}
-
 // The squared scale s² when `linear` is s × a rotation (or reflection), else nothing.
 std::optional<double> similarityScaleSquared(const glm::dmat3& linear) {
   const glm::dmat3 gram = glm::transpose(linear) * linear;
@@ -41,42 +30,40 @@ std::vector<double> meshAreas(const Scene& scene) {
   return areas;
 }
 
-// The area of `node`'s subtree with `linear` applied to the node's own frame, instance by instance.
-double areaUnder(const Scene& scene, const std::vector<double>& unitAreas, std::uint32_t node,
-                 const glm::dmat3& linear) {
+// The area of `node`'s subtree with `linear` applied to the node's own frame, instance by instance; the
+// area of a mesh under a linear map other than the identity is `areaOf(mesh, linear)`, asked for in an
+// order that depends on the transforms alone (so a first walk can list the questions and a second
+// answer them from a table).
+template <class AreaOf>
+double areaUnder(const Scene& scene, const std::vector<double>& unitAreas, std::uint32_t node, const glm::dmat3& linear,
+                 AreaOf& areaOf) {
   if (const std::optional<double> s2 = similarityScaleSquared(linear)) {
     // Below a similarity every instance scales alike: reduce to the identity, which reuses mesh areas.
-    if (*s2 != 1.0 || linear != glm::dmat3(1.0)) return *s2 * areaUnder(scene, unitAreas, node, glm::dmat3(1.0));
+    if (*s2 != 1.0 || linear != glm::dmat3(1.0)) return *s2 * areaUnder(scene, unitAreas, node, glm::dmat3(1.0), areaOf);
   }
   const Node& n = scene.nodes[node];
   const bool identity = linear == glm::dmat3(1.0);
-  double area = n.mesh < 0              ? 0.0
-                : identity              ? unitAreas[std::size_t(n.mesh)]
-                                        : meshArea(scene.meshes[std::size_t(n.mesh)], linear);
+  double area = n.mesh < 0   ? 0.0
+                : identity   ? unitAreas[std::size_t(n.mesh)]
+                             : areaOf(std::uint32_t(n.mesh), linear);
   for (std::uint32_t child : n.children)
-    area += areaUnder(scene, unitAreas, child, linear * glm::dmat3(scene.nodes[child].local));
+    area += areaUnder(scene, unitAreas, child, linear * glm::dmat3(scene.nodes[child].local), areaOf);
   return area;
 }
 
-}  // namespace
-
-double subtreeSurfaceArea(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node) {
-  return areaUnder(scene, meshAreas(scene), node, glm::dmat3(hierarchy.world[node]));
-}
-
-std::vector<double> ownFrameSurfaceAreas(const Scene& scene, const Hierarchy& hierarchy) {
-  const std::vector<double> unitAreas = meshAreas(scene);
-  std::vector<double> own(scene.nodes.size(), 0.0);
-  // A child placed by a similarity adds s² times its own area; the others (a non-uniform instance
-  // placement, say) are summed through their transform — those are the costly ones, done in parallel.
-  std::vector<double> underLocal(scene.nodes.size(), -1.0);
+// The nodes placed by a transform other than a similarity, in preorder: their subtrees are summed
+// through it (the costly part); every other child adds s² times its own area.
+std::vector<std::uint32_t> irregularNodes(const Scene& scene, const Hierarchy& hierarchy) {
   std::vector<std::uint32_t> irregular;
   for (std::uint32_t n : hierarchy.preorder)
     if (!similarityScaleSquared(glm::dmat3(scene.nodes[n].local))) irregular.push_back(n);
-  tbb::parallel_for(std::size_t(0), irregular.size(), [&](std::size_t i) {
-    const std::uint32_t n = irregular[i];
-    underLocal[n] = areaUnder(scene, unitAreas, n, glm::dmat3(scene.nodes[n].local));
-  });
+  return irregular;
+}
+
+// ownFrameSurfaceAreas from the mesh areas and each irregular node's subtree area under its local transform.
+std::vector<double> sumOwnFrameAreas(const Scene& scene, const Hierarchy& hierarchy, const std::vector<double>& unitAreas,
+                                     const std::vector<double>& underLocal) {
+  std::vector<double> own(scene.nodes.size(), 0.0);
   for (auto it = hierarchy.preorder.rbegin(); it != hierarchy.preorder.rend(); ++it) {
     const Node& n = scene.nodes[*it];
     double area = n.mesh < 0 ? 0.0 : unitAreas[std::size_t(n.mesh)];
@@ -87,6 +74,59 @@ std::vector<double> ownFrameSurfaceAreas(const Scene& scene, const Hierarchy& hi
     own[*it] = area;
   }
   return own;
+}
+
+}  // namespace
+
+double meshArea(const Mesh& mesh, const glm::dmat3& linear) {
+  double area = 0.0;
+  for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+    const glm::dvec3 a = linear * glm::dvec3(mesh.positions[mesh.indices[i]]);
+    const glm::dvec3 b = linear * glm::dvec3(mesh.positions[mesh.indices[i + 1]]);
+    const glm::dvec3 c = linear * glm::dvec3(mesh.positions[mesh.indices[i + 2]]);
+    area += 0.5 * glm::length(glm::cross(b - a, c - a));
+  }
+  return area;
+}
+
+double subtreeSurfaceArea(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node) {
+  const auto areaOf = [&](std::uint32_t mesh, const glm::dmat3& linear) { return meshArea(scene.meshes[mesh], linear); };
+  return areaUnder(scene, meshAreas(scene), node, glm::dmat3(hierarchy.world[node]), areaOf);
+}
+
+std::vector<double> ownFrameSurfaceAreas(const Scene& scene, const Hierarchy& hierarchy) {
+  const std::vector<double> unitAreas = meshAreas(scene);
+  std::vector<double> underLocal(scene.nodes.size(), -1.0);
+  const std::vector<std::uint32_t> irregular = irregularNodes(scene, hierarchy);
+  tbb::parallel_for(std::size_t(0), irregular.size(), [&](std::size_t i) {
+    const std::uint32_t n = irregular[i];
+    const auto areaOf = [&](std::uint32_t mesh, const glm::dmat3& linear) { return meshArea(scene.meshes[mesh], linear); };
+    underLocal[n] = areaUnder(scene, unitAreas, n, glm::dmat3(scene.nodes[n].local), areaOf);
+  });
+  return sumOwnFrameAreas(scene, hierarchy, unitAreas, underLocal);
+}
+
+std::vector<MeshAreaQuery> ownFrameAreaQueries(const Scene& scene, const Hierarchy& hierarchy) {
+  std::vector<MeshAreaQuery> queries;
+  for (std::uint32_t m = 0; m < scene.meshes.size(); ++m) queries.push_back({m, glm::dmat3(1.0)});
+  const std::vector<double> unknown(scene.meshes.size(), 0.0);
+  const auto ask = [&](std::uint32_t mesh, const glm::dmat3& linear) {
+    queries.push_back({mesh, linear});
+    return 0.0;
+  };
+  for (std::uint32_t n : irregularNodes(scene, hierarchy))
+    areaUnder(scene, unknown, n, glm::dmat3(scene.nodes[n].local), ask);
+  return queries;
+}
+
+std::vector<double> ownFrameSurfaceAreas(const Scene& scene, const Hierarchy& hierarchy, std::span<const double> answers) {
+  const std::vector<double> unitAreas(answers.begin(), answers.begin() + std::ptrdiff_t(scene.meshes.size()));
+  std::size_t next = scene.meshes.size();
+  const auto answer = [&](std::uint32_t, const glm::dmat3&) { return answers[next++]; };
+  std::vector<double> underLocal(scene.nodes.size(), -1.0);
+  for (std::uint32_t n : irregularNodes(scene, hierarchy))
+    underLocal[n] = areaUnder(scene, unitAreas, n, glm::dmat3(scene.nodes[n].local), answer);
+  return sumOwnFrameAreas(scene, hierarchy, unitAreas, underLocal);
 }
 
 }  // namespace pbs

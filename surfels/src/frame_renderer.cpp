@@ -68,7 +68,8 @@ void FrameRenderer::loadGeometry(const LodDraws& draws) {
   std::vector<std::uint32_t> meshes;
   for (std::uint32_t node : draws.geometryNodes)
     if (const std::int32_t mesh = scene_.nodes[node].mesh; mesh >= 0) meshes.push_back(std::uint32_t(mesh));
-  sources_.meshes->require(meshes);
+  // The new frame's lease first, then the old one let go: a mesh both frames draw is never unloaded.
+  geometryLease_ = sources_.meshes->require(meshes);
   for (std::uint32_t mesh : sources_.meshes->unloadOverBudget())
     if (geometryRays_) geometryRays_->forget(mesh);
 }

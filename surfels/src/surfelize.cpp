@@ -5,7 +5,9 @@
 #include "surfelize_plan.hpp"
 
 #include "pbs/raster/hash64.hpp"
+#include "pbs/scene/scene_draws.hpp"
 #include "pbs/scene/scene_fingerprint.hpp"
+#include "pbs/scene/scene_scan.hpp"
 #include "pbs/scene/surface_area.hpp"
 #include "pbs/surfels/blue_noise_metrics.hpp"
 #include "pbs/surfels/capture.hpp"
@@ -55,16 +57,49 @@ struct MadeArray {
   std::uint64_t candidates = 0;
 };
 
-// The array for `node`, whose path seeds its ordering and whose subtree has `area` in its own frame.
-MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& path, double area,
-                    const SurfelizeOptions& options, const detail::SurfelPlan& plan,
-                    std::span<const SurfelArray> arrays) {
-  const Hierarchy frame = analyzeSubtree(scene, node);
+// The meshes a capture of `node` draws as triangles: its whole subtree's, or with `fromChildren` its own
+// and those of the children that have no array.
+std::vector<std::uint32_t> capturedMeshes(const Scene& scene, std::uint32_t node, bool fromChildren,
+                                          const detail::SurfelPlan& plan) {
+  std::vector<std::uint32_t> nodes;
+  if (!fromChildren) {
+    nodes = subtreeNodes(scene, node);
+  } else {
+    nodes.push_back(node);
+    for (std::uint32_t child : scene.nodes[node].children)
+      if (plan.arrayOfNode[child] == kNoSurfels) {
+        const std::vector<std::uint32_t> below = subtreeNodes(scene, child);
+        nodes.insert(nodes.end(), below.begin(), below.end());
+      }
+  }
+  std::vector<std::uint32_t> meshes;
+  for (std::uint32_t n : nodes)
+    if (scene.nodes[n].mesh >= 0) meshes.push_back(std::uint32_t(scene.nodes[n].mesh));
+  return meshes;
+}
+
+// The capture of `node`, whose subtree's instance boxes in its own frame are `boxes`. With `meshes` (a
+// scene opened without its mesh arrays), the meshes it draws are leased for the capture alone.
+CaptureResult captureArray(const Scene& scene, std::uint32_t node, std::span<const Bounds> boxes,
+                           const SurfelizeOptions& options, const detail::SurfelPlan& plan,
+                           std::span<const SurfelArray> arrays, LazyMeshes* meshes, Bounds& box) {
+  const Hierarchy frame = analyzeSubtree(scene, node, boxes);
+  box = frame.worldBounds[node];
   const CaptureOptions capture{.resolution = options.file.resolution, .directions = options.file.directions};
   const bool fromChildren = captureFromChildren(scene, frame, node, options.source, plan, arrays);
-  const CaptureResult captured =
-      fromChildren ? detail::captureFromChildSurfels(scene, frame, node, arrays, plan.arrayOfNode, capture)
-                   : captureNode(scene, frame, node, capture);
+  LazyMeshes::Lease lease;
+  if (meshes) lease = meshes->require(capturedMeshes(scene, node, fromChildren, plan));
+  return fromChildren ? detail::captureFromChildSurfels(scene, frame, node, arrays, plan.arrayOfNode, capture)
+                      : captureNode(scene, frame, node, capture);
+}
+
+// The array for `node`, whose path seeds its ordering and whose subtree has `area` in its own frame.
+MadeArray makeArray(const Scene& scene, std::uint32_t node, std::span<const Bounds> boxes, const std::string& path,
+                    double area, const SurfelizeOptions& options, const detail::SurfelPlan& plan,
+                    std::span<const SurfelArray> arrays, LazyMeshes* meshes) {
+  Bounds box;
+  const CaptureResult captured = captureArray(scene, node, boxes, options, plan, arrays, meshes, box);
+  if (meshes) meshes->unloadOverBudget();
 
   const std::vector<glm::vec3> positions = orderingPositions(captured.surfels);
   Hash64 seed(options.file.seed);
@@ -75,7 +110,7 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, const std::string& p
   MadeArray made;
   made.candidates = captured.surfels.size();
   SurfelArray& array = made.array;
-  array.box = frame.worldBounds[node];
+  array.box = box;
   array.coverage = captured.coverage;
   array.area = area;
   array.surfels.reserve(order.size());
@@ -128,13 +163,35 @@ std::uint64_t arraysHeldInIndexOrder(const std::vector<std::vector<std::uint32_t
 
 // The arrays of surfelize, each handed to `finished(index, array)` as it is made (one call at a time,
 // in the order they finish). With `release`, an array is freed once handed over and no capture still
-// to come may draw it.
+// to come may draw it. What needs the vertices beside the captures comes from one scan of the meshes,
+// read by `read`; `hierarchy` needs no boxes (analyzeStructure's will do). With `meshes`, the scene's
+// mesh arrays are not loaded and each capture loads those it draws.
 struct ArrayMaker {
+  ArrayMaker(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options, const MeshReader& read,
+             bool worldBounds)
+      : scene(scene),
+        hierarchy(hierarchy),
+        options(options),
+        plan(detail::planSurfelArrays(scene, hierarchy, options.file.threshold)),
+        paths(plan.nodes.empty() ? std::vector<std::string>() : nodePaths(scene, hierarchy)),
+        scan(scanScene(scene, hierarchy,
+                       {.worldBounds = worldBounds, .subtreeStarts = plan.representative, .ownFrameAreas = !plan.nodes.empty()},
+                       read)) {}
+
   const Scene& scene;
   const Hierarchy& hierarchy;
   const SurfelizeOptions& options;
-  detail::SurfelPlan plan = detail::planSurfelArrays(scene, hierarchy, options.file.threshold);
-  std::vector<std::string> paths = plan.nodes.empty() ? std::vector<std::string>() : nodePaths(scene, hierarchy);
+  detail::SurfelPlan plan;
+  std::vector<std::string> paths;
+  SceneScan scan;
+  LazyMeshes* meshes = nullptr;
+
+  // The scene table, with the world boxes of `instanceBounds` (analyzeHierarchy's).
+  SurfelSceneTable sceneTable(std::span<const Bounds> instanceBounds) const {
+    return {.structure = structureFingerprint(scene),
+            .meshes = scan.meshFingerprints,
+            .instanceBounds = std::vector<Bounds>(instanceBounds.begin(), instanceBounds.end())};
+  }
 
   std::vector<SurfelNodeRecord> nodeRecords() const {
     std::vector<SurfelNodeRecord> records;
@@ -150,7 +207,7 @@ struct ArrayMaker {
   std::vector<SurfelArray> make(bool release, SurfelizeStats* stats, const Finished& finished) {
     const std::size_t count = plan.representative.size();
     std::vector<SurfelArray> arrays(count);
-    const std::vector<double> areas = plan.nodes.empty() ? std::vector<double>() : ownFrameSurfaceAreas(scene, hierarchy);
+    const std::vector<double>& areas = scan.ownFrameAreas;
     const std::vector<std::vector<std::uint32_t>> children = childArrays(scene, plan, options.source);
     std::vector<std::vector<std::uint32_t>> parents(count);
     std::vector<std::uint32_t> childrenLeft(count), capturesLeft(count, 0);
@@ -199,7 +256,8 @@ struct ArrayMaker {
         }
         try {
           const std::uint32_t node = plan.representative[a];
-          MadeArray made = makeArray(scene, node, paths[node], areas[node], options, plan, arrays);
+          MadeArray made =
+              makeArray(scene, node, scan.subtreeBounds[a], paths[node], areas[node], options, plan, arrays, meshes);
           const std::lock_guard lock(mutex);
           arrays[a] = std::move(made.array);
           candidates += made.candidates;
@@ -281,34 +339,50 @@ std::string_view captureSourceName(CaptureSource source) {
   return "unknown";
 }
 
-SurfelSceneTable sceneTableOf(const Scene& scene, const Hierarchy& hierarchy) {
-  SurfelSceneTable table{.structure = structureFingerprint(scene),
-                         .meshes = std::vector<std::uint64_t>(scene.meshes.size()),
-                         .instanceBounds = hierarchy.instanceBounds};
-  tbb::parallel_for(std::size_t(0), scene.meshes.size(),
-                    [&](std::size_t m) { table.meshes[m] = meshFingerprint(scene.meshes[m]); });
-  return table;
-}
-
 SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                      SurfelizeStats* stats) {
-  ArrayMaker maker{scene, hierarchy, options};
+  ArrayMaker maker(scene, hierarchy, options, loadedMeshes(scene), false);
   SurfelFile file;
-  file.sceneFingerprint = sceneFingerprint(scene);
+  file.sceneFingerprint = maker.scan.sceneFingerprint;
   file.options = options.file;
   file.nodes = maker.nodeRecords();
-  file.sceneTable = sceneTableOf(scene, hierarchy);
+  file.sceneTable = maker.sceneTable(hierarchy.instanceBounds);
   file.arrays = maker.make(false, stats, [](std::uint32_t, const SurfelArray&) {});
   return file;
 }
 
-void surfelizeToFile(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
-                     const std::filesystem::path& path, SurfelizeStats* stats) {
-  ArrayMaker maker{scene, hierarchy, options};
-  SurfelFileWriter writer(path, sceneFingerprint(scene), options.file, maker.nodeRecords(), sceneTableOf(scene, hierarchy),
-                          std::uint32_t(maker.plan.representative.size()));
+namespace {
+
+// The streaming writer fed by `maker`, with the scene table's world boxes `instanceBounds`.
+void writeArrays(ArrayMaker& maker, std::span<const Bounds> instanceBounds, const std::filesystem::path& path,
+                 SurfelizeStats* stats) {
+  SurfelFileWriter writer(path, maker.scan.sceneFingerprint, maker.options.file, maker.nodeRecords(),
+                          maker.sceneTable(instanceBounds), std::uint32_t(maker.plan.representative.size()));
   maker.make(true, stats, [&](std::uint32_t a, const SurfelArray& array) { writer.add(a, array); });
   writer.finish();
+}
+
+}  // namespace
+
+void surfelizeToFile(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
+                     const std::filesystem::path& path, SurfelizeStats* stats) {
+  ArrayMaker maker(scene, hierarchy, options, loadedMeshes(scene), false);
+  writeArrays(maker, hierarchy.instanceBounds, path, stats);
+}
+
+void surfelizeToFile(Scene& scene, const LazyMeshes::Decode& decode, std::uint64_t cacheBytes,
+                          const std::string& source, const SurfelizeOptions& options, const std::filesystem::path& path,
+                          SurfelizeStats* stats) {
+  const Hierarchy structure = analyzeStructure(scene);
+  const MeshReader read = [&](std::uint32_t mesh) { return std::make_shared<const Mesh>(decode(mesh)); };
+  ArrayMaker maker(scene, structure, options, read, true);
+  LazyMeshes meshes(scene, decode, maker.scan.meshFingerprints, source, cacheBytes);
+  maker.meshes = &meshes;
+  writeArrays(maker, maker.scan.instanceBounds, path, stats);
+  if (stats) {
+    stats->meshesDecoded = meshes.stats().decoded;
+    stats->meshPeakBytesLoaded = meshes.stats().peakBytesLoaded;
+  }
 }
 
 }  // namespace pbs

@@ -38,12 +38,30 @@ Hierarchy analyzeHierarchy(const Scene& scene);
 // box that is not empty.
 Hierarchy analyzeHierarchy(const Scene& scene, std::span<const Bounds> instanceBounds);
 
+// The same with every box empty: parents, depths, world transforms, preorder and triangle counts, for a
+// scene whose vertices are still to be read (a scan that computes the boxes needs the transforms first).
+Hierarchy analyzeStructure(const Scene& scene);
+
 // The same for `node`'s subtree alone, seen from the node's own frame: world[node] is the identity
 // (its own transform left out), world[n] below it chains the local transforms, worldBounds are tight
 // boxes in that frame, preorder lists the subtree and parent[node] is -1. Entries of nodes outside the
 // subtree keep their defaults. This is the frame a node's surfels are made and stored in, so every
 // instance of the same subtree shares them.
 Hierarchy analyzeSubtree(const Scene& scene, std::uint32_t node);
+
+// A node with a mesh in a subtree, with analyzeSubtree's world transform of it (the same product of the
+// same local transforms, so the same bits).
+struct SubtreeInstance {
+  std::uint32_t node;
+  glm::dmat4 frameFromInstance;
+};
+// Those of `node`'s subtree in analyzeSubtree's preorder; touches only the subtree (no per-scene arrays).
+std::vector<SubtreeInstance> subtreeInstances(const Scene& scene, std::uint32_t node);
+
+// analyzeSubtree with the instance boxes given, one per subtreeInstances(scene, node) entry in its order:
+// reads no vertex, and is analyzeSubtree bit for bit when the boxes are the tight boxes of those
+// instances' vertices through their transforms. Throws std::invalid_argument for another count.
+Hierarchy analyzeSubtree(const Scene& scene, std::uint32_t node, std::span<const Bounds> instanceBounds);
 
 struct SceneSummary {
   std::uint64_t nodes = 0;

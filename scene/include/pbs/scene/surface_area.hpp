@@ -5,6 +5,7 @@
 #include "pbs/scene/scene.hpp"
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace pbs {
@@ -19,5 +20,20 @@ double subtreeSurfaceArea(const Scene& scene, const Hierarchy& hierarchy, std::u
 // surfel arrays are made in), all at once: bottom-up, each subtree summed once, so a billion instanced
 // triangles cost one pass over each distinct mesh plus the instances under non-similarity transforms.
 std::vector<double> ownFrameSurfaceAreas(const Scene& scene, const Hierarchy& hierarchy);
+
+// The summed area of the mesh's triangles under `linear`.
+double meshArea(const Mesh& mesh, const glm::dmat3& linear);
+
+// ownFrameSurfaceAreas for a scene whose vertices are read elsewhere (a scan over its meshes): first the
+// mesh areas it needs, each meshArea(scene.meshes[mesh], linear) — every mesh under the identity, in mesh
+// order, then those of instances under non-similarity transforms, in the order the sums use them — then
+// the areas from their answers, bit for bit those of ownFrameSurfaceAreas(scene, hierarchy). Neither reads
+// a vertex; `hierarchy` needs only its preorder (analyzeStructure's will do).
+struct MeshAreaQuery {
+  std::uint32_t mesh;
+  glm::dmat3 linear;
+};
+std::vector<MeshAreaQuery> ownFrameAreaQueries(const Scene& scene, const Hierarchy& hierarchy);
+std::vector<double> ownFrameSurfaceAreas(const Scene& scene, const Hierarchy& hierarchy, std::span<const double> answers);
 
 }  // namespace pbs

@@ -103,6 +103,7 @@ class FrameRenderer {
   Framebuffer gbuffer_;
   std::optional<EmbreeScene> ownRays_;
   std::optional<EmbreeNodeCaster> geometryRays_;  // Surfels mode, unless LodOptions::geometry is Raster
+  LazyMeshes::Lease geometryLease_;  // the meshes the last pass drew as geometry (FrameSources::meshes)
   double buildSeconds_ = 0.0;
 };
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "pbs/scene/hierarchy.hpp"
+#include "pbs/scene/lazy_meshes.hpp"
 #include "pbs/scene/scene.hpp"
 #include "pbs/surfels/surfel_file.hpp"
 
@@ -10,6 +11,7 @@
 #include <filesystem>
 #include <functional>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -50,6 +52,9 @@ struct SurfelizeStats {
   std::uint64_t arrays = 0;            // distinct arrays after sharing = captures made
   std::uint64_t surfels = 0;           // summed over the distinct arrays
   std::uint64_t candidates = 0;        // covered capture pixels, summed over the captures
+  // A scene opened without its mesh arrays: the captures' decoding (the scan reads every mesh once more).
+  std::uint64_t meshesDecoded = 0;
+  std::uint64_t meshPeakBytesLoaded = 0;
 };
 
 // Every node above options.file.threshold gets an array of at most options.file.maxSurfels surfels in
@@ -63,16 +68,22 @@ struct SurfelizeStats {
 SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                      SurfelizeStats* stats = nullptr);
 
-// The scene table a .surfels file of `scene` stores (surfel_file.hpp): structure and mesh fingerprints,
-// and `hierarchy`'s instance boxes (it must be analyzeHierarchy's).
-SurfelSceneTable sceneTableOf(const Scene& scene, const Hierarchy& hierarchy);
-
 // surfelize straight into the .surfels file at `path`, byte for byte writeSurfelFile(path, surfelize(…)):
 // each array goes to the file (SurfelFileWriter) as soon as the arrays before it are there, and its
 // surfels are freed once no capture still to come may draw them, so memory follows the arrays being
 // made, not the scene. On an error nothing is left under `path`.
 void surfelizeToFile(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                      const std::filesystem::path& path, SurfelizeStats* stats = nullptr);
+
+// The same for a scene opened without its mesh arrays (openGltfWithoutMeshes), whose meshes `decode`
+// reads: one scan reads every mesh once, a few at a time, for the fingerprints, the exact boxes and the
+// areas; then each capture decodes the meshes it draws as triangles, leased for the capture, and those no
+// capture holds are unloaded least recently used first beyond `cacheBytes` (a mesh that changed since the
+// scan is an error naming `source` and the mesh). Memory follows the captures in flight, not the scene,
+// and the file is byte for byte the one the loaded scene gives.
+void surfelizeToFile(Scene& scene, const LazyMeshes::Decode& decode, std::uint64_t cacheBytes,
+                     const std::string& source, const SurfelizeOptions& options, const std::filesystem::path& path,
+                     SurfelizeStats* stats = nullptr);
 
 // The positions the ordering, the colour filter and the packing values see for capture candidates.
 // Surfels at one place facing opposite ways are the two sides of a thin surface (a wall, the shell of a
