@@ -29,7 +29,7 @@ using test::ScratchDir;
 
 constexpr const char* kHeader =
     "setting,frame,kind,geometry_share,seconds,speedup,traverse_seconds,raster_seconds,triangles,surfels,flip,"
-    "flip_mean,flip_median,flip_max,foreground_psnr,psnr,ssim,hole_fraction,bloat_fraction";
+    "flip_mean,flip_median,flip_max,foreground_psnr,psnr,ssim,hole_fraction,bloat_fraction,surfel_load_seconds";
 
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -51,6 +51,29 @@ struct EvalRun {
   }
   std::vector<test::CsvRow> rows() const { return readCsv(out / "eval.csv").rows; }
 };
+
+// The .surfels file is read as frames draw it, one cache for the settings that draw its arrays: a far view
+// reads only its prefixes, and reading is reported apart from the frames' times.
+TEST(EvalCli, ReadsTheSurfelFileAsFramesDrawIt) {
+  const EvalRun eval;
+  const test::CommandResult run = eval.run("--size 96x64 --frames 1 --orbit 30,20,12 --peers embree=1 "
+                                           "--sweep surfels --sweep overdraw=2 --exhausted grow --quiet");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json summary = nlohmann::json::parse(test::readFile(eval.out / "summary.json"));
+  const std::string file = eval.surfels.substr(1, eval.surfels.size() - 2);  // unquoted
+  const auto bytesRead = summary["surfel_bytes_read"].get<std::uint64_t>();
+  EXPECT_GT(bytesRead, 0u);
+  EXPECT_LT(bytesRead, std::filesystem::file_size(file)) << "a far view draws short prefixes";
+  EXPECT_GE(summary["surfels_read_seconds"].get<double>(), 0.0);
+  for (const test::CsvRow& row : eval.rows()) {
+    const bool peer = row.fields.at("setting") == "embree=1";
+    if (peer) {
+      EXPECT_EQ(row.number("surfel_load_seconds"), 0.0);
+    } else {
+      EXPECT_GT(row.number("surfels"), 0.0) << "the view must draw surfels for this test";
+    }
+  }
+}
 
 TEST(EvalCli, PeersSurfelsAndSweepsAgainstTheReference) {
   const EvalRun eval;

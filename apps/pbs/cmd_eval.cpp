@@ -18,6 +18,7 @@
 #include <pbs/raster/flip.hpp>
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/scene/simplified_meshes.hpp>
+#include <pbs/surfels/surfel_cache.hpp>
 #include <pbs/surfels/surfel_file.hpp>
 #include <pbs/surfels/surfelize.hpp>
 
@@ -48,26 +49,31 @@ struct EvalOptions {
   LodOptions baseline;  // what every setting starts from
   CaptureSource captureFrom = CaptureSource::Auto;
   bool quiet = false;
+  std::uint64_t cacheMb = 1024;
   int threads = 0;
 };
 
-// The file's own arrays, and those of other orderings made on demand with the file's options.
+// The file's own arrays, read as frames draw them (one cache for every setting that draws them), and those
+// of other orderings made on demand with the file's options.
 class SurfelSources {
  public:
-  SurfelSources(const LoadedScene& loaded, const std::string& file, CaptureSource source, bool quiet)
-      : loaded_(loaded), source_(source), quiet_(quiet) {
-    options_ = SurfelFileReader(file).options();
-    own_ = loadSceneSurfels(file, loaded.scene, loaded.hierarchy);
-  }
+  SurfelSources(const LoadedScene& loaded, const std::string& file, std::uint64_t cacheBytes, CaptureSource source,
+                bool quiet)
+      : loaded_(loaded), source_(source), quiet_(quiet), cache_(file, loaded.scene, loaded.hierarchy, cacheBytes) {}
 
-  SurfelOrdering fileOrdering() const { return options_.ordering; }
+  SurfelOrdering fileOrdering() const { return cache_.options().ordering; }
+  // The arrays' lengths and packing, which decide the traversal (each view's kind among it).
+  const SceneSurfels& decisions() const { return cache_.surfels(); }
+  // What was read of the file: its tables, and the chunks the frames drew.
+  std::uint64_t bytesRead() const { return cache_.tablesBytes() + cache_.stats().bytesRead; }
 
-  const SceneSurfels& of(const EvalSetting& setting) {
-    if (!setting.ordering || *setting.ordering == options_.ordering) return own_;
+  FrameSources of(const EvalSetting& setting) {
+    const SurfelFileOptions& options = cache_.options();
+    if (!setting.ordering || *setting.ordering == options.ordering) return {.cache = &cache_};
     auto found = made_.find(*setting.ordering);
-    if (found != made_.end()) return found->second;
+    if (found != made_.end()) return {.surfels = &found->second};
     SurfelizeOptions settings;
-    settings.file = options_;
+    settings.file = options;
     settings.file.ordering = *setting.ordering;
     settings.source = source_;
     const std::string name(orderingName(*setting.ordering));
@@ -79,16 +85,17 @@ class SurfelSources {
     SurfelizeStats stats;
     const SurfelFile file = surfelize(loaded_.scene, loaded_.hierarchy, settings, &stats);
     if (stats.arrays > 0) meter.finish(std::to_string(stats.arrays) + " arrays, " + withThousands(stats.surfels) + " surfels");
-    return made_.emplace(*setting.ordering, sceneSurfelsOf(file, loaded_.scene, loaded_.hierarchy, "ordering=" + name))
-        .first->second;
+    const SceneSurfels& made =
+        made_.emplace(*setting.ordering, sceneSurfelsOf(file, loaded_.scene, loaded_.hierarchy, "ordering=" + name))
+            .first->second;
+    return {.surfels = &made};
   }
 
  private:
   const LoadedScene& loaded_;
   CaptureSource source_;
   bool quiet_;
-  SurfelFileOptions options_;
-  SceneSurfels own_;
+  SurfelCache cache_;
   std::map<SurfelOrdering, SceneSurfels> made_;
 };
 
@@ -168,7 +175,7 @@ void run(const EvalOptions& options) {
   const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
   const double loadSeconds = secondsSince(loadStart);
   const auto surfelsStart = std::chrono::steady_clock::now();
-  SurfelSources sources(loaded, options.surfels, options.captureFrom, options.quiet);
+  SurfelSources sources(loaded, options.surfels, options.cacheMb << 20, options.captureFrom, options.quiet);
   const double surfelsLoadSeconds = secondsSince(surfelsStart);
   const LodOptions& baseline = options.baseline;
   const std::vector<EvalSetting> settings =
@@ -184,7 +191,7 @@ void run(const EvalOptions& options) {
   std::vector<Camera> cameras;
   for (const PathView& view : pathViews(loaded, options.path, orbit, options.frames, width, height))
     cameras.push_back(view.camera);
-  const auto surfelsOf = [&](const EvalSetting& s) -> const SceneSurfels& { return sources.of(s); };
+  const auto surfelsOf = [&](const EvalSetting& s) { return sources.of(s); };
   // A frame's kind says how near the view is under the one threshold: an option that descends sooner
   // (descendExhausted) must not move its own frames to the near kind's laxer targets.
   LodOptions kindLod = baseline;
@@ -192,7 +199,7 @@ void run(const EvalOptions& options) {
   const EvalInputs inputs{.referenceSamples = options.referenceSamples,
                           .compare = {.background = options.background, .pixelsPerDegree = options.pixelsPerDegree},
                           .sheetFrame = std::uint32_t(cameras.size() / 2),
-                          .kindSurfels = &surfelsOf(settings[baselineIndex]),
+                          .kindSurfels = &sources.decisions(),
                           .kindLod = kindLod};
   ProgressMeter meter("eval", ProgressMeter::styleFor(options.quiet));
   const EvalResults results = runEval(
@@ -219,7 +226,8 @@ void run(const EvalOptions& options) {
                          .referenceSamples = options.referenceSamples,
                          .baseline = baselineIndex,
                          .loadSeconds = loadSeconds,
-                         .surfelsLoadSeconds = surfelsLoadSeconds};
+                         .surfelsLoadSeconds = surfelsLoadSeconds,
+                         .surfelBytesRead = sources.bytesRead()};
   nlohmann::json summary = summaryJson(info, settings, results);
   summary["simplification"] = simplifiedScenes.json();
   writeTextFile(folder / "error_vs_time.svg", renderSvg(errorTimePlot(settings, summaries, baselineIndex)));
@@ -295,6 +303,9 @@ void addEvalCommand(CLI::App& app) {
                          "how arrays of other orderings are made on demand (the .surfels file does not record it: "
                          "give what it was made with)");
   command->add_flag("-q,--quiet", options->quiet, "no progress on stderr");
+  addCacheOption(*command, options->cacheMb,
+                 "the .surfels file is read as frames draw it, one cache for every setting that draws its arrays; "
+                 "the arrays drawn longest ago are dropped beyond this many MB");
   addThreadsOption(*command, options->threads);
   command->callback([options] { runWithThreads(options->threads, [&] { run(*options); }); });
 }

@@ -128,7 +128,7 @@ std::string evalCsv(const std::vector<EvalSetting>& settings, const EvalResults&
                     {view.geometryShare, f.seconds, f.speedupOverFastestExact, f.stats.traverseSeconds,
                      f.stats.rasterSeconds, double(f.stats.triangles), double(f.stats.surfels), e.flipForegroundMean,
                      e.flipMean, e.flipMedian, e.flipMax, e.foregroundPsnr, e.psnr, e.ssim, e.holeFraction,
-                     e.bloatFraction});
+                     e.bloatFraction, f.surfelLoadSeconds});
     }
   }
   return csv;
@@ -137,6 +137,9 @@ std::string evalCsv(const std::vector<EvalSetting>& settings, const EvalResults&
 nlohmann::json summaryJson(const EvalRunInfo& info, const std::vector<EvalSetting>& settings,
                            const EvalResults& results) {
   std::vector<double> referenceSeconds;
+  double surfelReadSeconds = 0.0;  // by the frames, as they drew prefixes not read before
+  for (const EvalSettingResult& setting : results.settings)
+    for (const EvalFrame& frame : setting.frames) surfelReadSeconds += frame.surfelLoadSeconds;
   nlohmann::json kinds = nlohmann::json::array();
   for (const EvalView& view : results.views) {
     referenceSeconds.push_back(view.referenceSeconds);
@@ -152,6 +155,8 @@ nlohmann::json summaryJson(const EvalRunInfo& info, const std::vector<EvalSettin
       {"reference", {{"renderer", "embree"}, {"samples", info.referenceSamples}, {"median_seconds", median(referenceSeconds)}}},
       {"load_seconds", info.loadSeconds},
       {"surfels_load_seconds", info.surfelsLoadSeconds},
+      {"surfels_read_seconds", surfelReadSeconds},
+      {"surfel_bytes_read", info.surfelBytesRead},
       {"embree_build_seconds", results.buildSeconds},
       {"frame_kinds", kinds},
       {"baseline", settings[info.baseline].name},

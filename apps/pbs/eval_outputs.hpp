@@ -25,7 +25,7 @@ namespace pbs::cli {
 // reports it.
 inline constexpr const char* kEvalCsvHeader =
     "setting,frame,kind,geometry_share,seconds,speedup,traverse_seconds,raster_seconds,triangles,surfels,flip,"
-    "flip_mean,flip_median,flip_max,foreground_psnr,psnr,ssim,hole_fraction,bloat_fraction";
+    "flip_mean,flip_median,flip_max,foreground_psnr,psnr,ssim,hole_fraction,bloat_fraction,surfel_load_seconds";
 
 // Medians and worst frames of one setting over a set of frames (all, or those of one kind).
 struct EvalSummary {
@@ -64,7 +64,8 @@ struct EvalRunInfo {
   std::uint32_t referenceSamples = 0;
   std::size_t baseline = 0;  // index into the settings
   double loadSeconds = 0.0;         // the scene file
-  double surfelsLoadSeconds = 0.0;  // the .surfels file
+  double surfelsLoadSeconds = 0.0;  // opening the .surfels file (its tables); frames read their prefixes
+  std::uint64_t surfelBytesRead = 0;  // of the .surfels file, by opening it and by every frame
 };
 
 // summary.json: the run's inputs, the reference's and the BVH's times, the frame kinds, and per setting

@@ -10,6 +10,7 @@
 #include <pbs/scene/hierarchy.hpp>
 #include <pbs/scene/scene.hpp>
 #include <pbs/surfels/frame_kind.hpp>
+#include <pbs/surfels/frame_renderer.hpp>
 #include <pbs/surfels/lod_render.hpp>
 #include <pbs/surfels/scene_surfels.hpp>
 
@@ -31,7 +32,8 @@ struct EvalView {
 // One row of eval.csv.
 struct EvalFrame {
   std::uint32_t frame = 0;
-  double seconds = 0.0;  // the whole frame (FrameResult::seconds)
+  double seconds = 0.0;  // the whole frame (FrameResult::seconds) less reading surfels from the file
+  double surfelLoadSeconds = 0.0;  // reading the prefixes it drew that were not read yet (SurfelCache)
   LodStats stats;
   ImageDifference error;  // this frame (A) against the reference of the same view (B), without the map
   // The fastest peer's time on this frame (the least of the 1-sample peers': Embree and exact) over
@@ -62,13 +64,14 @@ struct EvalInputs {
 };
 
 // Renders the reference and views × settings frames. `surfelsOf` gives the arrays a surfel setting
-// draws (called once per setting, never for peers; simplify settings take their traversal's decisions
-// from them), `simplifiedOf` the simplified scene a simplify setting draws (called once per such
-// setting); `onProgress(done, total, detail)` after every frame. Memory: the reference images of all
-// views are kept (16 bytes a pixel each).
+// draws, as FrameSources::surfels (made in memory) or FrameSources::cache (the file, read as frames draw
+// it: every setting of the file's own arrays shares one cache) (called once per setting, never for peers;
+// simplify settings take their traversal's decisions from them), `simplifiedOf` the simplified scene a
+// simplify setting draws (called once per such setting); `onProgress(done, total, detail)` after every
+// frame. Memory: the reference images of all views are kept (16 bytes a pixel each).
 EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::vector<Camera>& cameras,
                     const std::vector<EvalSetting>& settings, const EvalInputs& inputs,
-                    const std::function<const SceneSurfels&(const EvalSetting&)>& surfelsOf,
+                    const std::function<FrameSources(const EvalSetting&)>& surfelsOf,
                     const std::function<const Scene&(const EvalSetting&)>& simplifiedOf,
                     const std::function<void(std::size_t, std::size_t, const std::string&)>& onProgress);
 

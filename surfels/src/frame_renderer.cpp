@@ -39,7 +39,8 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, con
       sources_(sources),
       gbuffer_(makeFramebuffer(width, height, kChannelColor | kChannelNormal | coverageChannel(options))) {
   const RenderMode mode = options.mode;
-  if (mode == RenderMode::Surfels && sources.cache) sources_.surfels = &sources.cache->surfels();
+  // From a cache, the arrays' decisions (lengths, packing) are there at once; surfels mode loads prefixes.
+  if (sources.cache && !sources.surfels) sources_.surfels = &sources.cache->surfels();
   if (sources.stream && (mode != RenderMode::Surfels || !sources.cache))
     throw std::invalid_argument("a stream draws in surfels mode from its surfel cache");
   if (sources.meshes && (mode != RenderMode::Surfels || !sources.cache || sources.stream))

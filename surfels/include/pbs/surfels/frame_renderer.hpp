@@ -53,8 +53,8 @@ struct FrameResult {
 // What a mode draws from besides the scene; each must outlive the renderer.
 struct FrameSources {
   const SceneSurfels* surfels = nullptr;  // Surfels and Simplified modes (Simplified takes its decisions from them)
-  // Surfels mode, instead of `surfels`: a file read as frames draw it; each pass first loads the prefixes
-  // it will draw.
+  // Instead of `surfels`: a file read as frames draw it; in surfels mode each pass first loads the
+  // prefixes it will draw (Simplified mode takes only the arrays' decisions from it).
   SurfelCache* cache = nullptr;
   // Surfels mode with `cache`: a link that the caller advances between frames (the stream's cache must
   // be `cache`); each pass draws only what has arrived, and loads nothing itself.

@@ -55,6 +55,7 @@ class SurfelCache {
   void keep(const LodDraws& draws);
 
   const SurfelCacheStats& stats() const { return stats_; }
+  const SurfelFileOptions& options() const { return reader_.options(); }  // what the arrays were made with
   std::uint64_t tablesBytes() const { return reader_.tablesBytes(); }  // what opening the file read
   // The file's bytes for `surfels` surfels of `array` from a chunk's start (storedSurfelBytes with the
   // array's colour encoding).
