@@ -22,6 +22,7 @@ class Hash64 {
   // Bytes in order; the result depends only on the concatenation of all bytes fed, not on how they
   // were split between calls.
   void bytes(const void* data, std::size_t size) {
+    if (size == 0) return;  // an empty vector's data() may be null, which memcpy must not be given
     const auto* p = static_cast<const std::uint8_t*>(data);
     length_ += size;
     if (buffered_ > 0) {
