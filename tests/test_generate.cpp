@@ -10,6 +10,7 @@
 #include <pbs/scene/hierarchy.hpp>
 #include <pbs/scene/input_error.hpp>
 #include <pbs/scene/load_scene.hpp>
+#include <pbs/scene/scene_fingerprint.hpp>
 #include <pbs/surfels/lod_render.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -437,6 +438,36 @@ TEST(UniqueCity, CommandLineWritesOneMeshPerInstance) {
   EXPECT_EQ(summary.meshes, 16u);
   EXPECT_EQ(summary.uniqueTriangles, summary.triangles);
   EXPECT_NE(made.out.find("unique"), std::string::npos) << made.out;
+}
+
+// The unbaked city is the baked one before baking: the same nodes, materials and mesh parts, and
+// bake(m) gives mesh m bit for bit.
+TEST(UniqueCity, UnbakedCityBakesIntoTheSameCity) {
+  CityOptions options{.levels = 2, .fanout = 5, .seed = 6};
+  options.unique = true;
+  const Scene baked = generateCity(cityPrototypes(), options);
+  const UnbakedCity unbaked = generateUniqueCity(cityPrototypes(), options);
+  ASSERT_EQ(unbaked.scene.meshes.size(), baked.meshes.size());
+  EXPECT_EQ(structureFingerprint(unbaked.scene), structureFingerprint(baked)) << "nodes, parts, materials";
+  for (std::uint32_t m = 0; m < baked.meshes.size(); ++m) {
+    EXPECT_FALSE(unbaked.scene.meshes[m].loaded());
+    EXPECT_EQ(unbaked.scene.meshes[m].name, baked.meshes[m].name);
+    EXPECT_EQ(meshFingerprint(*unbaked.bake(m)), meshFingerprint(baked.meshes[m])) << "mesh " << m;
+  }
+}
+
+// A unique city written as .gltf one mesh at a time is the one written as .glb.
+TEST(UniqueCity, CommandLineWritesAGltfMeshByMesh) {
+  test::ScratchDir scratch;
+  writeGlb(cityPrototypes()[1], scratch / "pump.glb");
+  const std::string base = "generate city --mesh '" + (scratch / "pump.glb").string() + "' --levels 2 --fanout 3 --unique -o '";
+  const test::CommandResult gltf = test::runPbs(base + (scratch / "city.gltf").string() + "'");
+  ASSERT_EQ(gltf.status, 0) << gltf.err;
+  const test::CommandResult glb = test::runPbs(base + (scratch / "city.glb").string() + "'");
+  ASSERT_EQ(glb.status, 0) << glb.err;
+  EXPECT_TRUE(std::filesystem::exists(scratch / "city.0.bin"));
+  EXPECT_EQ(sceneFingerprint(loadScene((scratch / "city.gltf").string()).scene),
+            sceneFingerprint(loadScene((scratch / "city.glb").string()).scene));
 }
 
 TEST(UniqueCity, CommandLineRefusesWhatAGlbCannotHold) {

@@ -1,9 +1,11 @@
-// Tests of the .glb writer: round trips through importGltf keep hierarchy, transforms, meshes,
-// materials, texture pixels and samplers; the file is compact; writes are whole or not at all.
+// Tests of the glTF writers: round trips through importGltf keep hierarchy, transforms, meshes,
+// materials, texture pixels and samplers; the file is compact; writes are whole or not at all; a .gltf
+// with .bin files, written mesh by mesh, imports as the .glb does.
 #include <pbs/scene/generate.hpp>
 #include <pbs/scene/gltf_export.hpp>
 #include <pbs/scene/gltf_import.hpp>
 #include <pbs/scene/hierarchy.hpp>
+#include <pbs/scene/scene_fingerprint.hpp>
 
 #include "test_support.hpp"
 
@@ -329,6 +331,50 @@ TEST(GltfExport, InvalidSceneThrowsAndKeepsTheOldFile) {
   EXPECT_THROW(writeGlb(scene, scratch / "scene.glb"), std::runtime_error);
   EXPECT_EQ(test::readFile(scratch / "scene.glb"), "old");
   EXPECT_EQ(folderEntries(scratch.path()), std::vector<std::string>{"scene.glb"});
+}
+
+// A .gltf whose data is split over several .bin files (a small cap here), each mesh read as it is
+// written, imports as the scene's .glb; the files named are those written.
+TEST(GltfExport, GltfWithBinFilesImportsAsTheGlb) {
+  test::ScratchDir scratch;
+  const Scene scene = makeTestScene();
+  std::vector<std::uint32_t> read;
+  const MeshReader counting = [&](std::uint32_t m) {
+    read.push_back(m);
+    return loadedMeshes(scene)(m);
+  };
+  const std::vector<fs::path> files = writeGltf(scene, counting, scratch / "scene.gltf", 4096);
+  std::vector<std::uint32_t> inOrder(scene.meshes.size());
+  for (std::uint32_t m = 0; m < inOrder.size(); ++m) inOrder[m] = m;
+  EXPECT_EQ(read, inOrder) << "each mesh once, in order";
+  ASSERT_GE(files.size(), 3u) << "the .gltf and at least two .bin files";
+  EXPECT_EQ(files.front(), scratch / "scene.gltf");
+  for (std::size_t k = 1; k < files.size(); ++k) {
+    EXPECT_EQ(files[k], scratch / ("scene." + std::to_string(k - 1) + ".bin"));
+    EXPECT_TRUE(fs::exists(files[k]));
+  }
+  EXPECT_EQ(folderEntries(scratch.path()).size(), files.size()) << "no temporaries left";
+  writeGlb(scene, scratch / "scene.glb");
+  const ImportResult gltf = importGltf(scratch / "scene.gltf"), glb = importGltf(scratch / "scene.glb");
+  EXPECT_TRUE(gltf.warnings.empty());
+  EXPECT_EQ(sceneFingerprint(gltf.scene), sceneFingerprint(glb.scene));
+}
+
+// A mesh that cannot be made stops the write with the .gltf's name; neither it nor a .bin is left.
+TEST(GltfExport, GltfWriteThatFailsLeavesNothing) {
+  test::ScratchDir scratch;
+  const Scene scene = makeTestScene();
+  const MeshReader failing = [&](std::uint32_t m) -> std::shared_ptr<const Mesh> {
+    if (m + 1 == scene.meshes.size()) throw std::runtime_error("cannot bake");
+    return loadedMeshes(scene)(m);
+  };
+  try {
+    writeGltf(scene, failing, scratch / "scene.gltf", 64);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find((scratch / "scene.gltf").string()), std::string::npos) << error.what();
+  }
+  EXPECT_TRUE(folderEntries(scratch.path()).empty());
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
-// `pbs generate default|city -o F.glb`: writes the procedural scenes as glTF binary files.
+// `pbs generate default|city -o F.glb|F.gltf`: writes the procedural scenes as glTF, a binary .glb or a
+// .gltf with .bin files.
 #include "commands.hpp"
 #include "memory_limit.hpp"
 #include "scene_report.hpp"
@@ -17,19 +18,30 @@
 namespace pbs::cli {
 namespace {
 
-void writeAndReport(const Scene& scene, const std::string& output) {
-  writeGlb(scene, output);
-  const Hierarchy hierarchy = analyzeHierarchy(scene);
-  const SceneSummary summary = summarizeScene(scene, hierarchy);
+// Whether `output` names a .gltf (data in .bin files beside it, written mesh by mesh) rather than a .glb.
+bool writesGltf(const std::string& output) { return std::filesystem::path(output).extension() == ".gltf"; }
+
+// Writes `scene`, whose meshes `meshAt` reads (the scene's own, or made one at a time), and says what.
+void writeAndReport(const Scene& scene, const MeshReader& meshAt, const std::string& output) {
+  std::uint64_t bytes = 0;
+  if (writesGltf(output)) {
+    for (const std::filesystem::path& file : writeGltf(scene, meshAt, output)) bytes += std::filesystem::file_size(file);
+  } else {
+    writeGlb(scene, output);
+    bytes = std::filesystem::file_size(output);
+  }
+  const SceneSummary summary = summarizeScene(scene, analyzeStructure(scene));
   std::printf("wrote %s: %s nodes, %s instanced triangles (%s unique), %.1f MB\n", output.c_str(),
               withThousands(summary.nodes).c_str(), withThousands(summary.triangles).c_str(),
-              withThousands(summary.uniqueTriangles).c_str(), double(std::filesystem::file_size(output)) / 1e6);
+              withThousands(summary.uniqueTriangles).c_str(), double(bytes) / 1e6);
 }
 
-// Before a city with --unique is baked: its size is known exactly from the instanced city (the same
-// draws), so refuse what a .glb cannot hold (one 32-bit chunk) or memory cannot, instead of failing
-// or being killed after minutes of work. Memory: the scene, then while writing the glTF binary twice
-// (the exporter's buffer, growing, and tinygltf's copy of it).
+void writeAndReport(const Scene& scene, const std::string& output) { writeAndReport(scene, loadedMeshes(scene), output); }
+
+// Before a city with --unique is baked into a .glb: its size is known exactly from the instanced city
+// (the same draws), so refuse what a .glb cannot hold (one 32-bit chunk) or memory cannot, instead of
+// failing or being killed after minutes of work. Memory: the scene, then while writing the glTF binary
+// twice (the exporter's buffer, growing, and tinygltf's copy of it). A .gltf is written mesh by mesh.
 void requireUniqueCityFits(const std::vector<Scene>& prototypes, const CityOptions& options) {
   CityOptions instanced = options;
   instanced.unique = false;
@@ -46,7 +58,8 @@ void requireUniqueCityFits(const std::vector<Scene>& prototypes, const CityOptio
   const std::string what = "a city of " + withThousands(triangles) + " unique triangles";
   if (glbBytes > std::numeric_limits<std::uint32_t>::max() - (std::uint64_t(1) << 20))
     throw std::runtime_error(what + " needs " + withThousands(glbBytes >> 20) +
-                             " MiB of binary glTF data, more than the 4 GiB a .glb holds: lower --levels or --fanout");
+                             " MiB of binary glTF data, more than the 4 GiB a .glb holds: write a .gltf (its data "
+                             "in .bin files, written mesh by mesh), or lower --levels or --fanout");
   requireMemory(sceneBytes + 3 * glbBytes, what, 0);
 }
 
@@ -60,11 +73,11 @@ void addGenerateCommand(CLI::App& app) {
     int threads = 0;
   };
   auto options = std::make_shared<Options>();
-  CLI::App* generate = app.add_subcommand("generate", "Write a procedural scene as .glb");
+  CLI::App* generate = app.add_subcommand("generate", "Write a procedural scene as .glb or .gltf");
   generate->require_subcommand(1);
 
   CLI::App* plant = generate->add_subcommand("default", "the embedded default scene (an industrial plant)");
-  plant->add_option("-o,--output", options->output, "output .glb")->required();
+  plant->add_option("-o,--output", options->output, "output .glb, or .gltf with its data in .bin files")->required();
   addThreadsOption(*plant, options->threads);
   plant->callback([options] {
     runWithThreads(options->threads, [&] { writeAndReport(generateDefaultScene(), options->output); });
@@ -82,7 +95,10 @@ void addGenerateCommand(CLI::App& app) {
   city->add_flag("--unique", options->city.unique,
                  "share nothing: every instance gets its own copy of its mesh, its placement baked into the "
                  "vertices (the same picture, as many meshes as instances)");
-  city->add_option("-o,--output", options->output, "output .glb")->required();
+  city->add_option("-o,--output", options->output,
+                   "output .glb, or .gltf with its data in .bin files beside it (no 4 GiB limit; with --unique "
+                   "written one mesh at a time, so the city need not fit in memory)")
+      ->required();
   addThreadsOption(*city, options->threads);
   city->callback([options] {
     // Leaves = fanout^levels; refuse sizes whose node arrays alone would not fit in memory.
@@ -93,6 +109,11 @@ void addGenerateCommand(CLI::App& app) {
     runWithThreads(options->threads, [&] {
       std::vector<Scene> prototypes;
       for (const std::string& mesh : options->meshes) prototypes.push_back(loadScene(mesh).scene);
+      if (options->city.unique && writesGltf(options->output)) {
+        const UnbakedCity city = generateUniqueCity(prototypes, options->city);
+        writeAndReport(city.scene, city.bake, options->output);
+        return;
+      }
       if (options->city.unique) requireUniqueCityFits(prototypes, options->city);
       writeAndReport(generateCity(prototypes, options->city), options->output);
     });

@@ -58,6 +58,19 @@ Mesh flattenPrototype(Scene& city, const Scene& prototype, std::size_t index) {
   return mesh;
 }
 
+std::uint64_t countNodes(const CityOptions& options);
+
+// Every prototype flattened into one mesh (its materials and textures appended to the city's), after
+// checking the options.
+std::vector<Mesh> flattenPrototypes(Scene& city, const std::vector<Scene>& prototypes, const CityOptions& options) {
+  if (prototypes.empty()) throw std::invalid_argument("generateCity: no prototypes");
+  if (options.fanout == 0) throw std::invalid_argument("generateCity: fanout must be at least 1");
+  countNodes(options);  // throws before any work when the nodes would not fit 32-bit indices
+  std::vector<Mesh> flattened;
+  for (std::size_t p = 0; p < prototypes.size(); ++p) flattened.push_back(flattenPrototype(city, prototypes[p], p));
+  return flattened;
+}
+
 // 1 + fanout + … + fanout^levels, or throws when the nodes would not fit 32-bit indices.
 std::uint64_t countNodes(const CityOptions& options) {
   constexpr std::uint64_t kLimit = std::numeric_limits<std::int32_t>::max();
@@ -89,22 +102,38 @@ Node makeInstance(SeededRandom& random, std::uint32_t prototypes, const glm::dma
   return Node{std::move(name), place * turnY(yaw) * scaled(scale.x, scale.y, scale.z), {}, mesh};
 }
 
-// Gives every leaf (a node with a mesh, here always an instance of a prototype) its own copy of
-// `prototypes`[its mesh] with its local transform baked in, and makes that transform the identity.
-// The copies are made in parallel, each into its own slot, so the result does not depend on threads.
-void bakeLeaves(Scene& city, const std::vector<Mesh>& prototypes) {
+// The leaves of `city` (nodes with a mesh, here always an instance of a prototype), in node order: the
+// unique city gives leaf i mesh i.
+std::vector<std::uint32_t> leavesOf(const Scene& city) {
   std::vector<std::uint32_t> leaves;
   for (std::uint32_t n = 0; n < city.nodes.size(); ++n)
     if (city.nodes[n].mesh >= 0) leaves.push_back(n);
+  return leaves;
+}
+
+// The copy of `prototype` with the placement `local` baked in, named after the leaf.
+Mesh bakeLeaf(const Mesh& prototype, const glm::dmat4& local, const std::string& leafName) {
+  const MeshPiece piece{&prototype, local, 0};
+  return mergeMeshes(std::span(&piece, 1), prototype.name + ", " + leafName);
+}
+
+// The instanced city made unique without baking: leaf i gets mesh i, described by its name and parts
+// (those of its prototype: baking one piece keeps a merged mesh's parts), and the identity transform.
+// Returns each leaf's prototype and placement, which bakeLeaf turns into its mesh.
+std::vector<std::pair<std::uint32_t, glm::dmat4>> describeLeaves(Scene& city, const std::vector<Mesh>& prototypes) {
+  const std::vector<std::uint32_t> leaves = leavesOf(city);
+  std::vector<std::pair<std::uint32_t, glm::dmat4>> placements(leaves.size());
   city.meshes.resize(leaves.size());
-  tbb::parallel_for(std::size_t(0), leaves.size(), [&](std::size_t i) {
+  for (std::size_t i = 0; i < leaves.size(); ++i) {
     Node& node = city.nodes[leaves[i]];
     const Mesh& prototype = prototypes[std::size_t(node.mesh)];
-    const MeshPiece piece{&prototype, node.local, 0};
-    city.meshes[i] = mergeMeshes(std::span(&piece, 1), prototype.name + ", " + node.name);
+    placements[i] = {std::uint32_t(node.mesh), node.local};
+    city.meshes[i].name = prototype.name + ", " + node.name;
+    city.meshes[i].parts = prototype.parts;
     node.mesh = std::int32_t(i);
     node.local = glm::dmat4(1.0);
-  });
+  }
+  return placements;
 }
 
 // The city's nodes: a root block, `levels` levels of `fanout` children each on a grid, instances of
@@ -151,21 +180,36 @@ std::vector<Node> placeNodes(std::uint32_t prototypes, const CityOptions& option
 }  // namespace
 
 Scene generateCity(const std::vector<Scene>& prototypes, const CityOptions& options) {
-  if (prototypes.empty()) throw std::invalid_argument("generateCity: no prototypes");
-  if (options.fanout == 0) throw std::invalid_argument("generateCity: fanout must be at least 1");
-  countNodes(options);  // throws before any work when the nodes would not fit 32-bit indices
-
+  if (options.unique) {
+    // The unbaked city, baked in parallel, each mesh into its own slot: the result does not depend on threads.
+    UnbakedCity city = generateUniqueCity(prototypes, options);
+    tbb::parallel_for(std::size_t(0), city.scene.meshes.size(),
+                      [&](std::size_t m) { city.scene.meshes[m] = *city.bake(std::uint32_t(m)); });
+    return std::move(city.scene);
+  }
   Scene city;
-  std::vector<Mesh> flattened;
-  for (std::size_t p = 0; p < prototypes.size(); ++p) flattened.push_back(flattenPrototype(city, prototypes[p], p));
-
+  std::vector<Mesh> flattened = flattenPrototypes(city, prototypes, options);
   city.nodes = placeNodes(std::uint32_t(flattened.size()), options);
   city.roots = {0};
+  city.meshes = std::move(flattened);
+  return city;
+}
+
+UnbakedCity generateUniqueCity(const std::vector<Scene>& prototypes, const CityOptions& options) {
+  auto flattened = std::make_shared<std::vector<Mesh>>();
+  UnbakedCity city;
+  *flattened = flattenPrototypes(city.scene, prototypes, options);
   // placeNodes draws the same either way, so the unique city is the instanced one, baked.
-  if (options.unique)
-    bakeLeaves(city, flattened);
-  else
-    city.meshes = std::move(flattened);
+  city.scene.nodes = placeNodes(std::uint32_t(flattened->size()), options);
+  city.scene.roots = {0};
+  auto placements = std::make_shared<const std::vector<std::pair<std::uint32_t, glm::dmat4>>>(
+      describeLeaves(city.scene, *flattened));
+  auto names = std::make_shared<std::vector<std::string>>();
+  for (const std::uint32_t leaf : leavesOf(city.scene)) names->push_back(city.scene.nodes[leaf].name);
+  city.bake = [flattened, placements, names](std::uint32_t mesh) {
+    const auto& [prototype, local] = placements->at(mesh);
+    return std::make_shared<const Mesh>(bakeLeaf((*flattened)[prototype], local, (*names)[mesh]));
+  };
   return city;
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "pbs/scene/scene.hpp"
+#include "pbs/scene/scene_scan.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -29,5 +30,15 @@ struct CityOptions {
 // mirroring scales. Leaves: fanout^levels instances. With options.unique the leaves' meshes are
 // baked in parallel, one per leaf in node order (the prototypes' own meshes are not kept).
 Scene generateCity(const std::vector<Scene>& prototypes, const CityOptions& options);
+
+// generateCity with options.unique, its meshes not baked yet: the nodes (each leaf's transform the
+// identity), materials, textures and every mesh's name and parts (Mesh::loaded() false); `bake(m)` makes
+// mesh m as generateCity does, from any thread. So a city larger than memory can be written one mesh at a
+// time (writeGltf). options.unique itself is not read.
+struct UnbakedCity {
+  Scene scene;
+  MeshReader bake;
+};
+UnbakedCity generateUniqueCity(const std::vector<Scene>& prototypes, const CityOptions& options);
 
 }  // namespace pbs
