@@ -75,6 +75,35 @@ TEST(EvalCli, ReadsTheSurfelFileAsFramesDrawIt) {
   }
 }
 
+// Against the rasterizer's reference with no Embree setting, a glTF scene is opened without its mesh
+// arrays and every frame reads the meshes it draws (the reference node by node): the same errors as
+// with the scene read whole (which an Embree peer forces).
+TEST(EvalCli, ExactReferenceReadsMeshesAsFramesDrawThem) {
+  const EvalRun onDemand, whole;
+  const std::string common = "--size 96x64 --frames 3 --path approach --reference exact --reference-samples 4 "
+                             "--sweep surfels --quiet --peers ";
+  const test::CommandResult a = onDemand.run(common + "exact=1");
+  ASSERT_EQ(a.status, 0) << a.err;
+  const test::CommandResult b = whole.run(common + "exact=1 --peers embree=1");
+  ASSERT_EQ(b.status, 0) << b.err;
+  const nlohmann::json summaryA = nlohmann::json::parse(test::readFile(onDemand.out / "summary.json"));
+  const nlohmann::json summaryB = nlohmann::json::parse(test::readFile(whole.out / "summary.json"));
+  EXPECT_EQ(summaryA["meshes"], "read as frames draw them");
+  EXPECT_EQ(summaryB["meshes"], "read whole");
+  EXPECT_EQ(summaryA["reference"]["renderer"], "exact");
+  EXPECT_EQ(summaryA["embree_build_seconds"], 0.0) << "no BVH over the whole scene";
+  std::map<std::pair<std::string, std::string>, std::string> flipB;
+  for (const test::CsvRow& row : whole.rows()) flipB[{row.fields.at("setting"), row.fields.at("frame")}] = row.fields.at("flip");
+  std::size_t compared = 0;
+  for (const test::CsvRow& row : onDemand.rows()) {
+    const auto key = std::pair(row.fields.at("setting"), row.fields.at("frame"));
+    ASSERT_TRUE(flipB.contains(key)) << key.first;
+    EXPECT_EQ(row.fields.at("flip"), flipB[key]) << key.first << " frame " << key.second;
+    ++compared;
+  }
+  EXPECT_EQ(compared, 6u) << "exact=1 and surfels, three frames each";
+}
+
 TEST(EvalCli, PeersSurfelsAndSweepsAgainstTheReference) {
   const EvalRun eval;
   const test::CommandResult run =

@@ -205,6 +205,36 @@ TEST(LazyMeshes, FramesAreTheWholeScenesBitForBitWhateverTheBudget) {
   }
 }
 
+// Exact frames of a scene read on demand are drawn node by node, a budget's worth of meshes at a time:
+// the frames drawing every node at once, bit for bit, at one sample and supersampled.
+TEST(LazyMeshes, ExactFramesDrawnNodeByNodeAreTheWholeScenes) {
+  ScratchDir scratch;
+  writeGlb(test::layeredScene(), scratch / "layered.glb");
+  const ImportResult whole = importGltf(scratch / "layered.glb");
+  const Hierarchy hierarchy = analyzeHierarchy(whole.scene);
+  const test::SurfeledScene path{whole.scene, hierarchy, {}};
+  for (const std::uint32_t samples : {1u, 4u}) {
+    for (const std::uint64_t budget : {std::uint64_t(1), std::uint64_t(1) << 30}) {
+      SCOPED_TRACE(std::to_string(samples) + " samples, budget " + std::to_string(budget));
+      const FrameOptions exact{.mode = RenderMode::Exact, .lod = {}, .samples = samples};
+      FrameRenderer reference(whole.scene, hierarchy, exact, 160, 120, {});
+      LazyGltf lazy = openGltfWithoutMeshes(scratch / "layered.glb");
+      const Hierarchy lazyHierarchy = analyzeHierarchy(lazy.imported.scene, hierarchy.instanceBounds);
+      LazyMeshes meshes(lazy.imported.scene, lazy.decode, meshFingerprints(whole.scene), "layered.glb", budget);
+      FrameRenderer byNodes(lazy.imported.scene, lazyHierarchy, exact, 160, 120, {.meshes = &meshes});
+      for (const Camera& camera : test::approachCameras(path, 4, 3.0)) {
+        const FrameResult a = reference.render(camera), b = byNodes.render(camera);
+        EXPECT_TRUE(test::sameBits(a.image, b.image));
+        EXPECT_EQ(a.stats.triangles, b.stats.triangles);
+      }
+      if (budget == 1) {
+        EXPECT_GT(meshes.stats().unloaded, 0u) << "batches of one mesh, each let go after";
+        EXPECT_LE(meshes.stats().peakBytesLoaded, 2 * meshBytes(whole.scene.meshes[2])) << "the largest mesh, about";
+      }
+    }
+  }
+}
+
 // Captures run side by side and require overlapping meshes: each mesh is decoded once (a call that finds
 // it being decoded waits for it), is whole while leased, and a decoder's failure reaches every caller that
 // needed the mesh and leaves no lease behind.

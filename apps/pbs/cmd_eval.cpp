@@ -17,6 +17,7 @@
 
 #include <pbs/raster/flip.hpp>
 #include <pbs/raster/thread_arena.hpp>
+#include <pbs/scene/lazy_meshes.hpp>
 #include <pbs/scene/simplified_meshes.hpp>
 #include <pbs/surfels/surfel_cache.hpp>
 #include <pbs/surfels/surfel_file.hpp>
@@ -29,6 +30,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 
 namespace pbs::cli {
 namespace {
@@ -46,6 +48,7 @@ struct EvalOptions {
   std::uint32_t frames = 24;
   std::string size = "1920x1080";
   std::string orbit = "30,20,2.5";
+  std::string referenceRenderer = "embree";
   LodOptions baseline;  // what every setting starts from
   CaptureSource captureFrom = CaptureSource::Auto;
   bool quiet = false;
@@ -57,9 +60,10 @@ struct EvalOptions {
 // of other orderings made on demand with the file's options.
 class SurfelSources {
  public:
-  SurfelSources(const LoadedScene& loaded, const std::string& file, std::uint64_t cacheBytes, CaptureSource source,
+  // `reader` must have been required for the scene (loadAndAnalyze or openWithoutMeshes with it).
+  SurfelSources(const LoadedScene& loaded, SurfelFileReader reader, std::uint64_t cacheBytes, CaptureSource source,
                 bool quiet)
-      : loaded_(loaded), source_(source), quiet_(quiet), cache_(file, loaded.scene, loaded.hierarchy, cacheBytes) {}
+      : loaded_(loaded), source_(source), quiet_(quiet), cache_(std::move(reader), loaded.scene, loaded.hierarchy, cacheBytes) {}
 
   SurfelOrdering fileOrdering() const { return cache_.options().ordering; }
   // The arrays' lengths and packing, which decide the traversal (each view's kind among it).
@@ -168,19 +172,44 @@ void printTable(const std::vector<EvalSummary>& summaries) {
   }
 }
 
+// Whether every setting and the reference can draw a scene whose meshes are read as frames draw them:
+// not with Embree over the whole scene (its BVH holds every triangle), arrays of other orderings or
+// simplified meshes (both made from the whole scene).
+bool drawableOnDemand(const std::vector<EvalSetting>& settings, RenderMode reference, SurfelOrdering fileOrdering) {
+  if (reference == RenderMode::Embree) return false;
+  return std::none_of(settings.begin(), settings.end(), [&](const EvalSetting& s) {
+    return s.mode == RenderMode::Embree || s.simplify || (s.ordering && *s.ordering != fileOrdering);
+  });
+}
+
 void run(const EvalOptions& options) {
   const Orbit orbit = parseOrbit(options.orbit);
   const auto [width, height] = parseSize(options.size);
-  const auto loadStart = std::chrono::steady_clock::now();
-  const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
-  const double loadSeconds = secondsSince(loadStart);
+  const RenderMode referenceMode = *renderModeFromName(options.referenceRenderer);
   const auto surfelsStart = std::chrono::steady_clock::now();
-  SurfelSources sources(loaded, options.surfels, options.cacheMb << 20, options.captureFrom, options.quiet);
-  const double surfelsLoadSeconds = secondsSince(surfelsStart);
+  SurfelFileReader reader(options.surfels);  // its tables: what the arrays were made with
+  double surfelsLoadSeconds = secondsSince(surfelsStart);
+  const SurfelOrdering fileOrdering = reader.options().ordering;
   const LodOptions& baseline = options.baseline;
   const std::vector<EvalSetting> settings =
-      evalSettings(options.peers, options.sweeps.empty() ? defaultSweep(sources.fileOrdering()) : options.sweeps, baseline);
+      evalSettings(options.peers, options.sweeps.empty() ? defaultSweep(fileOrdering) : options.sweeps, baseline);
   const std::size_t baselineIndex = baselineSetting(settings);
+
+  // A glTF scene with a version 4 file is opened without its mesh arrays where nothing needs them all: a
+  // scene larger than memory is measured against the rasterizer's reference, drawn node by node.
+  const bool meshesOnDemand = options.scene != "default" && !reader.sceneTable().instanceBounds.empty() &&
+                              drawableOnDemand(settings, referenceMode, fileOrdering);
+  const std::uint64_t cacheBytes = options.cacheMb << 20;
+  const std::vector<std::uint64_t> meshFingerprints = reader.sceneTable().meshes;
+  const auto loadStart = std::chrono::steady_clock::now();
+  LoadedScene loaded = meshesOnDemand ? openWithoutMeshes(options.scene, reader)
+                                      : loadAndAnalyze(options.scene, LoadOptions{}, reader);
+  const double loadSeconds = secondsSince(loadStart);
+  std::optional<LazyMeshes> meshes;
+  if (meshesOnDemand) meshes.emplace(loaded.scene, loaded.decodeMesh, meshFingerprints, loaded.name, cacheBytes);
+  const auto cacheStart = std::chrono::steady_clock::now();
+  SurfelSources sources(loaded, std::move(reader), cacheBytes, options.captureFrom, options.quiet);
+  surfelsLoadSeconds += secondsSince(cacheStart);
   // Arrays of other orderings and simplified meshes are made before timing starts, so no frame waits on them.
   SimplifiedScenes simplifiedScenes(loaded.scene, options.quiet);
   for (const EvalSetting& setting : settings) {
@@ -196,7 +225,9 @@ void run(const EvalOptions& options) {
   // (descendExhausted) must not move its own frames to the near kind's laxer targets.
   LodOptions kindLod = baseline;
   kindLod.descendExhausted = false;
-  const EvalInputs inputs{.referenceSamples = options.referenceSamples,
+  const EvalInputs inputs{.referenceMode = referenceMode,
+                          .referenceSamples = options.referenceSamples,
+                          .meshes = meshes ? &*meshes : nullptr,
                           .compare = {.background = options.background, .pixelsPerDegree = options.pixelsPerDegree},
                           .sheetFrame = std::uint32_t(cameras.size() / 2),
                           .kindSurfels = &sources.decisions(),
@@ -223,7 +254,9 @@ void run(const EvalOptions& options) {
                          .width = width,
                          .height = height,
                          .frames = std::uint32_t(cameras.size()),
+                         .referenceRenderer = options.referenceRenderer,
                          .referenceSamples = options.referenceSamples,
+                         .meshesOnDemand = meshesOnDemand,
                          .baseline = baselineIndex,
                          .loadSeconds = loadSeconds,
                          .surfelsLoadSeconds = surfelsLoadSeconds,
@@ -250,9 +283,10 @@ void run(const EvalOptions& options) {
               contactSheet(width, height, 3, tiles, background));
   writeTextFile(folder / "summary.json", summary.dump(2) + "\n");
 
-  std::printf("%s, %s path: %ux%u, %zu frames; reference Embree at %u samples, median %.1f ms; BVH %.2f s, load %.2f s\n",
-              loaded.name.c_str(), options.path.c_str(), width, height, cameras.size(), options.referenceSamples,
-              summary["reference"]["median_seconds"].get<double>() * 1e3, results.buildSeconds, loadSeconds);
+  std::printf("%s, %s path: %ux%u, %zu frames; reference %s at %u samples, median %.1f ms; BVH %.2f s, load %.2f s%s\n",
+              loaded.name.c_str(), options.path.c_str(), width, height, cameras.size(), options.referenceRenderer.c_str(),
+              options.referenceSamples, summary["reference"]["median_seconds"].get<double>() * 1e3, results.buildSeconds,
+              loadSeconds, meshesOnDemand ? "; meshes read as frames draw them" : "");
   std::string kinds;
   for (FrameKind kind : {FrameKind::Near, FrameKind::Mid, FrameKind::Far}) {
     const auto n = std::count_if(results.views.begin(), results.views.end(), [&](const EvalView& v) { return v.kind == kind; });
@@ -291,7 +325,14 @@ void addEvalCommand(CLI::App& app) {
   addLodOptions(*command, options->baseline);
   addPathOption(*command, options->path);
   addSamplesOption(*command, "--reference-samples", options->referenceSamples,
-                   "samples per pixel of the reference every frame is compared with (Embree)");
+                   "samples per pixel of the reference every frame is compared with");
+  command
+      ->add_option("--reference", options->referenceRenderer,
+                   "what draws the reference: embree (rays) or exact (the rasterizer; for a glTF scene with a "
+                   "version 4 .surfels file and no Embree peer, its meshes are read as frames draw them, node by "
+                   "node, so a scene larger than memory, or than rays can hold, can be measured)")
+      ->check(CLI::IsMember({"embree", "exact"}))
+      ->capture_default_str();
   command->add_option("--frames", options->frames, "views on the path")->check(CLI::Range(1u, 100000u))->capture_default_str();
   command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
   command->add_option("--orbit", options->orbit,

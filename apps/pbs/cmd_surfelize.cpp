@@ -21,13 +21,10 @@ namespace pbs::cli {
 namespace {
 
 // What reading a glTF's meshes as captures draw them holds besides the captures: the cache's budget and
-// up to two meshes a worker in the scan (their arrays estimated from the parts: a vertex per triangle).
+// up to two meshes a worker in the scan.
 std::uint64_t lazyMeshMemory(const Scene& scene, std::uint64_t cacheBytes, int workers) {
   std::uint64_t largest = 0;
-  for (const Mesh& mesh : scene.meshes) {
-    const std::uint64_t indices = 3 * mesh.triangleCount();
-    largest = std::max(largest, indices * 4 + indices / 3 * (12 + 12 + 8));
-  }
+  for (const Mesh& mesh : scene.meshes) largest = std::max(largest, meshBytesFromParts(mesh));
   return cacheBytes + 2 * std::uint64_t(std::max(workers, 1)) * largest;
 }
 

@@ -61,7 +61,9 @@ struct EvalRunInfo {
   std::string surfels;  // the .surfels file
   std::string path;     // the camera path's name
   std::uint32_t width = 0, height = 0, frames = 0;
+  std::string referenceRenderer;  // "embree" or "exact"
   std::uint32_t referenceSamples = 0;
+  bool meshesOnDemand = false;  // the scene opened without its mesh arrays
   std::size_t baseline = 0;  // index into the settings
   double loadSeconds = 0.0;         // the scene file
   double surfelsLoadSeconds = 0.0;  // opening the .surfels file (its tables); frames read their prefixes

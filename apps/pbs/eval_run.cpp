@@ -1,5 +1,5 @@
-// runEval: one Embree BVH for the reference and the Embree peers, one FrameRenderer per setting reused
-// over the path so its timings match `pbs render`.
+// runEval: one Embree BVH for the reference and the Embree peers (where they cast rays), one FrameRenderer
+// per setting reused over the path so its timings match `pbs render`.
 #include "eval_run.hpp"
 
 #include "report_numbers.hpp"
@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace pbs::cli {
@@ -55,15 +56,25 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
   };
 
   EvalResults results;
-  const auto build = std::chrono::steady_clock::now();
-  const EmbreeScene rays(scene, hierarchy);
-  results.buildSeconds = secondsSince(build);
+  // One BVH over the whole scene, where the reference or a peer casts rays over it.
+  const bool wholeRays = inputs.referenceMode == RenderMode::Embree ||
+                         std::any_of(settings.begin(), settings.end(),
+                                     [](const EvalSetting& s) { return s.mode == RenderMode::Embree; });
+  if (wholeRays && inputs.meshes) throw std::invalid_argument("runEval: Embree over a scene whose meshes are read on demand");
+  std::optional<EmbreeScene> rays;
+  if (wholeRays) {
+    const auto build = std::chrono::steady_clock::now();
+    rays.emplace(scene, hierarchy);
+    results.buildSeconds = secondsSince(build);
+  }
+  const EmbreeScene* sharedRays = rays ? &*rays : nullptr;
 
   std::vector<RgbaImage> reference;
   {
-    FrameRenderer renderer(scene, hierarchy, {.mode = RenderMode::Embree, .lod = {}, .samples = inputs.referenceSamples},
-                           width,
-                           height, {.rays = &rays});
+    FrameRenderer renderer(scene, hierarchy,
+                           {.mode = inputs.referenceMode, .lod = {}, .samples = inputs.referenceSamples}, width,
+                           height,
+                           {.meshes = inputs.referenceMode == RenderMode::Exact ? inputs.meshes : nullptr, .rays = sharedRays});
     for (std::size_t f = 0; f < cameras.size(); ++f) {
       FrameResult frame = renderer.render(cameras[f]);
       EvalView view{.camera = cameras[f], .referenceSeconds = frame.seconds};
@@ -82,7 +93,8 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
   for (const EvalSetting& setting : settings) {
     FrameSources sources = setting.isPeer() ? FrameSources{} : surfelsOf(setting);
     sources.simplified = setting.simplify ? &simplifiedOf(setting) : nullptr;
-    sources.rays = &rays;
+    sources.rays = sharedRays;
+    if (setting.mode == RenderMode::Exact || sources.cache) sources.meshes = inputs.meshes;
     FrameRenderer renderer(scene, hierarchy, {.mode = setting.mode, .lod = setting.lod, .samples = setting.samples},
                            width, height, sources);
     EvalSettingResult result;

@@ -50,12 +50,18 @@ struct EvalSettingResult {
 struct EvalResults {
   std::vector<EvalView> views;
   std::vector<std::uint8_t> referenceSheet;  // the reference of the contact sheet's frame as RGBA8
-  double buildSeconds = 0.0;                 // Embree's BVH, built once for the reference and the Embree peers
+  double buildSeconds = 0.0;                 // Embree's BVH, built once for the reference and the Embree peers (0: none)
   std::vector<EvalSettingResult> settings;   // parallel to the settings given
 };
 
 struct EvalInputs {
+  // The reference: Embree rays, or the rasterizer (with `meshes`, node by node: it needs no hierarchy over
+  // every triangle), at this many samples per pixel.
+  RenderMode referenceMode = RenderMode::Embree;
   std::uint32_t referenceSamples = 64;
+  // A scene opened without its mesh arrays: exact frames and surfel frames from the file's cache read the
+  // meshes they draw through it (no setting may then use Embree over the whole scene).
+  LazyMeshes* meshes = nullptr;
   CompareOptions compare;       // background and observer; the FLIP map is taken for the sheet's frame only
   std::uint32_t sheetFrame = 0;  // the frame the contact sheet shows
   // The surfels and LOD options that decide each view's kind (the file's own arrays, the baseline).

@@ -11,6 +11,11 @@ std::uint64_t meshBytes(const Mesh& mesh) {
          mesh.uvs.size() * sizeof(glm::vec2) + mesh.indices.size() * sizeof(std::uint32_t);
 }
 
+std::uint64_t meshBytesFromParts(const Mesh& mesh) {
+  const std::uint64_t triangles = mesh.triangleCount();
+  return triangles * (3 * sizeof(std::uint32_t) + 2 * sizeof(glm::vec3) + sizeof(glm::vec2));
+}
+
 void dropUnreadUvs(const Scene& scene, Mesh& mesh) {
   const bool textured = std::any_of(mesh.parts.begin(), mesh.parts.end(), [&](const MeshPart& part) {
     return part.material < scene.materials.size() && scene.materials[part.material].baseColorTexture >= 0;

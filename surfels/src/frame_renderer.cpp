@@ -7,6 +7,7 @@
 #include <pbs/raster/headlight_shading.hpp>
 #include <pbs/raster/supersampling.hpp>
 #include <pbs/raster/value_names.hpp>
+#include <pbs/surfels/lod_geometry.hpp>
 #include <pbs/surfels/simplified_lod.hpp>
 
 #include <stdexcept>
@@ -43,8 +44,9 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, con
   if (sources.cache && !sources.surfels) sources_.surfels = &sources.cache->surfels();
   if (sources.stream && (mode != RenderMode::Surfels || !sources.cache))
     throw std::invalid_argument("a stream draws in surfels mode from its surfel cache");
-  if (sources.meshes && (mode != RenderMode::Surfels || !sources.cache || sources.stream))
-    throw std::invalid_argument("meshes read on demand are drawn in surfels mode from a surfel cache, not a stream");
+  if (sources.meshes && mode != RenderMode::Exact && (mode != RenderMode::Surfels || !sources.cache || sources.stream))
+    throw std::invalid_argument(
+        "meshes read on demand are drawn in exact mode, or in surfels mode from a surfel cache without a stream");
   if ((mode == RenderMode::Surfels || mode == RenderMode::Simplified) && !sources_.surfels)
     throw std::invalid_argument("surfels and simplified modes need a surfel file");
   if (mode == RenderMode::Simplified && !sources.simplified)
@@ -75,6 +77,40 @@ void FrameRenderer::loadGeometry(const LodDraws& draws) {
     if (geometryRays_) geometryRays_->forget(mesh);
 }
 
+LodStats FrameRenderer::drawExactInBatches(const Camera& camera, double& loadSeconds) {
+  LodStats pass;
+  const auto traverse = detail::Clock::now();
+  const LodDraws draws = traverseLod(scene_, hierarchy_, none_, camera, options_.lod);
+  pass.traverseSeconds = detail::secondsSince(traverse);
+  std::vector<std::uint32_t> nodes, meshes;
+  std::uint64_t bytes = 0;
+  const auto drawBatch = [&] {
+    const auto load = detail::Clock::now();
+    LazyMeshes::Lease lease = sources_.meshes->require(meshes);
+    loadSeconds += detail::secondsSince(load);
+    const auto raster = detail::Clock::now();
+    drawLodGeometry(scene_, hierarchy_, nodes, camera, gbuffer_, GeometryDrawer::Raster, nullptr);
+    pass.rasterSeconds += detail::secondsSince(raster);
+    lease = {};
+    sources_.meshes->unloadOverBudget();
+    nodes.clear();
+    meshes.clear();
+    bytes = 0;
+  };
+  for (std::uint32_t node : draws.geometryNodes) {
+    const auto mesh = std::uint32_t(scene_.nodes[node].mesh);
+    const std::uint64_t more = meshBytesFromParts(scene_.meshes[mesh]);
+    if (!nodes.empty() && bytes + more > sources_.meshes->budgetBytes()) drawBatch();
+    nodes.push_back(node);
+    meshes.push_back(mesh);
+    bytes += more;
+  }
+  if (!nodes.empty()) drawBatch();
+  pass.triangles = draws.triangles;
+  pass.nodesGeometry = draws.geometryNodes.size();
+  return pass;
+}
+
 LodStats FrameRenderer::drawPass(const Camera& camera, double& loadSeconds) {
   if (clearsDepth()) clearFramebuffer(gbuffer_, 0);
   LodStats pass;
@@ -102,7 +138,10 @@ LodStats FrameRenderer::drawPass(const Camera& camera, double& loadSeconds) {
       pass.traverseSeconds = traverseSeconds;
       break;
     }
-    case RenderMode::Exact: pass = renderLod(scene_, hierarchy_, none_, camera, gbuffer_, options_.lod); break;
+    case RenderMode::Exact:
+      pass = sources_.meshes ? drawExactInBatches(camera, loadSeconds)
+                             : renderLod(scene_, hierarchy_, none_, camera, gbuffer_, options_.lod);
+      break;
     case RenderMode::Simplified:
       pass = renderSimplifiedLod(scene_, *sources_.simplified, hierarchy_, *sources_.surfels, camera, gbuffer_, options_.lod);
       break;

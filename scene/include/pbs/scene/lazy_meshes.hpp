@@ -69,6 +69,7 @@ class LazyMeshes {
   std::vector<std::uint32_t> unloadOverBudget();
 
   LazyMeshStats stats() const;
+  std::uint64_t budgetBytes() const { return budget_; }
 
  private:
   enum class State : std::uint8_t { Unloaded, Loading, Loaded };

@@ -67,6 +67,9 @@ void dropUnreadUvs(const Scene& scene, Mesh& mesh);
 
 // The bytes of a mesh's arrays: 12 per position and normal, 8 per texture coordinate pair, 4 per index.
 std::uint64_t meshBytes(const Mesh& mesh);
+// The same foreseen from the parts alone, for a mesh not loaded: its indices, and a vertex with every
+// attribute per triangle (closed meshes have about half as many; a strip one per triangle).
+std::uint64_t meshBytesFromParts(const Mesh& mesh);
 
 // Area-weighted vertex normals from the triangles (degenerate triangles contribute nothing;
 // a vertex touched by none gets +Z so no NaN ever leaves this function).

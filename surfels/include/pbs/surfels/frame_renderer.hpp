@@ -59,8 +59,10 @@ struct FrameSources {
   // Surfels mode with `cache`: a link that the caller advances between frames (the stream's cache must
   // be `cache`); each pass draws only what has arrived, and loads nothing itself.
   const SurfelStream* stream = nullptr;
-  // Surfels mode with `cache` and no stream, for a scene opened without its mesh arrays: each pass first
-  // loads the meshes of the nodes it draws as geometry, and unloads others past the budget (lazy_meshes.hpp).
+  // For a scene opened without its mesh arrays (lazy_meshes.hpp). Surfels mode, with `cache` and no
+  // stream: each pass first loads the meshes of the nodes it draws as geometry, and unloads others past the
+  // budget. Exact mode: each pass draws the visible meshes a budget's worth at a time, each batch loaded
+  // for its drawing alone, so a scene larger than memory is drawn node by node (the same image).
   LazyMeshes* meshes = nullptr;
   const Scene* simplified = nullptr;      // Simplified mode: the scene's simplifyScene copy
   // Embree mode: a BVH built elsewhere and shared; null: built here. Surfels mode: mesh BVHs the geometry
@@ -94,6 +96,9 @@ class FrameRenderer {
   // Makes the meshes of `draws`' geometry nodes loaded (sources_.meshes), letting the ray caster forget
   // those unloaded to stay within the budget.
   void loadGeometry(const LodDraws& draws);
+  // Exact mode's pass with sources_.meshes: the visible meshes drawn by the rasterizer in batches of at
+  // most the budget (one mesh at least), in traversal order, each batch leased while drawn.
+  LodStats drawExactInBatches(const Camera& camera, double& loadSeconds);
 
   const Scene& scene_;
   const Hierarchy& hierarchy_;
