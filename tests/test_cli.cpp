@@ -1,6 +1,9 @@
 // End-to-end tests of the `pbs` command line as a user runs it: exit codes, JSON output, the demo,
 // and a generated city of over a billion instanced triangles (load time is reported, memory checked).
+#include "test_fixtures.hpp"
 #include "test_support.hpp"
+
+#include <pbs/scene/gltf_export.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -265,6 +268,27 @@ TEST(Cli, RaysOverTheMemoryLimitAreRefusedBeforeTheBuild) {
   EXPECT_GT(peak, 1u << 20) << "the default scene's BVHs take megabytes";
   EXPECT_GE(json["bvh_estimate_bytes"].get<std::uint64_t>(), peak) << "the estimate bounds what was allocated";
   EXPECT_GT(json["build_seconds"].get<double>(), 0.0);
+}
+
+// A glTF scene that would not fit is refused from its structure, before it is read: its meshes' parts
+// and the file's data foretell what reading it whole (and Embree's BVH over it) takes.
+TEST(Cli, AGltfSceneTooLargeToReadIsRefusedBeforeReadingIt) {
+  ScratchDir scratch;
+  writeGlb(sceneOf(tessellatedBox(160), {glm::dmat4(1.0)}), scratch / "box.glb");  // 307,200 triangles
+  const std::string scene = "'" + (scratch / "box.glb").string() + "'";
+  const CommandResult exact = runPbs("render " + scene + " --size 64x64 --max-memory 12MB -o '" +
+                                     (scratch / "x.png").string() + "'");
+  EXPECT_EQ(exact.status, 1);
+  EXPECT_NE(exact.err.find("error: reading "), std::string::npos) << exact.err;
+  EXPECT_NE(exact.err.find("(307,200 triangles) would need about"), std::string::npos) << exact.err;
+  const CommandResult rays = runPbs("render " + scene + " --mode embree --size 64x64 --max-memory 40MB -o '" +
+                                    (scratch / "x.png").string() + "'");
+  EXPECT_EQ(rays.status, 1);
+  EXPECT_NE(rays.err.find("(307,200 triangles in Embree's BVHs) would need about"), std::string::npos) << rays.err;
+  EXPECT_FALSE(std::filesystem::exists(scratch / "x.png"));
+  EXPECT_EQ(runPbs("render " + scene + " --size 64x64 --max-memory 200MB -o '" + (scratch / "x.png").string() + "'").status,
+            0)
+      << "what fits is drawn";
 }
 
 }  // namespace

@@ -202,8 +202,10 @@ void run(const EvalOptions& options) {
   const std::uint64_t cacheBytes = options.cacheMb << 20;
   const std::vector<std::uint64_t> meshFingerprints = reader.sceneTable().meshes;
   const auto loadStart = std::chrono::steady_clock::now();
+  const bool wholeRays = referenceMode == RenderMode::Embree ||
+                         std::any_of(settings.begin(), settings.end(), [](const EvalSetting& s) { return s.mode == RenderMode::Embree; });
   LoadedScene loaded = meshesOnDemand ? openWithoutMeshes(options.scene, reader)
-                                      : loadAndAnalyze(options.scene, LoadOptions{}, reader);
+                                      : loadAndAnalyze(options.scene, LoadOptions{}, reader, {.rays = wholeRays});
   const double loadSeconds = secondsSince(loadStart);
   std::optional<LazyMeshes> meshes;
   if (meshesOnDemand) meshes.emplace(loaded.scene, loaded.decodeMesh, meshFingerprints, loaded.name, cacheBytes);

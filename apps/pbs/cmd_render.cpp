@@ -127,10 +127,10 @@ void run(const RenderOptions& options) {
   if (mode == RenderMode::Surfels) estimate += cacheBytes;
   if (meshesOnDemand) estimate += cacheBytes;
   requireMemory(estimate, "rendering " + std::to_string(width) + "x" + std::to_string(height), options.maxMemory);
-
+  const SceneFit fit{.alongside = estimate, .limit = options.maxMemory, .rays = mode == RenderMode::Embree};
   LoadedScene loaded = meshesOnDemand ? openWithoutMeshes(options.scene, *surfelFile)
-                       : surfelFile   ? loadAndAnalyze(options.scene, LoadOptions{}, *surfelFile)
-                                      : loadAndAnalyze(options.scene, LoadOptions{});
+                       : surfelFile   ? loadAndAnalyze(options.scene, LoadOptions{}, *surfelFile, fit)
+                                      : loadAndAnalyze(options.scene, LoadOptions{}, fit);
   std::optional<LazyMeshes> meshes;
   if (meshesOnDemand)
     meshes.emplace(loaded.scene, loaded.decodeMesh, surfelFile->sceneTable().meshes, loaded.name, cacheBytes);

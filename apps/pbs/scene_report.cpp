@@ -1,8 +1,10 @@
 // Scene loading with timings and the summary shared by `pbs info` and `pbs demo`.
 #include "scene_report.hpp"
 
+#include "memory_limit.hpp"
 #include "report_numbers.hpp"
 
+#include <pbs/scene/embree_caster.hpp>
 #include <pbs/scene/input_error.hpp>
 #include <pbs/scene/scene_fingerprint.hpp>
 #include <pbs/surfels/surfel_cache.hpp>
@@ -78,13 +80,31 @@ LoadedScene openLazily(const std::string& spec, Analyze analyze) {
 
 }  // namespace
 
-LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options) {
+void requireSceneFits(const std::string& spec, const SceneFit& fit) {
+  if (spec == "default") return;
+  const LazyGltf structure = loadSceneWithoutMeshes(spec);
+  std::uint64_t bytes = fit.alongside + structure.bufferBytes, triangles = 0;
+  for (const Mesh& mesh : structure.imported.scene.meshes) {
+    bytes += meshBytesFromParts(mesh);
+    triangles += mesh.triangleCount();
+  }
+  if (fit.rays) bytes += embreeMemoryEstimate(structure.imported.scene, analyzeStructure(structure.imported.scene));
+  requireMemory(bytes,
+                std::string(fit.rays ? "ray casting " : "reading ") + spec + " (" + withThousands(triangles) +
+                    (fit.rays ? " triangles in Embree's BVHs)" : " triangles)"),
+                fit.limit);
+}
+
+LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, const SceneFit& fit) {
+  requireSceneFits(spec, fit);
   return loadTimed(
       spec, [&](LoadedScene&) { return loadScene(spec, options); },
       [](const Scene& scene) { return analyzeHierarchy(scene); });
 }
 
-LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, SurfelFileReader& surfels) {
+LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, SurfelFileReader& surfels,
+                           const SceneFit& fit) {
+  requireSceneFits(spec, fit);
   return loadTimed(
       spec, [&](LoadedScene&) { return loadScene(spec, options); },
       [&](const Scene& scene) { return hierarchyWithSurfels(scene, surfels); });

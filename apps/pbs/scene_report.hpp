@@ -22,11 +22,25 @@ struct LoadedScene {
   LazyMeshes::Decode decodeMesh;  // set when opened without its mesh arrays (openWithoutMeshes)
 };
 
-// Loads and analyses; prints the importer's warnings to stderr as "warning: …" lines.
-LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options);
+// What reading a scene whole must fit in besides itself.
+struct SceneFit {
+  std::uint64_t alongside = 0;  // bytes the command needs besides the scene
+  std::uint64_t limit = 0;      // --max-memory; 0: the machine's memory
+  bool rays = false;            // Embree's BVH over the whole scene too
+};
+// Before a glTF scene is read whole: what it (and the rest) will take, foreseen from its structure alone
+// (each mesh's parts, a vertex per triangle, and the file's data, mapped while it is read), so that a
+// scene that would not fit is refused in one line instead of being killed half-way through reading it.
+// Nothing for `default`.
+void requireSceneFits(const std::string& spec, const SceneFit& fit);
+
+// Loads and analyses; prints the importer's warnings to stderr as "warning: …" lines. A glTF file that
+// would not fit in memory with `fit` is refused first (requireSceneFits).
+LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, const SceneFit& fit = {});
 // The same for a scene with its .surfels file: requires the file to be the scene's and takes the exact
 // instance boxes from it where it stores them (hierarchyWithSurfels), so no vertex is read for them.
-LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, SurfelFileReader& surfels);
+LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, SurfelFileReader& surfels,
+                           const SceneFit& fit = {});
 
 // A glTF scene opened without its mesh arrays for drawing with its .surfels file: the structure is required
 // to be the file's (SurfelFileReader::requireStructure) and the hierarchy comes from the file's instance

@@ -62,10 +62,13 @@ std::uint64_t embreeMemoryEstimate(const Scene& scene, const Hierarchy& hierarch
     ++instances;
   }
   std::uint64_t bytes = 0;
-  for (std::size_t m = 0; m < scene.meshes.size(); ++m)
-    if (used[m])
-      bytes += scene.meshes[m].triangleCount() * kEmbreeBytesPerTriangle +
-               scene.meshes[m].positions.size() * kEmbreeBytesPerVertex;
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    if (!used[m]) continue;
+    const Mesh& mesh = scene.meshes[m];
+    // A mesh not loaded yet counts a vertex per triangle (closed meshes have about half as many).
+    const std::uint64_t vertices = mesh.loaded() ? mesh.positions.size() : mesh.triangleCount();
+    bytes += mesh.triangleCount() * kEmbreeBytesPerTriangle + vertices * kEmbreeBytesPerVertex;
+  }
   return kEmbreeFixedBytes + bytes + instances * kEmbreeBytesPerInstance;
 }
 

@@ -91,6 +91,7 @@ LazyGltf openGltfWithoutMeshes(const std::filesystem::path& file) {
         return gltf::describeMesh(source->model, gltfMesh, source->name, materialOf, skipped);
       });
   source->materialOf = materials.used();
+  for (const std::span<const std::uint8_t> buffer : source->model.bufferBytes) lazy.bufferBytes += buffer.size();
   // Reading a mesh needs its accessors, views and buffers, not the node graph (on a city of 111,111
   // nodes, 90 MB of tinygltf's nodes), nor the images: those are in the scene now.
   std::vector<tinygltf::Node>().swap(source->model.nodes);
