@@ -21,13 +21,13 @@ inline std::string groupsFile(const ScratchDir& scratch) {
   return quoted;
 }
 
-// groupsFile() and `scratch`/groups.surfels made from it by `pbs surfelize --threshold 1000
+// groupsFile() and `scratch`/groups.surfels made from it by `pbs surfelize --min-triangles 1000
 // --max-surfels 4000` (small enough that every array is captured from triangles), both quoted.
 inline std::pair<std::string, std::string> groupsWithSurfels(const ScratchDir& scratch) {
   const std::string scene = groupsFile(scratch);
   const std::string surfels = "'" + (scratch / "groups.surfels").string() + "'";
   const CommandResult made =
-      runPbs("surfelize " + scene + " -o " + surfels + " --threshold 1000 --max-surfels 4000 --quiet");
+      runPbs("surfelize " + scene + " -o " + surfels + " --min-triangles 1000 --max-surfels 4000 --quiet");
   EXPECT_EQ(made.status, 0) << made.err;
   return {scene, surfels};
 }

@@ -107,7 +107,7 @@ TEST(LazySurfelizeCli, SurfelizeReadsAGltfsMeshesAsCapturesDrawThem) {
 
   const test::CommandResult made = test::runPbs("surfelize '" + (scratch / "layered.glb").string() + "' -o '" +
                                                 (scratch / "cli.surfels").string() +
-                                                "' --threshold 1000 --max-surfels 300 --resolution 48 --json");
+                                                "' --min-triangles 1000 --max-surfels 300 --resolution 48 --json");
   ASSERT_EQ(made.status, 0) << made.err;
   const nlohmann::json report = nlohmann::json::parse(made.out);
   EXPECT_EQ(report["used"]["meshes"], "read as captures draw them");

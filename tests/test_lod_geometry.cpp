@@ -297,7 +297,7 @@ TEST(LodGeometryCli, RenderTakesGeometryAndReportsTheDrawerAndBvhBuilds) {
   test::ScratchDir scratch;
   const auto [scene, surfels] = test::groupsWithSurfels(scratch);
   const std::string common =
-      "render " + scene + " --surfels " + surfels + " --size 160x120 --orbit 30,20,1.5 --threshold 8 --frames 2 --json";
+      "render " + scene + " --surfels " + surfels + " --size 160x120 --orbit 30,20,1.5 --threshold-pixels 8 --frames 2 --json";
   const auto report = [&](const std::string& drawer) {
     const test::CommandResult run = test::runPbs(common + " --geometry " + drawer);
     EXPECT_EQ(run.status, 0) << run.err;

@@ -394,12 +394,38 @@ TEST(Surfelize, ChildSurfelCaptureErrorOnSharedScene) {
   EXPECT_EQ(exact.arrays[leafArray].surfels.front().position, fromChildren.arrays[leafArray].surfels.front().position);
 }
 
+// The thresholds are named by their unit (--min-triangles, render's --threshold-pixels); the old shared
+// spelling --threshold still works, says what to write instead on stderr, and gives the same results.
+TEST(SurfelizeCli, OldThresholdSpellingStillWorksWithAWarning) {
+  ScratchDir scratch;
+  const std::string scene = groupsFile(scratch);
+  const auto run = [&](const std::string& arguments) { return test::runPbs(arguments); };
+  const std::string surfelize = "surfelize " + scene + " --max-surfels 300 --resolution 48 --quiet -o '";
+  const test::CommandResult current = run(surfelize + (scratch / "new.surfels").string() + "' --min-triangles 1000");
+  ASSERT_EQ(current.status, 0) << current.err;
+  EXPECT_TRUE(current.err.empty()) << current.err;
+  const test::CommandResult old = run(surfelize + (scratch / "old.surfels").string() + "' --threshold 1000");
+  ASSERT_EQ(old.status, 0) << old.err;
+  EXPECT_EQ(old.err, "warning: --threshold is deprecated here: write --min-triangles\n");
+  EXPECT_EQ(test::readFile(scratch / "old.surfels"), test::readFile(scratch / "new.surfels"));
+
+  const std::string render = "render " + scene + " --surfels '" + (scratch / "new.surfels").string() +
+                             "' --size 96x64 --json ";
+  const test::CommandResult pixels = run(render + "--threshold-pixels 40");
+  const test::CommandResult oldPixels = run(render + "--threshold 40");
+  ASSERT_EQ(pixels.status, 0) << pixels.err;
+  ASSERT_EQ(oldPixels.status, 0) << oldPixels.err;
+  EXPECT_EQ(oldPixels.err, "warning: --threshold is deprecated here: write --threshold-pixels\n");
+  EXPECT_EQ(nlohmann::json::parse(oldPixels.out)["surfels"], nlohmann::json::parse(pixels.out)["surfels"]);
+  EXPECT_EQ(run(render + "--threshold 0").status, 2) << "the old spelling keeps the check";
+}
+
 TEST(SurfelizeCli, WritesTheFileAndReportsJson) {
   ScratchDir scratch;
   groupsFile(scratch);
   const auto out = scratch / "groups.surfels";
   const test::CommandResult run = test::runPbs("surfelize '" + (scratch / "groups.glb").string() + "' -o '" +
-                                               out.string() + "' --threshold 1000 --max-surfels 500 --resolution 96 --json");
+                                               out.string() + "' --min-triangles 1000 --max-surfels 500 --resolution 96 --json");
   ASSERT_EQ(run.status, 0) << run.err;
   const nlohmann::json report = nlohmann::json::parse(run.out);
   for (const char* key : {"nodes_with_surfels", "arrays", "surfels", "captures", "seconds", "bytes"})
@@ -432,7 +458,7 @@ TEST(SurfelizeCli, ColorsOptionIsRecordedInTheFile) {
   ScratchDir scratch;
   const std::string scene = groupsFile(scratch);
   const auto out = scratch / "pixel.surfels";
-  const std::string common = " --threshold 1000 --max-surfels 300 --resolution 64 --quiet";
+  const std::string common = " --min-triangles 1000 --max-surfels 300 --resolution 64 --quiet";
   const test::CommandResult run =
       test::runPbs("surfelize " + scene + " -o '" + out.string() + "' --colors prefiltered --json" + common);
   ASSERT_EQ(run.status, 0) << run.err;
@@ -455,13 +481,13 @@ TEST(SurfelizeCli, ProgressLinesWhenStderrIsNotATerminal) {
   ScratchDir scratch;
   const std::string scene = groupsFile(scratch);
   const test::CommandResult run = test::runPbs("surfelize " + scene + " -o '" + (scratch / "d.surfels").string() +
-                                               "' --threshold 1000 --max-surfels 100 --resolution 64");
+                                               "' --min-triangles 1000 --max-surfels 100 --resolution 64");
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_NE(run.err.find("surfelize: 100%"), std::string::npos) << run.err;
   EXPECT_EQ(run.err.find('\r'), std::string::npos) << "no bar redraws in a log";
   EXPECT_NE(run.out.find("arrays"), std::string::npos);
   const test::CommandResult quiet = test::runPbs("surfelize " + scene + " -o '" + (scratch / "q.surfels").string() +
-                                                 "' --threshold 1000 --max-surfels 100 --resolution 64 --quiet");
+                                                 "' --min-triangles 1000 --max-surfels 100 --resolution 64 --quiet");
   ASSERT_EQ(quiet.status, 0) << quiet.err;
   EXPECT_EQ(quiet.err, "");
   EXPECT_EQ(test::readFile(scratch / "d.surfels"), test::readFile(scratch / "q.surfels"));
@@ -471,7 +497,7 @@ TEST(SurfelizeCli, SaysSoWhenNoNodeNeedsSurfels) {
   ScratchDir scratch;
   const auto out = scratch / "none.surfels";
   const test::CommandResult run = test::runPbs("surfelize " + groupsFile(scratch) + " -o '" + out.string() +
-                                               "' --threshold 1000000000");
+                                               "' --min-triangles 1000000000");
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_NE(run.out.find("no surfels needed"), std::string::npos) << run.out;
   SurfelFileReader reader(out);
@@ -482,7 +508,7 @@ TEST(SurfelizeCli, AnalyzeReadsTheFileAndChecksItsScene) {
   ScratchDir scratch;
   const std::string scene = groupsFile(scratch);
   const auto out = scratch / "groups.surfels";
-  ASSERT_EQ(test::runPbs("surfelize " + scene + " -o '" + out.string() + "' --threshold 1000 --max-surfels 800 "
+  ASSERT_EQ(test::runPbs("surfelize " + scene + " -o '" + out.string() + "' --min-triangles 1000 --max-surfels 800 "
                          "--resolution 96 --quiet").status, 0);
   const test::CommandResult analyzed =
       test::runPbs("analyze '" + out.string() + "' --scene " + scene + " --no-spectrum --json");

@@ -143,8 +143,7 @@ void addDemoCommand(CLI::App& app) {
   command->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->capture_default_str();
   command->add_option("-o,--output", options->output, "folder for the .surfels file and the three images")
       ->capture_default_str();
-  command->add_option("--threshold", file.threshold, "nodes above this many triangles get surfels")
-      ->capture_default_str();
+  addMinTrianglesOption(*command, file.threshold);
   command->add_option("--max-surfels", file.maxSurfels, "surfels per array at most")
       ->check(CLI::Range(1u, 1u << 26))
       ->capture_default_str();

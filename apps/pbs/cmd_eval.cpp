@@ -315,7 +315,7 @@ void addEvalCommand(CLI::App& app) {
       ->required();
   command->add_option("--sweep", options->sweeps,
                       "KEY=V1,V2,… or KEY=V+KEY=V (keys: " + sweepKeys() +
-                          "), repeatable; each value one setting over the baseline LOD options (--threshold, --point-size, "
+                          "), repeatable; each value one setting over the baseline LOD options (--threshold-pixels, --point-size, "
                           "…), which is measured as 'surfels'. Default: "
                           "overdraw=4,8,32 threshold=64,256 splat=nearest, the file's other orderings and "
                           "simplify=0.25,0.05,0.01 (meshes simplified to that fraction of their triangles, drawn in "

@@ -51,8 +51,7 @@ void addSurfelizeCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand("surfelize", "Make ordered surfel arrays for every complex node of a scene");
   command->add_option("scene", options->scene, "a .gltf/.glb file, or 'default' for the embedded scene")->required();
   command->add_option("-o,--output", options->output, "the .surfels file to write")->required();
-  command->add_option("--threshold", file.threshold, "nodes above this many subtree triangles get surfels")
-      ->capture_default_str();
+  addMinTrianglesOption(*command, file.threshold);
   command->add_option("--max-surfels", file.maxSurfels, "surfels per array at most")
       ->check(CLI::Range(1u, 1u << 26))
       ->capture_default_str();

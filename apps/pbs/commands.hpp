@@ -37,13 +37,19 @@ void addFigureCommand(CLI::App& app);
 // The `--threads` option every command has (0: all hardware threads).
 void addThreadsOption(CLI::App& command, int& threads);
 
-// `--resolution` and `--directions` of the commands that capture nodes (see CaptureOptions).
 // --cache-mb: the budget of what a command reads on demand (surfel arrays, meshes), in MB.
 void addCacheOption(CLI::App& command, std::uint64_t& cacheMb, const std::string& help);
+
+// `--resolution` and `--directions` of the commands that capture nodes (see CaptureOptions).
 void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32_t& directions);
 
-// The LOD options of `pbs render` (and the baseline `pbs eval` sweeps from): --threshold, --band,
-// --overdraw, --point-size, --prefix-rule, --geometry.
+// `--min-triangles` of the commands that make surfels: nodes with more subtree triangles get an array.
+// Its old spelling, `--threshold` (a unit shared with render's pixels), still works with a warning.
+void addMinTrianglesOption(CLI::App& command, std::uint64_t& minTriangles);
+
+// The LOD options of `pbs render` (and the baseline `pbs eval` sweeps from): --threshold-pixels (old
+// spelling --threshold, still working with a warning), --band, --overdraw, --point-size, --prefix-rule,
+// --geometry.
 void addLodOptions(CLI::App& command, LodOptions& lod);
 
 // A samples-per-pixel option (`--samples`, `--reference-samples`): 1, 4, 16, 64 or 256 (supersampling.hpp).

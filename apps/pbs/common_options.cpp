@@ -5,6 +5,7 @@
 #include <pbs/raster/supersampling.hpp>
 
 #include <cmath>
+#include <iostream>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -33,10 +34,38 @@ void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32
       ->capture_default_str();
 }
 
+namespace {
+
+// `old`, an earlier spelling of the option `current` (bound to the same value, with the same check; given
+// both, the later wins): it still works, so scripts do not break, and says on stderr what to write instead.
+template <class T>
+void addOldSpelling(CLI::App& command, const std::string& old, CLI::Option* current, T& value,
+                    const CLI::Validator& check) {
+  const std::string replacement = current->get_name();
+  const CLI::Validator warn(
+      [old, replacement](std::string&) {
+        std::cerr << "warning: " << old << " is deprecated here: write " << replacement << "\n";
+        return std::string();
+      },
+      "");
+  command.add_option(old, value, "the old spelling of " + replacement + " (deprecated)")->check(warn)->check(check);
+}
+
+}  // namespace
+
+void addMinTrianglesOption(CLI::App& command, std::uint64_t& minTriangles) {
+  CLI::Option* option =
+      command.add_option("--min-triangles", minTriangles, "nodes with more subtree triangles than this get surfels")
+          ->capture_default_str();
+  addOldSpelling(command, "--threshold", option, minTriangles, CLI::Range(std::uint64_t(0), ~std::uint64_t(0)));
+}
+
 void addLodOptions(CLI::App& command, LodOptions& lod) {
-  command.add_option("--threshold", lod.threshold, "projected size (pixels) above which nodes are descended")
-      ->check(positiveNumber())
-      ->capture_default_str();
+  CLI::Option* threshold =
+      command.add_option("--threshold-pixels", lod.threshold, "projected size (pixels) above which nodes are descended")
+          ->check(positiveNumber())
+          ->capture_default_str();
+  addOldSpelling(command, "--threshold", threshold, lod.threshold, positiveNumber());
   command.add_option("--band", lod.band, "transition band above the threshold, as a fraction of it")
       ->check(CLI::Range(0.0, 10.0))
       ->capture_default_str();

@@ -135,7 +135,7 @@ TEST(StabilityCli, FarTinyOneTriangleSceneSurfelizesAndRendersAtExtremeSizes) {
   test::writeFile(file, b.glb());
   const auto surfels = scratch / "tiny.surfels";
   const test::CommandResult made =
-      runPbs("surfelize " + quoted(file) + " -o " + quoted(surfels) + " --threshold 0 --json --quiet");
+      runPbs("surfelize " + quoted(file) + " -o " + quoted(surfels) + " --min-triangles 0 --json --quiet");
   ASSERT_EQ(made.status, 0) << made.err;
   expectFiniteJson(made.out);
   for (const char* size : {"1x1", "16384x1"}) {
