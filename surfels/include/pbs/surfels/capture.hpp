@@ -7,6 +7,7 @@
 
 #include "pbs/raster/camera.hpp"
 #include "pbs/raster/framebuffer.hpp"
+#include "pbs/surfels/capture_defaults.hpp"
 #include "pbs/surfels/surfel.hpp"
 
 #include <glm/glm.hpp>
@@ -18,10 +19,10 @@
 namespace pbs {
 
 struct CaptureOptions {
-  std::uint32_t resolution = 512;  // pixels along the larger side of each view's projected box
+  std::uint32_t resolution = kDefaultCaptureResolution;  // pixels along the larger side of each view's projected box
   // 8: the box-corner diagonals (±1, ±1, ±1) of the paper; any other count: a spherical Fibonacci
   // set (deterministic, evenly spread), e.g. 16 or 32.
-  std::uint32_t directions = 8;
+  std::uint32_t directions = kDefaultCaptureDirections;
   enum class Backend { Raster, Embree } backend = Backend::Raster;
   // Called with every view's camera and G-buffer right after it is rendered (for pictures and
   // debugging: `pbs capture` writes them as images); nothing is kept for it otherwise. Only depth

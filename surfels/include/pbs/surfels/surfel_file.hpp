@@ -22,6 +22,7 @@
 #pragma once
 
 #include "pbs/raster/bounds.hpp"
+#include "pbs/surfels/capture_defaults.hpp"
 #include "pbs/surfels/ordering.hpp"
 #include "pbs/surfels/prefilter_colors.hpp"
 #include "pbs/surfels/surfel.hpp"
@@ -78,8 +79,8 @@ inline constexpr std::size_t kPackingSample = 1000;
 struct SurfelFileOptions {
   std::uint64_t threshold = 10000;   // nodes above this many subtree triangles have arrays
   std::uint32_t maxSurfels = 10000;  // array length limit
-  std::uint32_t resolution = 512;    // capture resolution
-  std::uint32_t directions = 8;      // capture view count
+  std::uint32_t resolution = kDefaultCaptureResolution;  // capture resolution
+  std::uint32_t directions = kDefaultCaptureDirections;  // capture view count
   SurfelOrdering ordering = SurfelOrdering::Farthest;  // which ordering made the arrays
   SurfelColors colors = SurfelColors::Pixel;           // how the surfels' colours were chosen
   std::uint64_t seed = 1;
