@@ -25,12 +25,12 @@ struct Agreement {
   double depthError = 0.0;
   double depthOver = 0.0;
   double depthExcess = 0.0;
-  double colorMatch = 1.0;  // pixels with equal ids whose colours differ by ≤ kColorTolerance
+  double colorMatch = 1.0;   // pixels with equal ids whose colours differ by ≤ kColorTolerance
   double normalMatch = 1.0;  // pixels with equal ids whose normals differ by less than kNormalTolerance
 };
 
-constexpr double kDepthTolerance = 1e-4;  // of the window depth range, i.e. of the view volume's depth
-constexpr int kColorTolerance = 2;        // in 8-bit steps: uv interpolation differs in its last bits
+constexpr double kDepthTolerance = 1e-4;   // of the window depth range, i.e. of the view volume's depth
+constexpr int kColorTolerance = 2;         // in 8-bit steps: uv interpolation differs in its last bits
 constexpr double kNormalTolerance = 0.01;  // length of the difference of unit normals (about 0.6°)
 
 // The depth difference allowed on a pixel of the triangle `ids` names: kDepthTolerance, or more
@@ -87,24 +87,31 @@ struct AgreementRange {
   Agreement best{1.0, 0.0, 1.0, 1.0, 1e300, 0.0, 0.0};
 
   void add(const Agreement& a) {
-    worst = {std::max(worst.coverageMismatch, a.coverageMismatch), std::min(worst.idMatch, a.idMatch),
-             std::max(worst.depthError, a.depthError),       std::max(worst.depthOver, a.depthOver),
-             std::max(worst.depthExcess, a.depthExcess),     std::min(worst.colorMatch, a.colorMatch),
+    worst = {std::max(worst.coverageMismatch, a.coverageMismatch),
+             std::min(worst.idMatch, a.idMatch),
+             std::max(worst.depthError, a.depthError),
+             std::max(worst.depthOver, a.depthOver),
+             std::max(worst.depthExcess, a.depthExcess),
+             std::min(worst.colorMatch, a.colorMatch),
              std::min(worst.normalMatch, a.normalMatch)};
-    best = {std::min(best.coverageMismatch, a.coverageMismatch), std::max(best.idMatch, a.idMatch),
-            std::min(best.depthError, a.depthError),       std::min(best.depthOver, a.depthOver),
-            std::min(best.depthExcess, a.depthExcess),     std::max(best.colorMatch, a.colorMatch),
+    best = {std::min(best.coverageMismatch, a.coverageMismatch),
+            std::max(best.idMatch, a.idMatch),
+            std::min(best.depthError, a.depthError),
+            std::min(best.depthOver, a.depthOver),
+            std::min(best.depthExcess, a.depthExcess),
+            std::max(best.colorMatch, a.colorMatch),
             std::max(best.normalMatch, a.normalMatch)};
   }
 
   void print(const std::string& name) const {
-    std::printf("[embree vs raster] %s: coverage differs %.4f–%.4f %% of pixels; ids agree on %.3f–%.3f %%; "
-                "depth error max %.1e–%.1e, over 1e-4 on %.4f–%.4f %% (at most %.2f of the snap allowance); "
-                "colour agrees on %.2f–%.2f %%, normals on %.2f–%.2f %%\n",
-                name.c_str(), 100.0 * best.coverageMismatch, 100.0 * worst.coverageMismatch, 100.0 * worst.idMatch,
-                100.0 * best.idMatch, best.depthError, worst.depthError, 100.0 * best.depthOver,
-                100.0 * worst.depthOver, worst.depthExcess, 100.0 * worst.colorMatch, 100.0 * best.colorMatch,
-                100.0 * worst.normalMatch, 100.0 * best.normalMatch);
+    std::printf(
+        "[embree vs raster] %s: coverage differs %.4f–%.4f %% of pixels; ids agree on %.3f–%.3f %%; "
+        "depth error max %.1e–%.1e, over 1e-4 on %.4f–%.4f %% (at most %.2f of the snap allowance); "
+        "colour agrees on %.2f–%.2f %%, normals on %.2f–%.2f %%\n",
+        name.c_str(), 100.0 * best.coverageMismatch, 100.0 * worst.coverageMismatch, 100.0 * worst.idMatch,
+        100.0 * best.idMatch, best.depthError, worst.depthError, 100.0 * best.depthOver, 100.0 * worst.depthOver,
+        worst.depthExcess, 100.0 * worst.colorMatch, 100.0 * best.colorMatch, 100.0 * worst.normalMatch,
+        100.0 * best.normalMatch);
   }
 
   // The thresholds the rasterizer's visibility is held to.

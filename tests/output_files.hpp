@@ -43,7 +43,8 @@ inline CsvTable readCsv(const std::filesystem::path& file) {
     const std::vector<std::string> fields = splitCommas(line);
     EXPECT_EQ(fields.size(), table.columns.size()) << line;
     CsvRow row;
-    for (std::size_t i = 0; i < std::min(fields.size(), table.columns.size()); ++i) row.fields[table.columns[i]] = fields[i];
+    for (std::size_t i = 0; i < std::min(fields.size(), table.columns.size()); ++i)
+      row.fields[table.columns[i]] = fields[i];
     table.rows.push_back(std::move(row));
   }
   return table;

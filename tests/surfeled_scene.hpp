@@ -53,8 +53,8 @@ inline SurfeledScene writtenSurfeledScene(const std::filesystem::path& file) {
 // The approach path at 160×120: far frames draw short prefixes, near ones long prefixes or geometry.
 inline std::vector<Camera> approachCameras(const SurfeledScene& s, std::uint32_t frames, double startDistance = 4.0) {
   std::vector<Camera> cameras;
-  for (const PathView& view : cameraPath(CameraPath::Approach, s.hierarchy, s.scene.roots,
-                                         Orbit{30.0, 20.0, startDistance}, frames, 160, 120))
+  for (const PathView& view :
+       cameraPath(CameraPath::Approach, s.hierarchy, s.scene.roots, Orbit{30.0, 20.0, startDistance}, frames, 160, 120))
     cameras.push_back(view.camera);
   return cameras;
 }

@@ -162,9 +162,10 @@ std::size_t occurrences(const std::string& text, const std::string& what) {
 TEST(AnalyzeCommand, OutputFolderHoldsCsvSvgAndSpectrum) {
   ScratchDir dir;
   const auto out = dir / "out";
-  const auto result =
-      runPbs("analyze " + smallScene() + " --max 300 --resolution 96 --spectrum-points 64 --spectrum-candidates 3000 "
-             "--spectrum-seeds 2 --json -o '" + out.string() + "'");
+  const auto result = runPbs("analyze " + smallScene() +
+                             " --max 300 --resolution 96 --spectrum-points 64 --spectrum-candidates 3000 "
+                             "--spectrum-seeds 2 --json -o '" +
+                             out.string() + "'");
   const nlohmann::json report = parseJson(result);
   ASSERT_EQ(report["nodes"].size(), 3u);
   std::size_t expectedRows = 0;
@@ -230,7 +231,8 @@ TEST(AnalyzeCommand, SurfelFileArraysMeasuredOnceAndEveryNodeListed) {
   const auto path = dir / "lattice.surfels";
   writeSurfelFile(path, file);
 
-  const auto result = runPbs("analyze '" + path.string() + "' --json --no-spectrum -o '" + (dir / "out").string() + "'");
+  const auto result =
+      runPbs("analyze '" + path.string() + "' --json --no-spectrum -o '" + (dir / "out").string() + "'");
   const nlohmann::json report = parseJson(result);
   ASSERT_EQ(report["nodes"].size(), 3u);
   ASSERT_EQ(report["arrays"].size(), 2u);
@@ -287,8 +289,8 @@ TEST(AnalyzeCommand, BadInputsGiveOneErrorLine) {
   }
   // An output folder that cannot be made: a file stands in its way.
   test::writeFile(dir / "file", "x");
-  const auto result =
-      runPbs("analyze " + smallScene() + " --max 50 --resolution 32 --no-spectrum -o '" + (dir / "file" / "sub").string() + "'");
+  const auto result = runPbs("analyze " + smallScene() + " --max 50 --resolution 32 --no-spectrum -o '" +
+                             (dir / "file" / "sub").string() + "'");
   EXPECT_EQ(result.status, 1);
   EXPECT_EQ(result.err.rfind("error:", 0), 0u) << result.err;
 }

@@ -37,8 +37,9 @@ TEST(AtomicWrites, KilledSurfelizeLeavesTheOldFileWhole) {
   const auto scene = scratch / "groups.glb";
   writeGlb(test::twoIdenticalGroups(), scene);
   const auto out = scratch / "out.surfels";
-  const std::vector<std::string> first = {"surfelize", scene.string(), "-o", out.string(), "--min-triangles", "1000",
-                                          "--max-surfels", "500", "--resolution", "64", "--quiet"};
+  const std::vector<std::string> first = {"surfelize", scene.string(),  "-o",  out.string(),   "--min-triangles",
+                                          "1000",      "--max-surfels", "500", "--resolution", "64",
+                                          "--quiet"};
   int status = 0;
   waitpid(startPbs(first), &status, 0);
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
@@ -47,8 +48,9 @@ TEST(AtomicWrites, KilledSurfelizeLeavesTheOldFileWhole) {
 
   // A longer run with other options (a different file), killed after 0 … 1.5 s: before, during and
   // (for the longest delays, on a fast machine) after its write.
-  const std::vector<std::string> second = {"surfelize", scene.string(), "-o", out.string(), "--min-triangles", "1000",
-                                           "--max-surfels", "20000", "--resolution", "384", "--quiet"};
+  const std::vector<std::string> second = {"surfelize", scene.string(),  "-o",    out.string(),   "--min-triangles",
+                                           "1000",      "--max-surfels", "20000", "--resolution", "384",
+                                           "--quiet"};
   int survivedWhole = 0, replacedWhole = 0;
   for (int delayMs : {0, 5, 20, 50, 100, 200, 400, 800, 1500}) {
     const pid_t pid = startPbs(second);

@@ -139,8 +139,8 @@ TEST(BlendedSplats, GeometryHidesSplatsBehindItAndSplatsInFrontCoverIt) {
   // Every pixel is covered (by the wall at least), so coverage is 1 everywhere, and at the patch's soft
   // rim the colour lies between the two.
   for (float c : front.coverage) EXPECT_EQ(c, 1.0f);
-  const bool blendedRim = std::any_of(front.color.begin(), front.color.end(),
-                                     [](glm::u8vec4 c) { return c.r > 0 && c.b > 0; });
+  const bool blendedRim =
+      std::any_of(front.color.begin(), front.color.end(), [](glm::u8vec4 c) { return c.r > 0 && c.b > 0; });
   EXPECT_TRUE(blendedRim);
 }
 

@@ -55,7 +55,6 @@ Mesh trianglesMesh(std::vector<glm::vec3> positions) {
   return mesh;
 }
 
-
 glm::dmat4 placed(const glm::dvec3& offset, double scale) {
   return glm::scale(glm::translate(glm::dmat4(1.0), offset), glm::dvec3(scale));
 }
@@ -65,7 +64,8 @@ void expectFinite(const CaptureResult& result) {
   EXPECT_GE(result.coverage, 0.0);
   EXPECT_LE(result.coverage, 1.0);
   for (const Surfel& surfel : result.surfels) {
-    ASSERT_TRUE(std::isfinite(surfel.position.x) && std::isfinite(surfel.position.y) && std::isfinite(surfel.position.z));
+    ASSERT_TRUE(std::isfinite(surfel.position.x) && std::isfinite(surfel.position.y) &&
+                std::isfinite(surfel.position.z));
     ASSERT_TRUE(std::isfinite(surfel.normal.x) && std::isfinite(surfel.normal.y) && std::isfinite(surfel.normal.z));
   }
 }
@@ -173,8 +173,8 @@ TEST(Capture, StiffInputsStayDefined) {
 // An open quad (two triangles, normal +z as the mesh has it) is seen from both sides: each view's
 // surfels face that view, so the four views from below give -z normals and the four from above +z.
 TEST(Capture, NormalsFaceTheViewThatSawThem) {
-  const Scene scene =
-      sceneOf(trianglesMesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}), {glm::dmat4(1.0)});
+  const Scene scene = sceneOf(trianglesMesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}),
+                              {glm::dmat4(1.0)});
   const Hierarchy hierarchy = analyzeHierarchy(scene);
   ASSERT_EQ(scene.meshes[0].normals[0], glm::vec3(0.0f, 0.0f, 1.0f));
   for (const auto backend : kBackends) {
@@ -232,8 +232,8 @@ TEST(Capture, ZeroNormalStaysZero) {
 
 TEST(Capture, RasterAndEmbreeAgreeOnSharedScenes) {
   PBS_SHARED_SCENE(dir, "");
-  for (const char* file : {"bunny.glb", "fandisk.glb", "horse.glb", "rocker-arm.glb", "spot.glb", "suzanne.glb",
-                           "teapot.glb"}) {
+  for (const char* file :
+       {"bunny.glb", "fandisk.glb", "horse.glb", "rocker-arm.glb", "spot.glb", "suzanne.glb", "teapot.glb"}) {
     const Scene scene = loadScene((dir / file).string()).scene;
     const Hierarchy hierarchy = analyzeHierarchy(scene);
     for (std::uint32_t root : scene.roots) {
@@ -249,10 +249,11 @@ TEST(Capture, RasterAndEmbreeAgreeOnSharedScenes) {
       const double countDiff = std::abs(double(raster.surfels.size()) - double(embree.surfels.size())) /
                                double(std::max<std::size_t>(raster.surfels.size(), 1));
       const double coverageDiff = std::abs(raster.coverage - embree.coverage) / std::max(raster.coverage, 1e-12);
-      std::printf("%-16s node %u: surfels raster %zu embree %zu (%.3f%%), coverage %.4f / %.4f (%.3f%%), "
-                  "%.0f / %.0f ms\n",
-                  file, root, raster.surfels.size(), embree.surfels.size(), 100.0 * countDiff, raster.coverage,
-                  embree.coverage, 100.0 * coverageDiff, milliseconds[0], milliseconds[1]);
+      std::printf(
+          "%-16s node %u: surfels raster %zu embree %zu (%.3f%%), coverage %.4f / %.4f (%.3f%%), "
+          "%.0f / %.0f ms\n",
+          file, root, raster.surfels.size(), embree.surfels.size(), 100.0 * countDiff, raster.coverage, embree.coverage,
+          100.0 * coverageDiff, milliseconds[0], milliseconds[1]);
       EXPECT_LT(countDiff, 0.01) << file;
       EXPECT_LT(coverageDiff, 0.005) << file;
       expectFinite(raster);

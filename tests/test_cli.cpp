@@ -192,8 +192,8 @@ TEST(Cli, CaptureWritesEveryViewsBuffersAsPng) {
   // --json says what the capture used: depth, colour, position and normal, of which each view clears
   // depth alone; the same whichever backend draws.
   for (const char* backend : {"raster", "embree"}) {
-    const CommandResult json = runPbs("capture '" + suzanne.string() + "' --resolution 64 --json --backend " +
-                                      backend + " -o '" + (scratch / backend).string() + "'");
+    const CommandResult json = runPbs("capture '" + suzanne.string() + "' --resolution 64 --json --backend " + backend +
+                                      " -o '" + (scratch / backend).string() + "'");
     ASSERT_EQ(json.status, 0) << json.err;
     const auto report = nlohmann::json::parse(json.out);
     EXPECT_EQ(report["views"], 8);
@@ -204,7 +204,8 @@ TEST(Cli, CaptureWritesEveryViewsBuffersAsPng) {
     EXPECT_EQ(report["used"]["backend"], backend);
   }
 
-  const CommandResult missing = runPbs("capture '" + suzanne.string() + "' --node nosuch -o '" + scratch.path().string() + "'");
+  const CommandResult missing =
+      runPbs("capture '" + suzanne.string() + "' --node nosuch -o '" + scratch.path().string() + "'");
   EXPECT_EQ(missing.status, 1);
   EXPECT_NE(missing.err.find("node nosuch"), std::string::npos) << missing.err;
 }
@@ -242,8 +243,8 @@ TEST(Cli, JobsOverTheMemoryLimitFailEarly) {
   EXPECT_EQ(surfelize.err.rfind("error: surfelize default would need about", 0), 0u) << surfelize.err;
   EXPECT_NE(surfelize.err.find("(--max-memory)"), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(out));
-  const CommandResult render = runPbs("render default --size 16384x16384 --max-memory 1GB -o '" +
-                                      (scratch / "x.png").string() + "'");
+  const CommandResult render =
+      runPbs("render default --size 16384x16384 --max-memory 1GB -o '" + (scratch / "x.png").string() + "'");
   EXPECT_EQ(render.status, 1);
   EXPECT_NE(render.err.find("rendering 16384x16384 would need about 10.00 GB"), std::string::npos) << render.err;
   EXPECT_EQ(runPbs("render default --max-memory lots").status, 2) << "a size it cannot read is bad usage";
@@ -276,8 +277,8 @@ TEST(Cli, AGltfSceneTooLargeToReadIsRefusedBeforeReadingIt) {
   ScratchDir scratch;
   writeGlb(sceneOf(tessellatedBox(160), {glm::dmat4(1.0)}), scratch / "box.glb");  // 307,200 triangles
   const std::string scene = "'" + (scratch / "box.glb").string() + "'";
-  const CommandResult exact = runPbs("render " + scene + " --size 64x64 --max-memory 12MB -o '" +
-                                     (scratch / "x.png").string() + "'");
+  const CommandResult exact =
+      runPbs("render " + scene + " --size 64x64 --max-memory 12MB -o '" + (scratch / "x.png").string() + "'");
   EXPECT_EQ(exact.status, 1);
   EXPECT_NE(exact.err.find("error: reading "), std::string::npos) << exact.err;
   EXPECT_NE(exact.err.find("(307,200 triangles) would need about"), std::string::npos) << exact.err;
@@ -286,8 +287,9 @@ TEST(Cli, AGltfSceneTooLargeToReadIsRefusedBeforeReadingIt) {
   EXPECT_EQ(rays.status, 1);
   EXPECT_NE(rays.err.find("(307,200 triangles in Embree's BVHs) would need about"), std::string::npos) << rays.err;
   EXPECT_FALSE(std::filesystem::exists(scratch / "x.png"));
-  EXPECT_EQ(runPbs("render " + scene + " --size 64x64 --max-memory 200MB -o '" + (scratch / "x.png").string() + "'").status,
-            0)
+  EXPECT_EQ(
+      runPbs("render " + scene + " --size 64x64 --max-memory 200MB -o '" + (scratch / "x.png").string() + "'").status,
+      0)
       << "what fits is drawn";
 }
 

@@ -35,7 +35,6 @@ Mesh quadMesh() {
   return mesh;
 }
 
-
 glm::dmat4 lookFrom(const glm::dvec3& eye, const glm::dvec3& target) {
   return glm::lookAt(eye, target, glm::dvec3(0, 1, 0));
 }
@@ -113,7 +112,7 @@ TEST(EmbreeCaster, HitsOutsideTheNearFarRangeAreSkipped) {
     return framebuffer.ids[0].node;
   };
   EXPECT_EQ(nodeSeen(1.0, 10.0), 0u);
-  EXPECT_EQ(nodeSeen(6.0, 10.0), 1u);  // the nearer quad lies before the near plane
+  EXPECT_EQ(nodeSeen(6.0, 10.0), 1u);              // the nearer quad lies before the near plane
   EXPECT_EQ(nodeSeen(1.0, 4.0), PixelIds{}.node);  // both lie beyond the far plane
   EXPECT_EQ(nodeSeen(5.5, 6.5), PixelIds{}.node);  // between the two
 }
@@ -133,7 +132,10 @@ TEST(EmbreeCaster, ColourIsBaseColourTimesBilinearTextureWithWrapModes) {
     for (std::uint32_t px = 0; px < 64; ++px) {
       // Pixel column px samples u = (px + 0.5)/64, texel coordinate 2u − 0.5 between the centres.
       const double x = 2.0 * (px + 0.5) / 64.0 - 0.5;
-      const double white = wrap == TextureWrap::ClampToEdge ? std::clamp(x, 0.0, 1.0) : (x < 0 ? -x : x > 1 ? 2 - x : x);
+      const double white = wrap == TextureWrap::ClampToEdge ? std::clamp(x, 0.0, 1.0)
+                                                            : (x < 0   ? -x
+                                                               : x > 1 ? 2 - x
+                                                                       : x);
       const glm::u8vec4 color = framebuffer.color[32 * 64 + px];
       EXPECT_NEAR(color.r, white * 255.0, 1.0) << px;
       EXPECT_NEAR(color.g, white * 127.5, 1.0) << px;
@@ -238,9 +240,11 @@ Scene instancedScene(const glm::dvec3& offset) {
   scene.materials.push_back(Material{"red", glm::vec4(0.8f, 0.2f, 0.1f, 1.0f), -1});
   scene.materials.push_back(Material{"blue", glm::vec4(0.1f, 0.3f, 0.9f, 1.0f), -1});
   const glm::dmat4 identity(1.0);
-  const glm::dmat4 stretched = glm::rotate(identity, 0.7, glm::dvec3(1, 2, 0.5)) * glm::scale(identity, {1.6, 0.7, 1.1});
+  const glm::dmat4 stretched =
+      glm::rotate(identity, 0.7, glm::dvec3(1, 2, 0.5)) * glm::scale(identity, {1.6, 0.7, 1.1});
   const glm::dmat4 mirrored = glm::translate(identity, {0.9, 0.3, -0.2}) *
-                              glm::rotate(identity, -1.1, glm::dvec3(0.3, 1, 0.2)) * glm::scale(identity, {-1.0, 1.3, 0.8});
+                              glm::rotate(identity, -1.1, glm::dvec3(0.3, 1, 0.2)) *
+                              glm::scale(identity, {-1.0, 1.3, 0.8});
   scene.nodes.push_back(Node{"parent", glm::translate(identity, offset), {1, 2}, -1});
   scene.nodes.push_back(Node{"stretched", stretched, {}, 0});
   scene.nodes.push_back(Node{"mirrored", mirrored, {}, 0});
@@ -284,12 +288,14 @@ TEST(EmbreeVisibility, CulledSceneAgreesWithTheRasterizer) {
   for (int i = 0; i < 49; ++i) {
     const glm::dvec3 at(2.5 * (i % 7 - 3), 2.5 * (i / 7 - 3), 0.3 * (i % 3));
     scene.roots.push_back(std::uint32_t(scene.nodes.size()));
-    scene.nodes.push_back(Node{"torus", glm::rotate(glm::translate(glm::dmat4(1.0), at), 0.4 * i, glm::dvec3(1, 1, 0)), {}, 0});
+    scene.nodes.push_back(
+        Node{"torus", glm::rotate(glm::translate(glm::dmat4(1.0), at), 0.4 * i, glm::dvec3(1, 1, 0)), {}, 0});
   }
   validateScene(scene, "grid");
   const Hierarchy hierarchy = analyzeHierarchy(scene);
   const EmbreeScene embree(scene, hierarchy);
-  const Camera camera = perspectiveCamera(lookFrom({0.3, 0.2, 0.5}, {4.0, 1.0, 0.2}), glm::radians(60.0), 0.2, 12.0, 320, 200);
+  const Camera camera =
+      perspectiveCamera(lookFrom({0.3, 0.2, 0.5}, {4.0, 1.0, 0.2}), glm::radians(60.0), 0.2, 12.0, 320, 200);
 
   std::uint32_t culled = 0;
   for (std::uint32_t node = 0; node < scene.nodes.size(); ++node)
@@ -314,7 +320,7 @@ TEST(SceneDraws, OutsideClipVolumeIsConservative) {
   EXPECT_TRUE(outsideClipVolume(camera, box({-0.5, -0.5, -0.9}, {0.5, 0.5, -0.1})));   // before the near plane
   EXPECT_TRUE(outsideClipVolume(camera, box({-0.5, -0.5, -12}, {0.5, 0.5, -11})));     // beyond the far plane
   EXPECT_TRUE(outsideClipVolume(camera, box({6.0, -0.1, -5.1}, {7.0, 0.1, -4.9})));    // beside the view
-  EXPECT_TRUE(outsideClipVolume(camera, Bounds{}));                                     // empty
+  EXPECT_TRUE(outsideClipVolume(camera, Bounds{}));                                    // empty
 }
 
 // Embree's own count of what it allocates: a scene's BVHs take bytes in proportion to its triangles,

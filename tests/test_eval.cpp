@@ -56,8 +56,9 @@ struct EvalRun {
 // reads only its prefixes, and reading is reported apart from the frames' times.
 TEST(EvalCli, ReadsTheSurfelFileAsFramesDrawIt) {
   const EvalRun eval;
-  const test::CommandResult run = eval.run("--size 96x64 --frames 1 --orbit 30,20,12 --peers embree=1 "
-                                           "--sweep surfels --sweep overdraw=2 --exhausted grow --quiet");
+  const test::CommandResult run = eval.run(
+      "--size 96x64 --frames 1 --orbit 30,20,12 --peers embree=1 "
+      "--sweep surfels --sweep overdraw=2 --exhausted grow --quiet");
   ASSERT_EQ(run.status, 0) << run.err;
   const nlohmann::json summary = nlohmann::json::parse(test::readFile(eval.out / "summary.json"));
   const std::string file = eval.surfels.substr(1, eval.surfels.size() - 2);  // unquoted
@@ -80,8 +81,9 @@ TEST(EvalCli, ReadsTheSurfelFileAsFramesDrawIt) {
 // with the scene read whole (which an Embree peer forces).
 TEST(EvalCli, ExactReferenceReadsMeshesAsFramesDrawThem) {
   const EvalRun onDemand, whole;
-  const std::string common = "--size 96x64 --frames 3 --path approach --reference exact --reference-samples 4 "
-                             "--sweep surfels --quiet --peers ";
+  const std::string common =
+      "--size 96x64 --frames 3 --path approach --reference exact --reference-samples 4 "
+      "--sweep surfels --quiet --peers ";
   const test::CommandResult a = onDemand.run(common + "exact=1");
   ASSERT_EQ(a.status, 0) << a.err;
   const test::CommandResult b = whole.run(common + "exact=1 --peers embree=1");
@@ -93,7 +95,8 @@ TEST(EvalCli, ExactReferenceReadsMeshesAsFramesDrawThem) {
   EXPECT_EQ(summaryA["reference"]["renderer"], "exact");
   EXPECT_EQ(summaryA["embree_build_seconds"], 0.0) << "no BVH over the whole scene";
   std::map<std::pair<std::string, std::string>, std::string> flipB;
-  for (const test::CsvRow& row : whole.rows()) flipB[{row.fields.at("setting"), row.fields.at("frame")}] = row.fields.at("flip");
+  for (const test::CsvRow& row : whole.rows())
+    flipB[{row.fields.at("setting"), row.fields.at("frame")}] = row.fields.at("flip");
   std::size_t compared = 0;
   for (const test::CsvRow& row : onDemand.rows()) {
     const auto key = std::pair(row.fields.at("setting"), row.fields.at("frame"));
@@ -106,15 +109,14 @@ TEST(EvalCli, ExactReferenceReadsMeshesAsFramesDrawThem) {
 
 TEST(EvalCli, PeersSurfelsAndSweepsAgainstTheReference) {
   const EvalRun eval;
-  const test::CommandResult run =
-      eval.run("--size 96x64 --frames 2 --sweep overdraw=1 --sweep point=4 --quiet");
+  const test::CommandResult run = eval.run("--size 96x64 --frames 2 --sweep overdraw=1 --sweep point=4 --quiet");
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_TRUE(run.err.empty()) << "--quiet: " << run.err;
 
   const test::CsvTable csv = readCsv(eval.out / "eval.csv");
   const std::vector<test::CsvRow>& rows = csv.rows;
   EXPECT_EQ(csv.header, kHeader);
-  const std::vector<std::string> settings = {"embree=1", "embree=4", "embree=16", "exact=1",
+  const std::vector<std::string> settings = {"embree=1", "embree=4",   "embree=16", "exact=1",
                                              "surfels",  "overdraw=1", "point=4"};
   ASSERT_EQ(rows.size(), settings.size() * 2);
   std::map<std::string, std::vector<const test::CsvRow*>> bySetting;
@@ -148,9 +150,9 @@ TEST(EvalCli, PeersSurfelsAndSweepsAgainstTheReference) {
   }
 
   const nlohmann::json summary = nlohmann::json::parse(test::readFile(eval.out / "summary.json"));
-  for (const char* key : {"scene", "surfels", "path", "width", "height", "frames", "reference", "load_seconds",
-                          "surfels_load_seconds", "embree_build_seconds", "frame_kinds", "baseline", "settings",
-                          "pareto_front", "contact_sheet"})
+  for (const char* key :
+       {"scene", "surfels", "path", "width", "height", "frames", "reference", "load_seconds", "surfels_load_seconds",
+        "embree_build_seconds", "frame_kinds", "baseline", "settings", "pareto_front", "contact_sheet"})
     EXPECT_TRUE(summary.contains(key)) << key;
   EXPECT_EQ(summary["baseline"], "surfels");
   EXPECT_EQ(summary["path"], "orbit");
@@ -161,10 +163,10 @@ TEST(EvalCli, PeersSurfelsAndSweepsAgainstTheReference) {
     const nlohmann::json& entry = summary["settings"][s];
     EXPECT_EQ(entry["name"], settings[s]);
     ASSERT_TRUE(entry.contains("all")) << settings[s];
-    for (const char* key : {"frames", "median_seconds", "median_speedup_over_fastest_exact", "median_flip", "worst_flip",
-                            "worst_flip_frame", "median_flip_mean", "median_foreground_psnr", "worst_foreground_psnr",
-                            "median_ssim", "median_hole_fraction", "worst_hole_fraction", "median_bloat_fraction",
-                            "worst_bloat_fraction", "median_surfels", "median_triangles"})
+    for (const char* key : {"frames", "median_seconds", "median_speedup_over_fastest_exact", "median_flip",
+                            "worst_flip", "worst_flip_frame", "median_flip_mean", "median_foreground_psnr",
+                            "worst_foreground_psnr", "median_ssim", "median_hole_fraction", "worst_hole_fraction",
+                            "median_bloat_fraction", "worst_bloat_fraction", "median_surfels", "median_triangles"})
       EXPECT_TRUE(entry["all"].contains(key)) << settings[s] << " " << key;
     EXPECT_EQ(entry["all"]["frames"], 2);
     // Every kind that occurs has its own summary, and the kinds' frames add up.
@@ -195,9 +197,9 @@ TEST(EvalCli, PeersSurfelsAndSweepsAgainstTheReference) {
 // group (geometry fills the frame).
 TEST(EvalCli, ApproachFramesGoFromFarToNear) {
   const EvalRun eval;
-  const test::CommandResult run =
-      eval.run("--size 160x120 --frames 4 --path approach --peers embree=1 --reference-samples 4 --sweep surfels "
-               "--exhausted grow --quiet");
+  const test::CommandResult run = eval.run(
+      "--size 160x120 --frames 4 --path approach --peers embree=1 --reference-samples 4 --sweep surfels "
+      "--exhausted grow --quiet");
   ASSERT_EQ(run.status, 0) << run.err;
   const std::vector<test::CsvRow> rows = eval.rows();
   ASSERT_EQ(rows.size(), 8u);  // embree=1 and surfels
@@ -216,7 +218,8 @@ TEST(EvalCli, ApproachFramesGoFromFarToNear) {
 TEST(EvalCli, MoreSurfelsNeverLeaveMoreHolesOnAStaticView) {
   const EvalRun eval;
   const test::CommandResult run = eval.run(
-      "--size 160x120 --frames 1 --peers embree=1 --reference-samples 4 --splat nearest --point-size 2 --exhausted grow "
+      "--size 160x120 --frames 1 --peers embree=1 --reference-samples 4 --splat nearest --point-size 2 --exhausted "
+      "grow "
       "--overdraw 4 --sweep overdraw=0.5,1,2,8 --quiet");
   ASSERT_EQ(run.status, 0) << run.err;
   const std::vector<test::CsvRow> rows = eval.rows();
@@ -239,8 +242,9 @@ TEST(EvalCli, MoreSurfelsNeverLeaveMoreHolesOnAStaticView) {
 
 TEST(EvalCli, OtherOrderingsAreMadeOnDemand) {
   const EvalRun eval;
-  const test::CommandResult run = eval.run("--size 64x48 --frames 1 --peers embree=1 --reference-samples 4 "
-                                           "--sweep ordering=random,dart --capture-from triangles --quiet");
+  const test::CommandResult run = eval.run(
+      "--size 64x48 --frames 1 --peers embree=1 --reference-samples 4 "
+      "--sweep ordering=random,dart --capture-from triangles --quiet");
   ASSERT_EQ(run.status, 0) << run.err;
   const std::vector<test::CsvRow> rows = eval.rows();
   ASSERT_EQ(rows.size(), 4u);
@@ -270,9 +274,10 @@ TEST(EvalCli, BadSweepsFailWithUsageErrors) {
 // everywhere, which (drawn by the rasterizer) is the exact rasterizer's picture.
 TEST(EvalCli, BaselineOptionsAndCombinedSettings) {
   const EvalRun eval;
-  const test::CommandResult run =
-      eval.run("--size 96x64 --frames 2 --peers exact=1 --reference-samples 4 --point-size 0.5 --exhausted grow --overdraw 4 --sweep overdraw=4 "
-               "--sweep point=0.5+overdraw=4 --sweep point=2+threshold=0.001+geometry=raster --quiet");
+  const test::CommandResult run = eval.run(
+      "--size 96x64 --frames 2 --peers exact=1 --reference-samples 4 --point-size 0.5 --exhausted grow --overdraw 4 "
+      "--sweep overdraw=4 "
+      "--sweep point=0.5+overdraw=4 --sweep point=2+threshold=0.001+geometry=raster --quiet");
   ASSERT_EQ(run.status, 0) << run.err;
   const std::vector<test::CsvRow> rows = eval.rows();
   ASSERT_EQ(rows.size(), 6u);  // exact=1, surfels and the all-geometry setting, two frames each

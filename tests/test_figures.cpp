@@ -73,8 +73,8 @@ TEST(FigureCli, ScalingMeasuresGrowingCitiesInBothModes) {
 TEST(FigureCli, ScalingErrorsAreOneLine) {
   ScratchDir scratch;
   const std::string output = " -o '" + (scratch / "out").string() + "' --quiet";
-  const test::CommandResult tooSmall = test::runPbs("figure scaling --mesh " + boxFile(scratch) +
-                                                    " --max-triangles 1000" + output);
+  const test::CommandResult tooSmall =
+      test::runPbs("figure scaling --mesh " + boxFile(scratch) + " --max-triangles 1000" + output);
   EXPECT_EQ(tooSmall.status, 1);
   EXPECT_EQ(tooSmall.err.rfind("error: the smallest city", 0), 0u) << tooSmall.err;
 
@@ -97,12 +97,14 @@ TEST(FigureCli, ViewsSheetAndNearDrawsMoreGeometryThanFar) {
   ScratchDir scratch;
   const auto [scene, surfels] = test::groupsWithSurfels(scratch);
   const std::filesystem::path out = scratch / "views";
-  const test::CommandResult run = test::runPbs("figure views " + scene + " --surfels " + surfels + " -o '" +
-                                               out.string() + "' --size 320x200 --overdraw 4 --quiet");  // the small arrays last at 4, not 16
+  const test::CommandResult run =
+      test::runPbs("figure views " + scene + " --surfels " + surfels + " -o '" + out.string() +
+                   "' --size 320x200 --overdraw 4 --quiet");  // the small arrays last at 4, not 16
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_TRUE(run.err.empty()) << "--quiet: " << run.err;
 
-  EXPECT_EQ(pngSize(out / "views.png"), std::make_pair(3u * 320u, 3u * 200u)) << "3 views × exact | surfels | difference";
+  EXPECT_EQ(pngSize(out / "views.png"), std::make_pair(3u * 320u, 3u * 200u))
+      << "3 views × exact | surfels | difference";
   const test::CsvTable csv = readCsv(out / "views.csv");
   ASSERT_EQ(csv.rows.size(), 3u);
   EXPECT_EQ(csv.rows[0].fields.at("view"), "near");
@@ -133,7 +135,8 @@ TEST(FigureCli, StreamErrorFallsAsPrefixesArrive) {
                    "' --size 160x100 --orbit 30,20,1.5 --bandwidths 0.5,0.02 --seconds 2 --steps 8 "
                    "--reference-samples 4 --exhausted grow --quiet");
   ASSERT_EQ(run.status, 0) << run.err;
-  EXPECT_EQ(pngSize(out / "stream.png"), std::make_pair(3u * 160u, 3u * 100u)) << "3 times × prefixes | arrays | reference";
+  EXPECT_EQ(pngSize(out / "stream.png"), std::make_pair(3u * 160u, 3u * 100u))
+      << "3 times × prefixes | arrays | reference";
   EXPECT_EQ(test::readFile(out / "stream.svg").rfind("<svg", 0), 0u);
   const test::CsvTable csv = readCsv(out / "stream.csv");
   ASSERT_EQ(csv.rows.size(), 2u * 2u * 8u) << "two bandwidths × two orders × 8 steps";
@@ -143,8 +146,7 @@ TEST(FigureCli, StreamErrorFallsAsPrefixesArrive) {
   for (const auto& series : json["series"]) {
     const auto& steps = series["steps"];
     const double rate = series["megabytes_per_second"].get<double>() * 1e6;
-    for (const auto& step : steps)
-      EXPECT_LE(step["bytes"].get<double>(), rate * step["seconds"].get<double>() + 1e-6);
+    for (const auto& step : steps) EXPECT_LE(step["bytes"].get<double>(), rate * step["seconds"].get<double>() + 1e-6);
     EXPECT_LE(steps.back()["flip_foreground"].get<double>(), steps.front()["flip_foreground"].get<double>());
     if (series["megabytes_per_second"].get<double>() == 0.5) {
       EXPECT_EQ(steps.back()["missing_bytes"].get<std::uint64_t>(), 0u) << series["order"];

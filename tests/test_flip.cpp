@@ -1,4 +1,5 @@
-// LDR-FLIP (raster/flip.hpp): exact zeros, locality, the observer's distance, hand-computed colour errors, determinism, the map's colours.
+// LDR-FLIP (raster/flip.hpp): exact zeros, locality, the observer's distance, hand-computed colour errors, determinism,
+// the map's colours.
 #include <pbs/raster/flip.hpp>
 #include <pbs/raster/thread_arena.hpp>
 
@@ -41,9 +42,8 @@ bool sameBits(const std::vector<float>& a, const std::vector<float>& b) {
 double decodeSrgb(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
 // Linear sRGB to XYZ (IEC 61966-2-1 primaries, D65), as usually tabulated to seven places.
-constexpr double kRgbToXyz[3][3] = {{0.4123908, 0.3575843, 0.1804808},
-                                    {0.2126390, 0.7151687, 0.0721923},
-                                    {0.0193308, 0.1191948, 0.9505322}};
+constexpr double kRgbToXyz[3][3] = {
+    {0.4123908, 0.3575843, 0.1804808}, {0.2126390, 0.7151687, 0.0721923}, {0.0193308, 0.1191948, 0.9505322}};
 
 std::array<double, 3> linearToXyz(std::array<double, 3> rgb) {
   std::array<double, 3> xyz{};
@@ -185,7 +185,9 @@ TEST(Flip, TheSameColourShiftCountsForLessInTheDark) {
   const std::uint32_t w = 8, h = 8;
   const auto error = [&](float level) {
     const float shift = 0.3f * level;
-    const auto encode = [](float linear) { return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f; };
+    const auto encode = [](float linear) {
+      return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+    };
     const glm::vec3 a(encode(level + shift), encode(level), encode(level));
     const glm::vec3 b(encode(level), encode(level + shift), encode(level));
     return computeFlip(uniformImage(w, h, a), uniformImage(w, h, b), w, h).mean;
@@ -217,7 +219,8 @@ TEST(Flip, BitIdenticalForAnyThreadCount) {
 TEST(Flip, PoolsTheMapIntoMeanMedianAndMax) {
   // Even and odd counts (an even count's median is the mean of the middle two), and a map mostly of
   // zeros, where the middle values repeat.
-  const auto check = [](std::uint32_t w, std::uint32_t h, const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
+  const auto check = [](std::uint32_t w, std::uint32_t h, const std::vector<glm::vec3>& a,
+                        const std::vector<glm::vec3>& b) {
     const FlipResult r = computeFlip(a, b, w, h, kDefaultPixelsPerDegree, true);
     std::vector<float> sorted = r.map;
     std::sort(sorted.begin(), sorted.end());
@@ -225,8 +228,8 @@ TEST(Flip, PoolsTheMapIntoMeanMedianAndMax) {
     for (float v : sorted) sum += v;
     EXPECT_NEAR(r.mean, sum / double(sorted.size()), 1e-12);
     const std::size_t middle = sorted.size() / 2;
-    const double median = sorted.size() % 2 == 1 ? double(sorted[middle])
-                                                 : 0.5 * (double(sorted[middle - 1]) + double(sorted[middle]));
+    const double median =
+        sorted.size() % 2 == 1 ? double(sorted[middle]) : 0.5 * (double(sorted[middle - 1]) + double(sorted[middle]));
     EXPECT_EQ(r.median, median) << w << "x" << h;
     EXPECT_EQ(r.max, sorted.back());
     EXPECT_GE(sorted.front(), 0.0f);
@@ -249,7 +252,8 @@ TEST(Flip, ValuesOutsideTheDisplayRangeAreClampedAndNanIsBlack) {
   std::vector<glm::vec3> wild = randomImage(w, h, 10);
   std::vector<glm::vec3> tame = wild;
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
-  const std::array<std::pair<float, float>, 5> values = {{{nan, 0.0f}, {inf, 1.0f}, {-inf, 0.0f}, {2.5f, 1.0f}, {-0.3f, 0.0f}}};
+  const std::array<std::pair<float, float>, 5> values = {
+      {{nan, 0.0f}, {inf, 1.0f}, {-inf, 0.0f}, {2.5f, 1.0f}, {-0.3f, 0.0f}}};
   for (std::size_t i = 0; i < values.size(); ++i) {
     wild[7 * i + 3] = glm::vec3(values[i].first, 0.5f, values[i].first);
     tame[7 * i + 3] = glm::vec3(values[i].second, 0.5f, values[i].second);

@@ -162,7 +162,8 @@ TEST(DefaultScene, UsesTexturedAndPlainMaterialsWithUvsWhereTextured) {
     EXPECT_EQ(texture.wrapS, TextureWrap::Repeat);
     EXPECT_EQ(texture.wrapT, TextureWrap::Repeat);
     // A pattern, not a flat fill.
-    EXPECT_NE(std::adjacent_find(texture.rgba8.begin(), texture.rgba8.end(), std::not_equal_to<>()), texture.rgba8.end());
+    EXPECT_NE(std::adjacent_find(texture.rgba8.begin(), texture.rgba8.end(), std::not_equal_to<>()),
+              texture.rgba8.end());
   }
 }
 
@@ -181,8 +182,9 @@ TEST(DefaultScene, MeshesAreClosedAndFaceOutward) {
 TEST(DefaultScene, IsDeterministic) {
   const auto start = std::chrono::steady_clock::now();
   const Scene again = generateDefaultScene();
-  RecordProperty("generation_ms",
-                 std::to_string(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()));
+  RecordProperty(
+      "generation_ms",
+      std::to_string(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()));
   expectSameScene(plant(), again);
 }
 
@@ -196,7 +198,8 @@ Scene prototype(const std::vector<std::pair<std::string, bool>>& children) {
   scene.nodes.push_back({"prototype", glm::rotate(glm::dmat4(1.0), 0.4, glm::dvec3(0, 1, 0)), {}, -1});
   scene.roots = {0};
   for (const auto& [name, mirrored] : children) {
-    const auto mesh = std::find_if(source.meshes.begin(), source.meshes.end(), [&](const Mesh& m) { return m.name == name; });
+    const auto mesh =
+        std::find_if(source.meshes.begin(), source.meshes.end(), [&](const Mesh& m) { return m.name == name; });
     EXPECT_NE(mesh, source.meshes.end()) << name;
     scene.meshes.push_back(*mesh);
     const glm::dmat4 local = glm::translate(glm::dmat4(1.0), glm::dvec3(double(scene.meshes.size()), 0, 0)) *
@@ -428,9 +431,9 @@ TEST(UniqueCity, CommandLineWritesOneMeshPerInstance) {
   writeGlb(cityPrototypes()[1], scratch / "pump.glb");
   writeGlb(cityPrototypes()[2], scratch / "gears.glb");
   const std::string output = (scratch / "city.glb").string();
-  const test::CommandResult made = test::runPbs("generate city --mesh '" + (scratch / "pump.glb").string() +
-                                                "' --mesh '" + (scratch / "gears.glb").string() +
-                                                "' --levels 2 --fanout 4 --unique -o '" + output + "'");
+  const test::CommandResult made =
+      test::runPbs("generate city --mesh '" + (scratch / "pump.glb").string() + "' --mesh '" +
+                   (scratch / "gears.glb").string() + "' --levels 2 --fanout 4 --unique -o '" + output + "'");
   ASSERT_EQ(made.status, 0) << made.err;
   const Scene city = loadScene(output).scene;
   const SceneSummary summary = summarizeScene(city, analyzeHierarchy(city));
@@ -460,7 +463,8 @@ TEST(UniqueCity, UnbakedCityBakesIntoTheSameCity) {
 TEST(UniqueCity, CommandLineWritesAGltfMeshByMesh) {
   test::ScratchDir scratch;
   writeGlb(cityPrototypes()[1], scratch / "pump.glb");
-  const std::string base = "generate city --mesh '" + (scratch / "pump.glb").string() + "' --levels 2 --fanout 3 --unique -o '";
+  const std::string base =
+      "generate city --mesh '" + (scratch / "pump.glb").string() + "' --levels 2 --fanout 3 --unique -o '";
   const test::CommandResult gltf = test::runPbs(base + (scratch / "city.gltf").string() + "'");
   ASSERT_EQ(gltf.status, 0) << gltf.err;
   const test::CommandResult glb = test::runPbs(base + (scratch / "city.glb").string() + "'");
@@ -493,9 +497,9 @@ TEST(UniqueCity, CommandLineRefusesWhatAGlbCannotHold) {
   big.nodes.push_back(Node{"grid", glm::dmat4(1.0), {}, 0});
   big.roots = {0};
   writeGlb(big, scratch / "grid.glb");
-  const test::CommandResult refused = test::runPbs("generate city --mesh '" + (scratch / "grid.glb").string() +
-                                                   "' --levels 2 --fanout 150 --unique -o '" +
-                                                   (scratch / "city.glb").string() + "'");
+  const test::CommandResult refused =
+      test::runPbs("generate city --mesh '" + (scratch / "grid.glb").string() +
+                   "' --levels 2 --fanout 150 --unique -o '" + (scratch / "city.glb").string() + "'");
   EXPECT_EQ(refused.status, 1);
   EXPECT_NE(refused.err.find("4 GiB"), std::string::npos) << refused.err;
   EXPECT_FALSE(std::filesystem::exists(scratch / "city.glb"));

@@ -68,7 +68,8 @@ Texture patternTexture(std::string name, std::uint32_t width, std::uint32_t heig
   texture.name = std::move(name);
   texture.width = width;
   texture.height = height;
-  for (std::uint32_t i = 0; i < width * height * 4; ++i) texture.rgba8.push_back(std::uint8_t((i * 37 + seed * 101) ^ (i >> 3)));
+  for (std::uint32_t i = 0; i < width * height * 4; ++i)
+    texture.rgba8.push_back(std::uint8_t((i * 37 + seed * 101) ^ (i >> 3)));
   return texture;
 }
 
@@ -161,7 +162,8 @@ void expectSameMesh(const Scene& a, const Mesh& x, const Scene& b, const Mesh& y
   std::size_t differences = 0;
   for (std::size_t i = 0; i < x.indices.size(); ++i) {
     const std::uint32_t u = x.indices[i], v = y.indices[i];
-    const bool same = x.positions[u] == y.positions[v] && glm::all(glm::lessThan(glm::abs(x.normals[u] - y.normals[v]), glm::vec3(1e-6f))) &&
+    const bool same = x.positions[u] == y.positions[v] &&
+                      glm::all(glm::lessThan(glm::abs(x.normals[u] - y.normals[v]), glm::vec3(1e-6f))) &&
                       (x.uvs.empty() || x.uvs[u] == y.uvs[v]);
     differences += same ? 0 : 1;
   }
@@ -246,7 +248,9 @@ TEST(GltfExport, FileIsCompactAndFollowsTheSpecification) {
   EXPECT_EQ(gltf["nodes"][1]["matrix"].size(), 16u);
 
   const nlohmann::json& accessors = gltf["accessors"];
-  const auto indexType = [&](int mesh) { return accessors[gltf["meshes"][mesh]["primitives"][0]["indices"].get<int>()]["componentType"]; };
+  const auto indexType = [&](int mesh) {
+    return accessors[gltf["meshes"][mesh]["primitives"][0]["indices"].get<int>()]["componentType"];
+  };
   EXPECT_EQ(indexType(0), 5123);  // UNSIGNED_SHORT: 24 vertices
   EXPECT_EQ(indexType(2), 5125);  // UNSIGNED_INT: 90,000 vertices
   for (const nlohmann::json& mesh : gltf["meshes"]) {

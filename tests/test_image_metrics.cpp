@@ -255,11 +255,11 @@ TEST(ImageMetrics, ThresholdsReportEveryLimitBroken) {
   d.holeFraction = 0.01;
   d.bloatFraction = 0.2;
   EXPECT_TRUE(failedThresholds(d, {}).empty()) << "no limits, nothing fails";
-  const ImageThresholds passing{.maxFlip = 0.05, .minPsnr = 30.0, .minForegroundPsnr = 20.0, .maxHoles = 0.01,
-                                .maxBloat = 0.2};
+  const ImageThresholds passing{
+      .maxFlip = 0.05, .minPsnr = 30.0, .minForegroundPsnr = 20.0, .maxHoles = 0.01, .maxBloat = 0.2};
   EXPECT_TRUE(failedThresholds(d, passing).empty()) << "a value equal to its limit passes";
-  const ImageThresholds strict{.maxFlip = 0.04, .minPsnr = 31.0, .minForegroundPsnr = 19.0, .maxHoles = 0.02,
-                               .maxBloat = 0.1};
+  const ImageThresholds strict{
+      .maxFlip = 0.04, .minPsnr = 31.0, .minForegroundPsnr = 19.0, .maxHoles = 0.02, .maxBloat = 0.1};
   const std::vector<ThresholdFailure> failures = failedThresholds(d, strict);
   ASSERT_EQ(failures.size(), 3u);
   EXPECT_EQ(failures[0].option, "--max-flip");
@@ -484,7 +484,6 @@ TEST(CompareCommand, BadInputsGiveOneErrorLine) {
   const std::string folder = dir.path().string();
   expectError(runPbs("compare '" + a + "' '" + folder + "'"), folder + ": cannot read image: not a file");
 }
-
 
 // --- images pbs writes: PNG through libpng in the process, other formats through the plug-in ---
 

@@ -51,16 +51,19 @@ test::GltfBuilder variedPrimitives() {
   const int uvs = b.addAccessor(std::vector<float>{0, 0, 1, 0, 1, 1, 0, 1}, test::kFloat, "VEC2");
   const int first = b.addAccessor(std::vector<std::uint16_t>{0, 1, 2}, test::kUnsignedShort, "SCALAR");
   const int second = b.addAccessor(std::vector<std::uint16_t>{0, 2, 3}, test::kUnsignedShort, "SCALAR");
-  const int strip = b.addAccessor(std::vector<float>{0, 0, 1, 1, 0, 1, 0, 1, 2, 1, 1, 2, 0, 2, 1}, test::kFloat, "VEC3");
+  const int strip =
+      b.addAccessor(std::vector<float>{0, 0, 1, 1, 0, 1, 0, 1, 2, 1, 1, 2, 0, 2, 1}, test::kFloat, "VEC3");
   const int fan = b.addAccessor(std::vector<std::uint8_t>{0, 1, 2, 3}, test::kUnsignedByte, "SCALAR");
   b.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.4, 0.6, 1.0}}}}});
   b.addMaterial({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
   b.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.1, 0.1, 1.0}}}}});
   b.append("textures", {{"source", 0}});
   b.append("images", {{"uri", std::string("data:image/png;base64,") + test::kPngRgba2x2}});
-  b.addMesh({{{"attributes", {{"POSITION", quad}, {"NORMAL", normals}, {"TEXCOORD_0", uvs}}}, {"indices", first},
+  b.addMesh({{{"attributes", {{"POSITION", quad}, {"NORMAL", normals}, {"TEXCOORD_0", uvs}}},
+              {"indices", first},
               {"material", 2}},
-             {{"attributes", {{"POSITION", quad}, {"NORMAL", normals}, {"TEXCOORD_0", uvs}}}, {"indices", second},
+             {{"attributes", {{"POSITION", quad}, {"NORMAL", normals}, {"TEXCOORD_0", uvs}}},
+              {"indices", second},
               {"material", 1}}});
   b.addMesh({{{"attributes", {{"POSITION", strip}}}, {"mode", 5}},
              {{"attributes", {{"POSITION", strip}}}, {"mode", 0}},
@@ -299,7 +302,8 @@ TEST(LazyMeshesCli, RenderReadsMeshesAsFramesDrawThemAndRefusesAChangedOne) {
   // One vertex moved: the same JSON, so the same structure, but mesh 0's data differs.
   std::string glb = test::readFile(scratch / "groups.glb");
   const std::uint32_t jsonLength = std::uint32_t(std::uint8_t(glb[12])) | std::uint32_t(std::uint8_t(glb[13])) << 8 |
-                                   std::uint32_t(std::uint8_t(glb[14])) << 16 | std::uint32_t(std::uint8_t(glb[15])) << 24;
+                                   std::uint32_t(std::uint8_t(glb[14])) << 16 |
+                                   std::uint32_t(std::uint8_t(glb[15])) << 24;
   glb[20 + jsonLength + 8 + 1] ^= 0x01;  // a low mantissa byte of the first position
   test::writeFile(scratch / "groups.glb", glb);
   const test::CommandResult changed =

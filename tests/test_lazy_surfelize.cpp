@@ -105,9 +105,9 @@ TEST(LazySurfelizeCli, SurfelizeReadsAGltfsMeshesAsCapturesDrawThem) {
   SurfelizeOptions options = smallArrays(CaptureSource::Auto);
   surfelizeToFile(whole.scene, analyzeHierarchy(whole.scene), options, scratch / "library.surfels");
 
-  const test::CommandResult made = test::runPbs("surfelize '" + (scratch / "layered.glb").string() + "' -o '" +
-                                                (scratch / "cli.surfels").string() +
-                                                "' --min-triangles 1000 --max-surfels 300 --resolution 48 --json");
+  const test::CommandResult made =
+      test::runPbs("surfelize '" + (scratch / "layered.glb").string() + "' -o '" + (scratch / "cli.surfels").string() +
+                   "' --min-triangles 1000 --max-surfels 300 --resolution 48 --json");
   ASSERT_EQ(made.status, 0) << made.err;
   const nlohmann::json report = nlohmann::json::parse(made.out);
   EXPECT_EQ(report["used"]["meshes"], "read as captures draw them");

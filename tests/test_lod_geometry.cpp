@@ -65,9 +65,9 @@ Scene boxGrid() {
 TEST(EmbreeNodeCaster, GivesTheWholeSceneCastersImageOfTheSameNodes) {
   const Scene scene = boxGrid();
   const Hierarchy hierarchy = analyzeHierarchy(scene);
-  const Camera camera = perspectiveCamera(glm::lookAt(glm::dvec3(0.3, 0.2, 0.5), glm::dvec3(4.0, 1.0, 0.2),
-                                                      glm::dvec3(0, 1, 0)),
-                                          glm::radians(60.0), 0.2, 12.0, 160, 100);
+  const Camera camera =
+      perspectiveCamera(glm::lookAt(glm::dvec3(0.3, 0.2, 0.5), glm::dvec3(4.0, 1.0, 0.2), glm::dvec3(0, 1, 0)),
+                        glm::radians(60.0), 0.2, 12.0, 160, 100);
   std::vector<std::uint32_t> nodes;  // every other box
   for (std::uint32_t node = 0; node < scene.nodes.size(); node += 2) nodes.push_back(node);
   EmbreeNodeCaster caster(scene, hierarchy);
@@ -82,9 +82,9 @@ TEST(EmbreeNodeCaster, GivesTheWholeSceneCastersImageOfTheSameNodes) {
   Framebuffer whole = makeFramebuffer(camera.width, camera.height, kAllChannels);
   EmbreeScene(scene, hierarchy, inView).render(camera, whole);
   expectSameGBuffer(lazy, whole);
-  EXPECT_TRUE(std::none_of(lazy.ids.begin(), lazy.ids.end(),
-                           [](const PixelIds& ids) { return ids != PixelIds{} && ids.node % 2 == 1; }))
-      << "nodes not asked for are not drawn";
+  EXPECT_TRUE(std::none_of(lazy.ids.begin(), lazy.ids.end(), [](const PixelIds& ids) {
+    return ids != PixelIds{} && ids.node % 2 == 1;
+  })) << "nodes not asked for are not drawn";
 }
 
 TEST(EmbreeNodeCaster, BuildsEachMeshOnceAcrossFrames) {
@@ -129,8 +129,8 @@ TEST(EmbreeNodeCaster, BuildsEachMeshOnceAcrossFrames) {
 
 // ---- Geometry nodes by rays in the LOD renderer ------------------------------------------------------
 
-using test::SurfeledScene;
 using test::surfeled;
+using test::SurfeledScene;
 
 // The task's check: on a city of shared meshes, seen from near to far, the frame drawn with its geometry
 // nodes cast by rays is the rasterized frame up to the tolerances the ray caster is held to against the
@@ -296,8 +296,8 @@ TEST(LodGeometry, AutoPicksRaysForManySmallTrianglesAndRasterForFewBigOnes) {
 TEST(LodGeometryCli, RenderTakesGeometryAndReportsTheDrawerAndBvhBuilds) {
   test::ScratchDir scratch;
   const auto [scene, surfels] = test::groupsWithSurfels(scratch);
-  const std::string common =
-      "render " + scene + " --surfels " + surfels + " --size 160x120 --orbit 30,20,1.5 --threshold-pixels 8 --frames 2 --json";
+  const std::string common = "render " + scene + " --surfels " + surfels +
+                             " --size 160x120 --orbit 30,20,1.5 --threshold-pixels 8 --frames 2 --json";
   const auto report = [&](const std::string& drawer) {
     const test::CommandResult run = test::runPbs(common + " --geometry " + drawer);
     EXPECT_EQ(run.status, 0) << run.err;

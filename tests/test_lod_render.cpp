@@ -42,10 +42,10 @@ SplatArray arrayOf(std::size_t size, double coverage, double packing) {
 
 TEST(PrefixLength, PaperRuleIsSizeSquaredTimesCoverageTimesOverdraw) {
   const SplatArray array = arrayOf(100000, 0.25, 1.0);
-  LodOptions options;  // point size 2 = kReferencePointSize
-  options.overdraw = 4.0;  // the paper's
+  LodOptions options;                                              // point size 2 = kReferencePointSize
+  options.overdraw = 4.0;                                          // the paper's
   EXPECT_EQ(prefixLength(array, 50.0, 0.0, 1.0, options), 2500u);  // 50² · 0.25 · 4
-  options.pointSize = 4.0f;                                         // twice the reference: a quarter
+  options.pointSize = 4.0f;                                        // twice the reference: a quarter
   EXPECT_EQ(prefixLength(array, 50.0, 0.0, 1.0, options), 625u);
   options.pointSize = 2.0f;
   options.overdraw = 1.0;
@@ -102,7 +102,7 @@ TEST(LodTraversal, PrefixSizedDiscsCloseTheSurfaceAndGrowWhenTheArrayRunsOut) {
   // r = √(packing / k) for the prefix the node's size asks for; the array caps k, so a node seen closer
   // than its array can serve draws larger discs.
   const SplatArray array = arrayOf(1000, 1.0, 0.5);
-  LodOptions options;  // point size from the prefix
+  LodOptions options;      // point size from the prefix
   options.overdraw = 4.0;  // the paper's
   const std::uint32_t k = prefixLength(array, 10.0, 0.01, 1.0, options);
   EXPECT_EQ(k, 400u);  // 10² · coverage 1 · overdraw 4: the paper's count for 2-pixel points
@@ -111,8 +111,8 @@ TEST(LodTraversal, PrefixSizedDiscsCloseTheSurfaceAndGrowWhenTheArrayRunsOut) {
   EXPECT_GT(array.spacing(1000), 0.0);
 }
 
-using test::SurfeledScene;
 using test::surfeled;
+using test::SurfeledScene;
 
 Camera orbitAround(const SurfeledScene& s, double distance, std::uint32_t size = 256) {
   const Bounds& box = s.hierarchy.worldBounds[s.scene.roots.front()];
@@ -399,16 +399,16 @@ TEST(RenderCli, ModesWriteImagesThatCompare) {
                                                  (scratch / (std::string(mode) + ".png")).string() + "' --json");
     ASSERT_EQ(run.status, 0) << run.err;
     const nlohmann::json report = nlohmann::json::parse(run.out);
-    for (const char* key : {"seconds", "traverse_seconds", "raster_seconds", "triangles", "surfels", "nodes_geometry",
-                            "nodes_surfels"})
+    for (const char* key :
+         {"seconds", "traverse_seconds", "raster_seconds", "triangles", "surfels", "nodes_geometry", "nodes_surfels"})
       EXPECT_TRUE(report.contains(key)) << mode << " " << key;
     EXPECT_EQ(report["width"], 320);
     // What the frame used: coverage only for blended surfels, never position or ids; depth cleared alone
     // (Embree writes every pixel and clears nothing).
     const nlohmann::json& used = report["used"];
     const bool blended = std::string(mode) == "surfels", rays = std::string(mode) == "embree";
-    const nlohmann::json gbuffer = blended ? nlohmann::json{"depth", "color", "normal", "coverage"}
-                                           : nlohmann::json{"depth", "color", "normal"};
+    const nlohmann::json gbuffer =
+        blended ? nlohmann::json{"depth", "color", "normal", "coverage"} : nlohmann::json{"depth", "color", "normal"};
     const nlohmann::json cleared = rays ? nlohmann::json::array() : nlohmann::json{"depth"};
     EXPECT_EQ(used["gbuffer"], gbuffer) << mode;
     EXPECT_EQ(used["cleared_each_pass"], cleared) << mode;
@@ -416,8 +416,8 @@ TEST(RenderCli, ModesWriteImagesThatCompare) {
     EXPECT_EQ(used["image_file"], "8-bit");
   }
   const auto compare = [&](const char* a, const char* b) {
-    const test::CommandResult run = test::runPbs("compare '" + (scratch / a).string() + "' '" + (scratch / b).string() +
-                                                 "' --json");
+    const test::CommandResult run =
+        test::runPbs("compare '" + (scratch / a).string() + "' '" + (scratch / b).string() + "' --json");
     EXPECT_EQ(run.status, 0) << run.err;
     return nlohmann::json::parse(run.out);
   };
@@ -445,8 +445,9 @@ TEST(RenderCli, ModesWriteImagesThatCompare) {
 TEST(RenderCli, AnOrbitOfFramesWritesEachFrame) {
   ScratchDir scratch;
   const auto [scene, surfels] = groupsWithSurfels(scratch);
-  const test::CommandResult run = test::runPbs("render " + scene + " --surfels " + surfels +
-                                               " --size 64x48 --frames 4 -o '" + (scratch / "orbit").string() + "' --json");
+  const test::CommandResult run =
+      test::runPbs("render " + scene + " --surfels " + surfels + " --size 64x48 --frames 4 -o '" +
+                   (scratch / "orbit").string() + "' --json");
   ASSERT_EQ(run.status, 0) << run.err;
   const nlohmann::json report = nlohmann::json::parse(run.out);
   ASSERT_EQ(report["frames"].size(), 4u);

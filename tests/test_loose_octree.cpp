@@ -174,7 +174,7 @@ std::vector<TriangleKey> worldTriangles(const Scene& scene) {
 struct OctreeShape {
   std::uint64_t leaves = 0;  // octree leaves: groups of items within the budget, and items elsewhere
   std::uint64_t maxLeafTriangles = 0;
-  std::uint32_t depth = 0;   // of the deepest node
+  std::uint32_t depth = 0;  // of the deepest node
 };
 
 // Checks what every result must satisfy and returns its shape: valid, the input's world triangles
@@ -298,7 +298,7 @@ TEST(LooseOctree, GroupsManySmallMeshesIntoLeaves) {
   const Scene result = buildLooseOctree(input, 1000);
   const OctreeShape shape = checkOctree(input, result, 1000);
   EXPECT_EQ(result.meshes.size(), 5000u);
-  EXPECT_GE(shape.leaves, 60u);  // 60,000 triangles in leaves of at most 1000
+  EXPECT_GE(shape.leaves, 60u);             // 60,000 triangles in leaves of at most 1000
   EXPECT_GT(shape.maxLeafTriangles, 500u);  // and the leaves are reasonably full
 }
 

@@ -113,7 +113,8 @@ TEST(InsertionDistances, EmptyRepeatedAndOutOfRange) {
   const std::vector<glm::vec3> points = {{0, 0, 0}, {3, 4, 0}};
   EXPECT_TRUE(insertionDistances(points, {}).empty());
   const std::vector<std::uint32_t> order = {1, 0, 1};
-  EXPECT_EQ(insertionDistances(points, order), (std::vector<float>{std::numeric_limits<float>::infinity(), 5.0f, 0.0f}));
+  EXPECT_EQ(insertionDistances(points, order),
+            (std::vector<float>{std::numeric_limits<float>::infinity(), 5.0f, 0.0f}));
   const std::vector<std::uint32_t> beyond = {0, 2};
   EXPECT_THROW(insertionDistances(points, beyond), std::invalid_argument);
   EXPECT_THROW(prefilteredColors(std::vector<Surfel>(2), beyond), std::invalid_argument);
@@ -153,8 +154,8 @@ TEST(PrefilteredColors, TwoColourPlaneGoesFromTheMeanToEachSide) {
   std::vector<Surfel> candidates;
   for (int y = 0; y < kSide; ++y)
     for (int x = 0; x < kSide; ++x)
-      candidates.push_back({glm::vec3((x + 0.5f) / kSide, (y + 0.5f) / kSide, 0.0f), glm::vec3(0, 0, 1),
-                            x < kSide / 2 ? red : blue});
+      candidates.push_back(
+          {glm::vec3((x + 0.5f) / kSide, (y + 0.5f) / kSide, 0.0f), glm::vec3(0, 0, 1), x < kSide / 2 ? red : blue});
   const std::vector<glm::vec3> points = positionsOf(candidates);
   for (SurfelOrdering ordering : kOrderings) {
     SCOPED_TRACE(orderingName(ordering));
@@ -192,10 +193,8 @@ TEST(PrefilteredColors, BitIdenticalForOneAndTwoThreads) {
 // repeats have d = 0 and take the mean of their own place; b (d = |a − b|) weighs a's pair by e^−2.
 TEST(PrefilteredColors, CoincidentCandidates) {
   const glm::vec3 a(0.0f), b(0.0f, 3.0f, 4.0f);
-  const std::vector<Surfel> candidates = {{a, {}, {10, 20, 30, 40}},
-                                          {a, {}, {30, 20, 10, 60}},
-                                          {b, {}, {200, 100, 0, 250}},
-                                          {b, {}, {100, 50, 100, 200}}};
+  const std::vector<Surfel> candidates = {
+      {a, {}, {10, 20, 30, 40}}, {a, {}, {30, 20, 10, 60}}, {b, {}, {200, 100, 0, 250}}, {b, {}, {100, 50, 100, 200}}};
   const std::vector<std::uint32_t> order = {0, 2, 1, 3};
   EXPECT_EQ(insertionDistances(positionsOf(candidates), order),
             (std::vector<float>{std::numeric_limits<float>::infinity(), 5.0f, 0.0f, 0.0f}));

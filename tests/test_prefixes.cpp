@@ -84,9 +84,8 @@ std::vector<std::size_t> coveredPerPanel(const Picture& picture, int panelSize) 
 TEST(Prefixes, PanelsCoverTheSurfaceAboutEqually) {
   ScratchDir scratch;
   const auto file = scratch / "prefixes.png";
-  const CommandResult run =
-      runPbs("prefixes '" + writeSphereFile(scratch.path()).string() +
-             "' --resolution 128 --panel-size 96 --threads 2 -o '" + file.string() + "'");
+  const CommandResult run = runPbs("prefixes '" + writeSphereFile(scratch.path()).string() +
+                                   "' --resolution 128 --panel-size 96 --threads 2 -o '" + file.string() + "'");
   ASSERT_EQ(run.status, 0) << run.err;
   // One line per panel with its count and point size; counts double from 100.
   for (int i = 0; i < 8; ++i) {
@@ -142,11 +141,13 @@ TEST(Prefixes, SameBytesForOneAndTwoThreads) {
 TEST(Prefixes, BadInputsGiveOneErrorLine) {
   ScratchDir scratch;
   const auto file = scratch / "never.png";
-  const CommandResult missing = runPbs("prefixes '" + (scratch / "missing.glb").string() + "' -o '" + file.string() + "'");
+  const CommandResult missing =
+      runPbs("prefixes '" + (scratch / "missing.glb").string() + "' -o '" + file.string() + "'");
   EXPECT_EQ(missing.status, 1);
   EXPECT_EQ(missing.err.rfind("error: ", 0), 0u) << missing.err;
   EXPECT_FALSE(std::filesystem::exists(file));
-  const CommandResult node = runPbs("prefixes '" + writeSphereFile(scratch.path()).string() + "' --node no-such-node -o '" + file.string() + "'");
+  const CommandResult node = runPbs("prefixes '" + writeSphereFile(scratch.path()).string() +
+                                    "' --node no-such-node -o '" + file.string() + "'");
   EXPECT_EQ(node.status, 1);
   EXPECT_NE(node.err.find("error: "), std::string::npos) << node.err;
   EXPECT_NE(node.err.find("no-such-node"), std::string::npos) << node.err;

@@ -21,10 +21,9 @@
 namespace pbs {
 namespace {
 
-using test::PixelSet;
 using test::coveredPixels;
+using test::PixelSet;
 using test::windowCamera;
-
 
 // The coverage rules of points.hpp evaluated literally over every pixel, for a point at window (x, y) of
 // nominal size s (PointOptions::subPixel as `subPixel`). `ambiguous` is set when a pixel centre lies within
@@ -34,8 +33,8 @@ struct ExpectedSplat {
   bool ambiguous = false;
 };
 
-ExpectedSplat expectedSplat(double x, double y, float size, bool round, int width, int height,
-                            double epsilon = 0.0, bool subPixel = false) {
+ExpectedSplat expectedSplat(double x, double y, float size, bool round, int width, int height, double epsilon = 0.0,
+                            bool subPixel = false) {
   const double s = std::clamp(size, subPixel ? 0.0f : 1.0f, 4096.0f);
   const double half = s / 2.0;
   ExpectedSplat expected;
@@ -153,8 +152,8 @@ TEST(RasterPoints, SubPixelPointsCoverOnlyTheCentresInside) {
   const Camera camera = windowCamera(16, 16);
   for (const bool round : {false, true}) {
     for (const float size : {1e-6f, 0.3f, 0.5f, 0.99f, 1.0f, 2.5f}) {
-      for (const glm::dvec2 centre : {glm::dvec2(10.5, 7.5), glm::dvec2(10.3, 7.8), glm::dvec2(10.0, 7.0),
-                                      glm::dvec2(10.6, 7.45)}) {
+      for (const glm::dvec2 centre :
+           {glm::dvec2(10.5, 7.5), glm::dvec2(10.3, 7.8), glm::dvec2(10.0, 7.0), glm::dvec2(10.6, 7.45)}) {
         SCOPED_TRACE(testing::Message() << "size " << size << " at " << centre.x << ", " << centre.y
                                         << (round ? " disc" : " square"));
         EXPECT_EQ(coveredPixels(drawOne(camera, {glm::vec3(centre, -0.5), size}, round, true)),
@@ -304,8 +303,8 @@ void expectProjectionMatchesWindowFromClip(const Camera& camera, const glm::dmat
 TEST(RasterPoints, PerspectiveProjectionMatchesWindowFromClip) {
   const glm::dmat4 view = glm::lookAt(glm::dvec3(0.5, 1.0, 4.0), glm::dvec3(0.0), glm::dvec3(0.0, 1.0, 0.0));
   const Camera camera = perspectiveCamera(view, 0.9, 0.5, 20.0, 96, 64);
-  const glm::dmat4 worldFromObject = glm::rotate(glm::translate(glm::dmat4(1.0), glm::dvec3(0.2, -0.1, 0.3)), 0.4,
-                                                 glm::dvec3(0.3, 1.0, 0.2));
+  const glm::dmat4 worldFromObject =
+      glm::rotate(glm::translate(glm::dmat4(1.0), glm::dvec3(0.2, -0.1, 0.3)), 0.4, glm::dvec3(0.3, 1.0, 0.2));
   for (const bool round : {false, true})
     for (const float size : {1.0f, 3.0f, 4.5f}) {
       SCOPED_TRACE(testing::Message() << (round ? "disc " : "square ") << size);
@@ -477,18 +476,18 @@ struct RandomScene {
 };
 
 bool sameFramebuffer(const Framebuffer& a, const Framebuffer& b) {
-  return a.depth == b.depth && a.color == b.color && a.position == b.position && a.normal == b.normal &&
-         a.ids == b.ids;
+  return a.depth == b.depth && a.color == b.color && a.position == b.position && a.normal == b.normal && a.ids == b.ids;
 }
 
 TEST(RasterPoints, ImageIsIdenticalForAnyThreadCount) {
   const RandomScene scene;
   const glm::dmat4 view = glm::lookAt(glm::dvec3(0.0, 0.5, 3.0), glm::dvec3(0.0), glm::dvec3(0.0, 1.0, 0.0));
   const Camera camera = perspectiveCamera(view, 0.8, 0.5, 10.0, 320, 240);
-  for (const PointOptions options : {PointOptions{.round = false}, PointOptions{.round = true},
-                                     PointOptions{.round = false, .subPixel = true},
-                                     PointOptions{.round = true, .subPixel = true}}) {
-    SCOPED_TRACE(testing::Message() << (options.round ? "discs" : "squares") << (options.subPixel ? ", sub-pixel" : ""));
+  for (const PointOptions options :
+       {PointOptions{.round = false}, PointOptions{.round = true}, PointOptions{.round = false, .subPixel = true},
+        PointOptions{.round = true, .subPixel = true}}) {
+    SCOPED_TRACE(testing::Message() << (options.round ? "discs" : "squares")
+                                    << (options.subPixel ? ", sub-pixel" : ""));
     std::vector<Framebuffer> images;
     for (const int threads : {1, 2, 5}) {
       images.push_back(makeFramebuffer(320, 240, kChannelColor | kChannelPosition | kChannelNormal | kChannelIds,
@@ -544,10 +543,9 @@ TEST(RasterPoints, ColourOnlyAndFullChannelDrawsAgree) {
 TEST(RasterPoints, ChannelsOfATransformedSet) {
   const glm::dmat4 view = glm::lookAt(glm::dvec3(0.0, 0.0, 5.0), glm::dvec3(0.0), glm::dvec3(0.0, 1.0, 0.0));
   const Camera camera = perspectiveCamera(view, 0.8, 0.5, 20.0, 128, 128);
-  const glm::dmat4 worldFromObject =
-      glm::scale(glm::rotate(glm::translate(glm::dmat4(1.0), glm::dvec3(0.3, -0.2, 0.5)), 0.7,
-                             glm::dvec3(1.0, 1.0, 0.0)),
-                 glm::dvec3(2.0, 0.5, 1.0));
+  const glm::dmat4 worldFromObject = glm::scale(
+      glm::rotate(glm::translate(glm::dmat4(1.0), glm::dvec3(0.3, -0.2, 0.5)), 0.7, glm::dvec3(1.0, 1.0, 0.0)),
+      glm::dvec3(2.0, 0.5, 1.0));
   const glm::dvec3 origin(0.25, -0.5, 1.0);
   const std::vector<glm::vec3> positions = {{-0.5f, 0.0f, 0.0f}, {0.0f, 0.5f, 0.0f}, {0.5f, -0.5f, 0.2f}};
   const std::vector<glm::vec3> normals = {{0.0f, 0.0f, 1.0f}, {1.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 0.0f}};
@@ -560,8 +558,8 @@ TEST(RasterPoints, ChannelsOfATransformedSet) {
   set.pointSize = 3.0f;
   set.nodeId = 42;
   set.instanceId = 9;
-  Framebuffer framebuffer = makeFramebuffer(128, 128, kChannelColor | kChannelPosition | kChannelNormal | kChannelIds,
-                                            origin);
+  Framebuffer framebuffer =
+      makeFramebuffer(128, 128, kChannelColor | kChannelPosition | kChannelNormal | kChannelIds, origin);
   drawPoints(framebuffer, camera, std::span(&set, 1));
 
   const glm::dmat3 normalFromObject = glm::inverseTranspose(glm::dmat3(worldFromObject));
@@ -576,9 +574,8 @@ TEST(RasterPoints, ChannelsOfATransformedSet) {
     const glm::vec3 position = framebuffer.position[pixel];
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(position[k], world[k] - origin[k], 1e-5);
     const glm::vec3 normal = framebuffer.normal[pixel];
-    const glm::dvec3 expectedNormal = normals[i] == glm::vec3(0.0f)
-                                          ? glm::dvec3(0.0)
-                                          : glm::normalize(normalFromObject * glm::dvec3(normals[i]));
+    const glm::dvec3 expectedNormal =
+        normals[i] == glm::vec3(0.0f) ? glm::dvec3(0.0) : glm::normalize(normalFromObject * glm::dvec3(normals[i]));
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(normal[k], expectedNormal[k], 1e-6);
   }
 }

@@ -121,8 +121,7 @@ std::array<WindowPoint, 3> windowPoints(Kind kind, Random& random, const Camera&
   const std::int64_t w = camera.width, h = camera.height;
   std::array<WindowPoint, 3> p;
   switch (kind) {
-    case Kind::Huge:
-      return reachingFar(random, camera, 0.9 * kGuardBand);
+    case Kind::Huge: return reachingFar(random, camera, 0.9 * kGuardBand);
     case Kind::Tiny: {
       const WindowPoint centre{random.integer(-1, w) + 0.5, random.integer(-1, h) + 0.5};
       for (auto& q : p) q = {centre.x + random.uniform(-0.7, 0.7), centre.y + random.uniform(-0.7, 0.7)};
@@ -182,8 +181,7 @@ std::array<double, 3> distances(Kind kind, Random& random) {
     case Kind::BehindCamera:
       for (auto& x : d) x = beforeNear();
       break;
-    default:
-      break;
+    default: break;
   }
   return d;
 }
@@ -724,8 +722,8 @@ TEST(RasterDeterminism, TexturedAndFlatPartsInOneBatchDrawAsEachAlone) {
     const RandomScene scene = randomScene(random, camera);
     ASSERT_TRUE(scene.materials[scene.parts[0].material].texture && !scene.materials[scene.parts[1].material].texture);
     const auto draw = [&](std::span<const MeshPart> parts) {
-      return TriangleDraw{scene.positions, scene.normals, scene.uvs, scene.indices, parts, scene.materials,
-                          glm::dmat4(1.0), 3, 0};
+      return TriangleDraw{
+          scene.positions, scene.normals, scene.uvs, scene.indices, parts, scene.materials, glm::dmat4(1.0), 3, 0};
     };
     const TriangleDraw both = draw(scene.parts);
     const auto drawMixed = [&](ChannelMask channels) {
@@ -735,8 +733,9 @@ TEST(RasterDeterminism, TexturedAndFlatPartsInOneBatchDrawAsEachAlone) {
     };
     const Framebuffer all = drawMixed(kChannelColor | kChannelPosition | kChannelNormal | kChannelIds);
     EXPECT_GT(std::ranges::count_if(all.depth, [](float d) { return d != kClearDepth; }), 1000);
-    for (const ChannelMask channels : {ChannelMask{kChannelColor | kChannelNormal}, kChannelColor | kChannelNormal | kChannelIds,
-                                       kChannelColor | kChannelPosition | kChannelIds}) {
+    for (const ChannelMask channels :
+         {ChannelMask{kChannelColor | kChannelNormal}, kChannelColor | kChannelNormal | kChannelIds,
+          kChannelColor | kChannelPosition | kChannelIds}) {
       SCOPED_TRACE("channels " + std::to_string(channels));
       const Framebuffer mixed = drawMixed(channels);
       Framebuffer apart = makeFramebuffer(camera.width, camera.height, channels, glm::dvec3(0.5));

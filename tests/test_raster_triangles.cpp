@@ -26,10 +26,9 @@
 namespace pbs {
 namespace {
 
-using test::PixelSet;
 using test::coveredPixels;
+using test::PixelSet;
 using test::windowCamera;
-
 
 // A camera at `eye` looking at the origin, y up.
 Camera lookCamera(const glm::dvec3& eye, bool perspective, std::uint32_t width, std::uint32_t height) {
@@ -149,8 +148,8 @@ TEST(Camera, WindowDepthAgreesWithRasterizedDepth) {
           return windowDepth(camera, ray.origin + t * ray.direction);
         };
         const double expected = surfaceDepth(x + 0.5, y + 0.5);
-        const double perPixel = std::abs(surfaceDepth(x + 1.5, y + 0.5) - expected) +
-                                std::abs(surfaceDepth(x + 0.5, y + 1.5) - expected);
+        const double perPixel =
+            std::abs(surfaceDepth(x + 1.5, y + 0.5) - expected) + std::abs(surfaceDepth(x + 0.5, y + 1.5) - expected);
         EXPECT_NEAR(framebuffer.depth[pixel], expected, 2e-6 + perPixel / 32.0);
         ++checked;
       }
@@ -306,11 +305,11 @@ TEST(TriangleClipping, NearAndFarPlanes) {
     }
     EXPECT_EQ(covered > 0, expectPixels);
   };
-  check({glm::vec3(-1, -1, -0.5f), glm::vec3(1, -1, -0.5f), glm::vec3(0, 1, -4)}, true);   // crosses near
-  check({glm::vec3(-1, -1, 0.5f), glm::vec3(1, -1, 0.5f), glm::vec3(0, 1, 2)}, false);     // behind the eye
-  check({glm::vec3(-1, -1, -0.5f), glm::vec3(1, -1, -0.5f), glm::vec3(0, 1, 3)}, false);   // behind the near plane
-  check({glm::vec3(-1, -1, -5), glm::vec3(1, -1, -5), glm::vec3(0, 1, -30)}, true);        // crosses far
-  check({glm::vec3(-1, -1, -15), glm::vec3(1, -1, -15), glm::vec3(0, 1, -30)}, false);     // beyond far
+  check({glm::vec3(-1, -1, -0.5f), glm::vec3(1, -1, -0.5f), glm::vec3(0, 1, -4)}, true);      // crosses near
+  check({glm::vec3(-1, -1, 0.5f), glm::vec3(1, -1, 0.5f), glm::vec3(0, 1, 2)}, false);        // behind the eye
+  check({glm::vec3(-1, -1, -0.5f), glm::vec3(1, -1, -0.5f), glm::vec3(0, 1, 3)}, false);      // behind the near plane
+  check({glm::vec3(-1, -1, -5), glm::vec3(1, -1, -5), glm::vec3(0, 1, -30)}, true);           // crosses far
+  check({glm::vec3(-1, -1, -15), glm::vec3(1, -1, -15), glm::vec3(0, 1, -30)}, false);        // beyond far
   check({glm::vec3(-50, -1, -0.1f), glm::vec3(50, -1, -0.1f), glm::vec3(0, 30, -30)}, true);  // both
 }
 
@@ -333,8 +332,8 @@ TEST(TriangleDegenerate, DrawNothingAndNeverNaN) {
   const Camera camera = windowCamera(16, 16);
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
   TestMesh mesh;
-  mesh.addTriangle(at(1, 1), at(8, 8), at(15, 15));        // collinear
-  mesh.addTriangle(at(2, 3), at(2, 3), at(9, 12));         // repeated vertex
+  mesh.addTriangle(at(1, 1), at(8, 8), at(15, 15));          // collinear
+  mesh.addTriangle(at(2, 3), at(2, 3), at(9, 12));           // repeated vertex
   mesh.addTriangle(at(4, 4), at(4.001f, 4), at(4, 4.001f));  // snaps to a point
   mesh.addTriangle(at(1, 1), at(nan, 8), at(15, 1));
   mesh.addTriangle(at(1, 1), at(inf, 8), at(15, 1));
@@ -411,14 +410,12 @@ TEST(TriangleAttributes, TransformedPositionsAndNormals) {
 // The wrap modes by definition, to check the sampler against.
 int wrapTexel(int i, int size, TextureWrap wrap) {
   switch (wrap) {
-    case TextureWrap::ClampToEdge:
-      return std::clamp(i, 0, size - 1);
+    case TextureWrap::ClampToEdge: return std::clamp(i, 0, size - 1);
     case TextureWrap::MirroredRepeat: {
       const int period = ((i % (2 * size)) + 2 * size) % (2 * size);
       return period < size ? period : 2 * size - 1 - period;
     }
-    case TextureWrap::Repeat:
-      break;
+    case TextureWrap::Repeat: break;
   }
   return ((i % size) + size) % size;
 }
@@ -498,8 +495,8 @@ TEST(TriangleDepth, LessTestAndSubmissionOrderForTies) {
   const Camera camera = windowCamera(8, 8);
   TestMesh mesh;
   mesh.addTriangle(at(0, 0, 0.5f), at(8, 0, 0.5f), at(0, 8, 0.5f));
-  mesh.addTriangle(at(0, 0, 0.5f), at(8, 0, 0.5f), at(0, 8, 0.5f));  // the same depth: loses
-  mesh.addTriangle(at(0, 0, 0.7f), at(8, 0, 0.7f), at(0, 8, 0.7f));  // behind: loses
+  mesh.addTriangle(at(0, 0, 0.5f), at(8, 0, 0.5f), at(0, 8, 0.5f));     // the same depth: loses
+  mesh.addTriangle(at(0, 0, 0.7f), at(8, 0, 0.7f), at(0, 8, 0.7f));     // behind: loses
   mesh.addTriangle(at(0, 4, 0.25f), at(8, 4, 0.25f), at(0, 8, 0.25f));  // in front: wins its pixels
   const Framebuffer framebuffer = render(camera, mesh, kChannelIds);
   EXPECT_EQ(framebuffer.ids[0].primitive, 0u);

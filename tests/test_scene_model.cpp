@@ -103,7 +103,8 @@ TEST(WorldBounds, PrunedSearchEqualsTransformingEveryVertex) {
     Mesh mesh;
     for (int i = 0; i < points; ++i)
       mesh.positions.push_back(glm::vec3(unit(random), unit(random), unit(random)) * (i % 3 == 0 ? 50.0f : 1.0f));
-    for (std::uint32_t i = 0; i + 2 < mesh.positions.size(); i += 3) mesh.indices.insert(mesh.indices.end(), {i, i + 1, i + 2});
+    for (std::uint32_t i = 0; i + 2 < mesh.positions.size(); i += 3)
+      mesh.indices.insert(mesh.indices.end(), {i, i + 1, i + 2});
     mesh.normals = computeVertexNormals(mesh.positions, mesh.indices);
     mesh.parts.push_back({0, std::uint32_t(mesh.indices.size()), 0});
     updateMeshBounds(mesh);

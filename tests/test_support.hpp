@@ -23,10 +23,11 @@ inline std::optional<std::filesystem::path> sharedScenesDir() {
 }
 
 // Skips the calling test with a clear message when the shared scenes are absent.
-#define PBS_SHARED_SCENE(var, file)                                                               \
-  const auto var##_dir = ::pbs::test::sharedScenesDir();                                          \
-  if (!var##_dir) GTEST_SKIP() << "shared scenes not found (set PBS_SCENES or put ../shared/scenes " \
-                                  "beside the repository)";                                        \
+#define PBS_SHARED_SCENE(var, file)                                                    \
+  const auto var##_dir = ::pbs::test::sharedScenesDir();                               \
+  if (!var##_dir)                                                                      \
+    GTEST_SKIP() << "shared scenes not found (set PBS_SCENES or put ../shared/scenes " \
+                    "beside the repository)";                                          \
   const std::filesystem::path var = *var##_dir / (file)
 
 // A fresh, empty folder under the system temp dir, removed when the object goes away.

@@ -45,14 +45,16 @@ TEST(SurfelCache, FramesAreTheWholeFilesBitForBitWhateverTheBudget) {
         std::uint64_t loaded = 0;
         for (const SplatArray& array : cache.surfels().arrays) loaded += array.loaded();
         EXPECT_EQ(loaded * kSplatBytesPerSurfel, cache.stats().bytesLoaded);
-        EXPECT_LE(cache.stats().bytesLoaded, (b.stats.surfels + 2 * b.stats.nodesSurfels * kSurfelsPerChunk) *
-                                                 kSplatBytesPerSurfel)
+        EXPECT_LE(cache.stats().bytesLoaded,
+                  (b.stats.surfels + 2 * b.stats.nodesSurfels * kSurfelsPerChunk) * kSplatBytesPerSurfel)
             << "only what this frame draws, in whole chunks and one chunk ahead";
       }
     }
     ASSERT_GT(surfelsDrawn, 0u);
-    if (budget == 1) EXPECT_GT(cache.stats().arraysDropped, 0u);
-    else EXPECT_EQ(cache.stats().arraysDropped, 0u);
+    if (budget == 1)
+      EXPECT_GT(cache.stats().arraysDropped, 0u);
+    else
+      EXPECT_EQ(cache.stats().arraysDropped, 0u);
   }
 }
 
@@ -114,10 +116,11 @@ TEST(SurfelCache, TheFilesInstanceBoxesGiveTheScenesHierarchyBitForBit) {
     EXPECT_EQ(stored.worldBounds[n].max, computed.worldBounds[n].max) << n;
   }
   // The turned group's boxes are the exact ones, tighter than its turned corners.
-  const std::uint32_t mesh = std::uint32_t(std::find_if(scene.nodes.begin(), scene.nodes.end(),
-                                                        [](const Node& n) { return n.mesh >= 0; }) -
-                                           scene.nodes.begin());
-  const Bounds corners = transformCorners(scene.meshes[std::size_t(scene.nodes[mesh].mesh)].bounds, computed.world[mesh]);
+  const std::uint32_t mesh =
+      std::uint32_t(std::find_if(scene.nodes.begin(), scene.nodes.end(), [](const Node& n) { return n.mesh >= 0; }) -
+                    scene.nodes.begin());
+  const Bounds corners =
+      transformCorners(scene.meshes[std::size_t(scene.nodes[mesh].mesh)].bounds, computed.world[mesh]);
   EXPECT_LT(glm::length(stored.instanceBounds[mesh].size()), glm::length(corners.size()));
 
   // A reader not required for the scene cannot feed a cache.
@@ -152,8 +155,8 @@ TEST(SurfelFileReader, RangesAreSlicesOfThePrefix) {
 TEST(SurfelCacheCli, RenderWithATinyCacheDrawsTheSameFrames) {
   ScratchDir scratch;
   const auto [scene, surfels] = test::groupsWithSurfels(scratch);
-  const std::string common =
-      "render " + scene + " --surfels " + surfels + " --size 160x120 --path approach --frames 4 --exhausted grow --json -o ";
+  const std::string common = "render " + scene + " --surfels " + surfels +
+                             " --size 160x120 --path approach --frames 4 --exhausted grow --json -o ";
   const test::CommandResult tiny = test::runPbs(common + "'" + (scratch / "tiny").string() + "' --cache-mb 1");
   const test::CommandResult large = test::runPbs(common + "'" + (scratch / "large").string() + "'");
   ASSERT_EQ(tiny.status, 0) << tiny.err;
@@ -164,8 +167,7 @@ TEST(SurfelCacheCli, RenderWithATinyCacheDrawsTheSameFrames) {
   }
   const nlohmann::json report = nlohmann::json::parse(tiny.out);
   EXPECT_GT(report["surfel_bytes_read"].get<std::uint64_t>(), 0u);
-  EXPECT_LE(report["surfel_bytes_read"].get<std::uint64_t>(),
-            std::filesystem::file_size(scratch / "groups.surfels"));
+  EXPECT_LE(report["surfel_bytes_read"].get<std::uint64_t>(), std::filesystem::file_size(scratch / "groups.surfels"));
   EXPECT_EQ(test::runPbs(common + "x --cache-mb 0").status, 2);
 }
 

@@ -69,16 +69,21 @@ SurfelArray makeArray(std::size_t count, const Bounds& box, std::uint64_t seed) 
 SurfelFile sampleFile() {
   SurfelFile file;
   file.sceneFingerprint = 0x0123456789ABCDEFull;
-  file.options = {.threshold = 5000, .maxSurfels = 4000, .resolution = 256, .directions = 6,
-                  .ordering = SurfelOrdering::Dart, .colors = SurfelColors::Pixel, .seed = 77};
+  file.options = {.threshold = 5000,
+                  .maxSurfels = 4000,
+                  .resolution = 256,
+                  .directions = 6,
+                  .ordering = SurfelOrdering::Dart,
+                  .colors = SurfelColors::Pixel,
+                  .seed = 77};
   file.arrays.push_back(makeArray(2500, makeBox({1e6, -2e6, 3.5e5}, {10.0, 4.0, 0.5}), 1));
   file.arrays.push_back(makeArray(0, makeBox({0, 0, 0}, {1, 1, 1}), 2));
   file.arrays.push_back(makeArray(5, makeBox({-3, 2, 1}, {1e-3, 2e-3, 0.0}), 3));
   file.nodes = {{"/0/3", 0}, {"/0/3/1", 2}, {"/1", 0}, {"/2", 1}};
-  file.sceneTable = {.structure = 0xFEDCBA9876543210ull,
-                     .meshes = {7, 8},
-                     .instanceBounds = {makeBox({1e6, -2e6, 3.5e5}, {10.0, 4.0, 0.5}), Bounds{},
-                                        makeBox({-3, 2, 1}, {0, 0, 0})}};
+  file.sceneTable = {
+      .structure = 0xFEDCBA9876543210ull,
+      .meshes = {7, 8},
+      .instanceBounds = {makeBox({1e6, -2e6, 3.5e5}, {10.0, 4.0, 0.5}), Bounds{}, makeBox({-3, 2, 1}, {0, 0, 0})}};
   return file;
 }
 
@@ -178,7 +183,8 @@ TEST(SurfelFile, RoundTripKeepsEverything) {
       EXPECT_EQ(out.surfels[i].color, in.surfels[i].color);
       const glm::dvec3 step = in.box.size() / kPositionSteps;
       for (int k = 0; k < 3; ++k) {
-        EXPECT_LE(std::abs(double(out.surfels[i].position[k]) - double(in.surfels[i].position[k])), step[k] * 0.5 + 1e-6);
+        EXPECT_LE(std::abs(double(out.surfels[i].position[k]) - double(in.surfels[i].position[k])),
+                  step[k] * 0.5 + 1e-6);
       }
     }
   }
@@ -226,7 +232,8 @@ TEST(SurfelFile, SixteenBytesPerSurfel) {
 TEST(SurfelFile, OnlyTheColourThatVariesIsStored) {
   ScratchDir dir;
   const Bounds box = makeBox({1, 2, 3}, {2, 2, 2});
-  SurfelArray constant = makeArray(10000, box, 1), opaque = makeArray(3000, box, 2), translucent = makeArray(3000, box, 3);
+  SurfelArray constant = makeArray(10000, box, 1), opaque = makeArray(3000, box, 2),
+              translucent = makeArray(3000, box, 3);
   for (Surfel& s : constant.surfels) s.color = glm::u8vec4(120, 121, 122, 255);
   for (Surfel& s : opaque.surfels) s.color.a = 255;
   translucent.surfels[1234].color.a = 254;
@@ -304,16 +311,15 @@ TEST(SurfelFile, VersionTwoFilesStillRead) {
     putU32(nodes, nodes.size() - 8 - node.path.size(), std::uint32_t(node.path.size()));
     putU32(nodes, nodes.size() - 4, node.array);
   }
-  const std::size_t v4Data =
-      kHeaderBytes + arrays * oldRecord + 8 + u64At(v4, 88) + 8 +
-      sceneTableBytes(file.sceneTable.instanceBounds.size(), file.sceneTable.meshes.size());
+  const std::size_t v4Data = kHeaderBytes + arrays * oldRecord + 8 + u64At(v4, 88) + 8 +
+                             sceneTableBytes(file.sceneTable.instanceBounds.size(), file.sceneTable.meshes.size());
   const std::size_t v2Data = kHeaderBytes + arrays * newRecord + 8 + nodes.size() + 8;
   const std::size_t shift = v4Data - v2Data;
   std::string v2 = v4.substr(0, kHeaderBytes);
   putU32(v2, 8, 2);
   putU64(v2, 80, kHeaderBytes + arrays * newRecord + 8);  // node table offset
   putU64(v2, 88, nodes.size());                           // node table bytes
-  putU64(v2, 96, u64At(v4, 96) - shift);                 // file size
+  putU64(v2, 96, u64At(v4, 96) - shift);                  // file size
   reseal(v2, 0, kHeaderChecksumOffset, kHeaderSeed);
   for (std::size_t a = 0; a < arrays; ++a) {
     std::string record = v4.substr(kHeaderBytes + a * oldRecord, newRecord);
@@ -378,7 +384,8 @@ TEST(SurfelFile, SceneTableIsCheckedAndVersionThreeFilesHaveNone) {
   EXPECT_TRUE(old.sceneTable.meshes.empty());
   ASSERT_EQ(old.arrays.size(), file.arrays.size());
   EXPECT_EQ(old.arrays[0].surfels.size(), file.arrays[0].surfels.size());
-  EXPECT_EQ(old.arrays[0].surfels.back().position, readSurfelFile(dir / "v4.surfels").arrays[0].surfels.back().position);
+  EXPECT_EQ(old.arrays[0].surfels.back().position,
+            readSurfelFile(dir / "v4.surfels").arrays[0].surfels.back().position);
   SurfelFileReader oldReader(dir / "v3.surfels");
   try {
     oldReader.requireStructure(0);
@@ -459,9 +466,9 @@ TEST(SurfelCodec, ZeroExtentAxesDecodeExactlyAndOutsidePointsClamp) {
 }
 
 TEST(SurfelCodec, NormalErrorWithinBound) {
-  std::vector<glm::vec3> normals = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},  {0, -1, 0}, {0, 0, 1},
-                                    {0, 0, -1}, {1, 1, 0},  {1, -1, 0}, {-1, 1, 0}, {-1, -1, 0},
-                                    {1, 0, -1}, {0, 1, -1}, {-1, 0, -1}, {0, -1, -1}, {1, 1, 1},
+  std::vector<glm::vec3> normals = {{1, 0, 0},  {-1, 0, 0},   {0, 1, 0},       {0, -1, 0},      {0, 0, 1},
+                                    {0, 0, -1}, {1, 1, 0},    {1, -1, 0},      {-1, 1, 0},      {-1, -1, 0},
+                                    {1, 0, -1}, {0, 1, -1},   {-1, 0, -1},     {0, -1, -1},     {1, 1, 1},
                                     {1, 1, -1}, {-1, -1, -1}, {1e-30f, 0, -1}, {0, 1e-30f, -1}, {-1e-7f, 1e-7f, -1}};
   SeededRandom rng(13);
   for (int n = 0; n < 200000; ++n) normals.push_back(randomUnit(rng));
@@ -550,8 +557,8 @@ TEST(SurfelFile, PrefixReadsOnlyItsChunks) {
     std::size_t expectCount;
     std::uint64_t expectBytes;
   };
-  const Case cases[] = {{1, 1, 1024 * 16 + 8},     {10, 10, 1024 * 16 + 8},    {1024, 1024, 1024 * 16 + 8},
-                        {1025, 1025, 2048 * 16 + 16}, {2048, 2048, 2048 * 16 + 16}, {2049, 2049, 2500 * 16 + 24},
+  const Case cases[] = {{1, 1, 1024 * 16 + 8},        {10, 10, 1024 * 16 + 8},       {1024, 1024, 1024 * 16 + 8},
+                        {1025, 1025, 2048 * 16 + 16}, {2048, 2048, 2048 * 16 + 16},  {2049, 2049, 2500 * 16 + 24},
                         {2500, 2500, 2500 * 16 + 24}, {100000, 2500, 2500 * 16 + 24}};
   for (const Case& c : cases) {
     const std::uint64_t before = reader.dataBytesRead();
@@ -698,8 +705,10 @@ TEST(SurfelFile, AbsurdCountsAndOffsetsAreRefused) {
 
   auto forgedHeader = [&](std::size_t at, std::uint64_t value, bool wide) {
     std::string forged = bytes;
-    if (wide) putU64(forged, at, value);
-    else putU32(forged, at, std::uint32_t(value));
+    if (wide)
+      putU64(forged, at, value);
+    else
+      putU32(forged, at, std::uint32_t(value));
     reseal(forged, 0, headerEnd, kHeaderSeed);
     writeFile(path, forged);
     return errorOf(path);
@@ -791,8 +800,8 @@ TEST(SurfelFileWriter, ArraysInAnyOrderGiveTheSameBytes) {
   const SurfelFile file = sampleFile();
   writeSurfelFile(dir / "whole.surfels", file);
   {
-    SurfelFileWriter writer(dir / "streamed.surfels", file.sceneFingerprint, file.options, file.nodes,
-                            file.sceneTable, 3);
+    SurfelFileWriter writer(dir / "streamed.surfels", file.sceneFingerprint, file.options, file.nodes, file.sceneTable,
+                            3);
     writer.add(2, file.arrays[2]);
     writer.add(1, file.arrays[1]);
     EXPECT_EQ(writer.bytesWaiting(), (5 + 0) * kSurfelBytes + 8) << "arrays 1 and 2 wait for array 0";
@@ -809,8 +818,7 @@ TEST(SurfelFileWriter, UnfinishedWritersLeaveNothing) {
   ScratchDir dir;
   const SurfelFile file = sampleFile();
   {
-    SurfelFileWriter writer(dir / "f.surfels", file.sceneFingerprint, file.options, file.nodes, file.sceneTable,
-                            3);
+    SurfelFileWriter writer(dir / "f.surfels", file.sceneFingerprint, file.options, file.nodes, file.sceneTable, 3);
     writer.add(0, file.arrays[0]);
     EXPECT_THROW(writer.add(0, file.arrays[0]), std::invalid_argument) << "each array once";
     EXPECT_THROW(writer.add(3, file.arrays[1]), std::invalid_argument) << "out of range";
@@ -896,7 +904,10 @@ TEST(SceneFingerprint, ChangesWithContentNotNames) {
     s.nodes[1].local[3].x = std::nextafter(s.nodes[1].local[3].x, 2e6);  // one ulp of a double
   }));
   EXPECT_TRUE(differs([](Scene& s) { s.nodes[1].mesh = -1; }));
-  EXPECT_TRUE(differs([](Scene& s) { s.nodes[0].children.clear(); s.roots.push_back(1); }));
+  EXPECT_TRUE(differs([](Scene& s) {
+    s.nodes[0].children.clear();
+    s.roots.push_back(1);
+  }));
   EXPECT_TRUE(differs([](Scene& s) { s.materials[0].baseColorFactor.g = 0.5f; }));
   EXPECT_TRUE(differs([](Scene& s) { s.materials[0].baseColorTexture = -1; }));
   EXPECT_TRUE(differs([](Scene& s) { s.textures[0].rgba8[5] = 9; }));

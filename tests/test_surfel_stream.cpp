@@ -64,8 +64,8 @@ TEST(SurfelStream, DrawsNothingBeforeTheTablesAndConvergesToTheWholeFilesFrame) 
   const FrameResult streamed = s.renderer.render(camera);
 
   const SceneSurfels whole = loadSceneSurfels(scratch / "g.surfels", s.scene.scene, s.scene.hierarchy);
-  FrameRenderer reference(s.scene.scene, s.scene.hierarchy, {.mode = RenderMode::Surfels, .lod = lodOptions()}, 160, 120,
-                          {.surfels = &whole});
+  FrameRenderer reference(s.scene.scene, s.scene.hierarchy, {.mode = RenderMode::Surfels, .lod = lodOptions()}, 160,
+                          120, {.surfels = &whole});
   const FrameResult expected = reference.render(camera);
   ASSERT_GT(expected.stats.triangles, 0u);
   ASSERT_GT(expected.stats.surfels, 0u);
@@ -208,7 +208,8 @@ TEST(SurfelStreamCli, RenderStreamsFramesThatRefineTheSameForAnyThreadCount) {
   const test::CommandResult noFile = test::runPbs("render " + scene + " --stream 1");
   EXPECT_NE(noFile.status, 0);
   EXPECT_NE(noFile.err.find("--surfels"), std::string::npos) << noFile.err;
-  const test::CommandResult exact = test::runPbs("render " + scene + " --surfels " + surfels + " --mode exact --stream 1");
+  const test::CommandResult exact =
+      test::runPbs("render " + scene + " --surfels " + surfels + " --mode exact --stream 1");
   EXPECT_NE(exact.status, 0);
   EXPECT_NE(exact.err.find("not with --mode exact"), std::string::npos) << exact.err;
   EXPECT_EQ(test::runPbs(common + "x --stream-order bytes").status, 2);

@@ -158,8 +158,10 @@ std::string surfelFileBytes(const Scene& scene, const SurfelizeOptions& options,
   const std::filesystem::path path = scratch / "out.surfels";
   runWithThreads(threads, [&] {
     const Hierarchy hierarchy = analyzeHierarchy(scene);
-    if (writing == Writing::AsItGoes) surfelizeToFile(scene, hierarchy, options, path);
-    else writeSurfelFile(path, surfelize(scene, hierarchy, options));
+    if (writing == Writing::AsItGoes)
+      surfelizeToFile(scene, hierarchy, options, path);
+    else
+      writeSurfelFile(path, surfelize(scene, hierarchy, options));
   });
   return test::readFile(path);
 }
@@ -178,7 +180,9 @@ TEST(Surfelize, MemoryEstimateCountsTheArraysHeldNotEveryArray) {
     for (std::uint32_t c = 0; c < children; ++c) {
       scene.meshes.push_back(test::tessellatedBox(6 + c % 3));  // each child its own mesh: its own array
       scene.nodes[0].children.push_back(std::uint32_t(scene.nodes.size()));
-      scene.nodes.push_back(Node{"leaf", glm::translate(glm::dmat4(1.0), glm::dvec3(3.0 * c, 0, 0)), {},
+      scene.nodes.push_back(Node{"leaf",
+                                 glm::translate(glm::dmat4(1.0), glm::dvec3(3.0 * c, 0, 0)),
+                                 {},
                                  std::int32_t(scene.meshes.size() - 1)});
     }
     validateScene(scene, "fan");
@@ -266,7 +270,8 @@ Scene sixColourBox() {
   for (std::uint32_t face = 0; face < 6; ++face) box.parts.push_back(MeshPart{face * perFace, perFace, face});
   Scene scene = test::sceneOf(std::move(box), {glm::dmat4(1.0)});
   for (std::uint32_t face = 0; face < 6; ++face)
-    scene.materials[face].baseColorFactor = glm::vec4(face & 1 ? 0.9f : 0.1f, face & 2 ? 0.8f : 0.2f, face & 4 ? 0.7f : 0.3f, 1.0f);
+    scene.materials[face].baseColorFactor =
+        glm::vec4(face & 1 ? 0.9f : 0.1f, face & 2 ? 0.8f : 0.2f, face & 4 ? 0.7f : 0.3f, 1.0f);
   return scene;
 }
 
@@ -285,8 +290,9 @@ TEST(Surfelize, PixelColorsAreTheCapturedOnesAndPrefilteredTheirFilter) {
   ASSERT_EQ(pixel.nodes.at(0).path, "/0");
 
   // The capture and ordering surfelize makes for the root, repeated.
-  const CaptureResult captured = captureNode(scene, analyzeSubtree(scene, 0), 0,
-                                             {.resolution = options.file.resolution, .directions = options.file.directions});
+  const CaptureResult captured =
+      captureNode(scene, analyzeSubtree(scene, 0), 0,
+                  {.resolution = options.file.resolution, .directions = options.file.directions});
   const std::vector<glm::vec3> positions = orderingPositions(captured.surfels);
   Hash64 seed(options.file.seed);
   seed.string("/0");
@@ -358,7 +364,8 @@ SplatError splatError(const Scene& scene, std::uint32_t node, const SurfelArray&
 TEST(Surfelize, ChildSurfelCaptureErrorOnSharedScene) {
   PBS_SHARED_SCENE(spot, "spot.glb");
   PBS_SHARED_SCENE(teapot, "teapot.glb");
-  const Scene city = generateCity({importGltf(spot).scene, importGltf(teapot).scene}, CityOptions{.levels = 2, .fanout = 4});
+  const Scene city =
+      generateCity({importGltf(spot).scene, importGltf(teapot).scene}, CityOptions{.levels = 2, .fanout = 4});
   validateScene(city, "city");
   const Hierarchy hierarchy = analyzeHierarchy(city);
   SurfelizeOptions options;
@@ -375,10 +382,11 @@ TEST(Surfelize, ChildSurfelCaptureErrorOnSharedScene) {
   const std::uint32_t root = city.roots.front();
   const SplatError e = splatError(city, root, exact.arrays[exact.nodes.front().array]);
   const SplatError c = splatError(city, root, fromChildren.arrays[fromChildren.nodes.front().array]);
-  std::printf("root drawn from its surfels vs its triangles (4 views, 256 px):\n"
-              "  captured from triangles:       coverage mismatch %.4f, colour RMSE %.2f\n"
-              "  captured from child surfels:   coverage mismatch %.4f, colour RMSE %.2f\n",
-              e.mismatch, e.colorRmse, c.mismatch, c.colorRmse);
+  std::printf(
+      "root drawn from its surfels vs its triangles (4 views, 256 px):\n"
+      "  captured from triangles:       coverage mismatch %.4f, colour RMSE %.2f\n"
+      "  captured from child surfels:   coverage mismatch %.4f, colour RMSE %.2f\n",
+      e.mismatch, e.colorRmse, c.mismatch, c.colorRmse);
   RecordProperty("triangles_mismatch", std::to_string(e.mismatch));
   RecordProperty("children_mismatch", std::to_string(c.mismatch));
   // Both represent the root: splats overhang silhouettes by up to half a splat, and 10,000 surfels
@@ -409,8 +417,8 @@ TEST(SurfelizeCli, OldThresholdSpellingStillWorksWithAWarning) {
   EXPECT_EQ(old.err, "warning: --threshold is deprecated here: write --min-triangles\n");
   EXPECT_EQ(test::readFile(scratch / "old.surfels"), test::readFile(scratch / "new.surfels"));
 
-  const std::string render = "render " + scene + " --surfels '" + (scratch / "new.surfels").string() +
-                             "' --size 96x64 --json ";
+  const std::string render =
+      "render " + scene + " --surfels '" + (scratch / "new.surfels").string() + "' --size 96x64 --json ";
   const test::CommandResult pixels = run(render + "--threshold-pixels 40");
   const test::CommandResult oldPixels = run(render + "--threshold 40");
   ASSERT_EQ(pixels.status, 0) << pixels.err;
@@ -424,8 +432,9 @@ TEST(SurfelizeCli, WritesTheFileAndReportsJson) {
   ScratchDir scratch;
   groupsFile(scratch);
   const auto out = scratch / "groups.surfels";
-  const test::CommandResult run = test::runPbs("surfelize '" + (scratch / "groups.glb").string() + "' -o '" +
-                                               out.string() + "' --min-triangles 1000 --max-surfels 500 --resolution 96 --json");
+  const test::CommandResult run =
+      test::runPbs("surfelize '" + (scratch / "groups.glb").string() + "' -o '" + out.string() +
+                   "' --min-triangles 1000 --max-surfels 500 --resolution 96 --json");
   ASSERT_EQ(run.status, 0) << run.err;
   const nlohmann::json report = nlohmann::json::parse(run.out);
   for (const char* key : {"nodes_with_surfels", "arrays", "surfels", "captures", "seconds", "bytes"})
@@ -472,7 +481,8 @@ TEST(SurfelizeCli, ColorsOptionIsRecordedInTheFile) {
   ASSERT_EQ(test::runPbs("surfelize " + scene + " -o '" + byDefault.string() + "'" + common).status, 0);
   EXPECT_EQ(SurfelFileReader(byDefault).options().colors, SurfelColors::Pixel);
 
-  const test::CommandResult bad = test::runPbs("surfelize " + scene + " -o '" + out.string() + "' --colors mean" + common);
+  const test::CommandResult bad =
+      test::runPbs("surfelize " + scene + " -o '" + out.string() + "' --colors mean" + common);
   EXPECT_NE(bad.status, 0);
   EXPECT_NE(bad.err.find("--colors"), std::string::npos) << bad.err;
 }
@@ -496,8 +506,8 @@ TEST(SurfelizeCli, ProgressLinesWhenStderrIsNotATerminal) {
 TEST(SurfelizeCli, SaysSoWhenNoNodeNeedsSurfels) {
   ScratchDir scratch;
   const auto out = scratch / "none.surfels";
-  const test::CommandResult run = test::runPbs("surfelize " + groupsFile(scratch) + " -o '" + out.string() +
-                                               "' --min-triangles 1000000000");
+  const test::CommandResult run =
+      test::runPbs("surfelize " + groupsFile(scratch) + " -o '" + out.string() + "' --min-triangles 1000000000");
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_NE(run.out.find("no surfels needed"), std::string::npos) << run.out;
   SurfelFileReader reader(out);
@@ -508,8 +518,11 @@ TEST(SurfelizeCli, AnalyzeReadsTheFileAndChecksItsScene) {
   ScratchDir scratch;
   const std::string scene = groupsFile(scratch);
   const auto out = scratch / "groups.surfels";
-  ASSERT_EQ(test::runPbs("surfelize " + scene + " -o '" + out.string() + "' --min-triangles 1000 --max-surfels 800 "
-                         "--resolution 96 --quiet").status, 0);
+  ASSERT_EQ(test::runPbs("surfelize " + scene + " -o '" + out.string() +
+                         "' --min-triangles 1000 --max-surfels 800 "
+                         "--resolution 96 --quiet")
+                .status,
+            0);
   const test::CommandResult analyzed =
       test::runPbs("analyze '" + out.string() + "' --scene " + scene + " --no-spectrum --json");
   ASSERT_EQ(analyzed.status, 0) << analyzed.err;
@@ -534,15 +547,15 @@ TEST(SurfelizeCli, AnalyzeReadsTheFileAndChecksItsScene) {
 
 TEST(SurfelizeCli, BadInputGivesOneErrorLine) {
   ScratchDir scratch;
-  const test::CommandResult missing = test::runPbs("surfelize '" + (scratch / "nope.glb").string() + "' -o '" +
-                                                   (scratch / "x.surfels").string() + "'");
+  const test::CommandResult missing =
+      test::runPbs("surfelize '" + (scratch / "nope.glb").string() + "' -o '" + (scratch / "x.surfels").string() + "'");
   EXPECT_EQ(missing.status, 1);
   EXPECT_EQ(missing.err.rfind("error: ", 0), 0u) << missing.err;
   EXPECT_FALSE(std::filesystem::exists(scratch / "x.surfels"));
   const test::CommandResult badOrdering = test::runPbs("surfelize default -o x.surfels --ordering best");
   EXPECT_EQ(badOrdering.status, 2);
-  const test::CommandResult noDir = test::runPbs("surfelize " + groupsFile(scratch) + " -o '" +
-                                                 (scratch / "missing" / "x.surfels").string() + "'");
+  const test::CommandResult noDir =
+      test::runPbs("surfelize " + groupsFile(scratch) + " -o '" + (scratch / "missing" / "x.surfels").string() + "'");
   EXPECT_EQ(noDir.status, 1);
   EXPECT_NE(noDir.err.find("missing"), std::string::npos) << noDir.err;
 }

@@ -55,13 +55,13 @@ std::vector<std::size_t> logSpacedCounts(std::size_t n, int samples) {
 // One measured ordered point array.
 struct Measured {
   std::string ordering;
-  std::string path;    // the node (file mode: the first node using the array)
+  std::string path;         // the node (file mode: the first node using the array)
   std::int64_t array = -1;  // file mode: the array's index
   std::size_t count = 0;
   double area = 0.0;
   double coverage = 0.0;
-  double seconds = 0.0;  // time to order (scene mode)
-  std::vector<double> minDistance;                      // d_min(k) at entry k-1
+  double seconds = 0.0;                                // time to order (scene mode)
+  std::vector<double> minDistance;                     // d_min(k) at entry k-1
   std::vector<std::pair<std::size_t, double>> meanNN;  // (k, mean NN distance of the first k)
   BlueNoiseSummary summary;
 
@@ -109,8 +109,10 @@ std::string prefixCsv(const std::vector<Measured>& measured) {
     std::size_t next = 0;
     for (std::size_t k = 1; k <= m.count; ++k) {
       csv.append(prefix).append(std::to_string(k)).append(",");
-      if (k >= 2) csv.append(csvNumber(m.minDistance[k - 1])).append(",").append(csvNumber(m.rho(k)));
-      else csv.append(",");
+      if (k >= 2)
+        csv.append(csvNumber(m.minDistance[k - 1])).append(",").append(csvNumber(m.rho(k)));
+      else
+        csv.append(",");
       csv.append(",");
       if (next < m.meanNN.size() && m.meanNN[next].first == k) csv.append(csvNumber(m.meanNN[next++].second));
       csv.append("\n");
@@ -126,8 +128,10 @@ PlotSeries rhoSeries(const Measured& m, std::string name) {
   while (k <= m.count) {
     series.points.emplace_back(double(k), m.rho(k));
     const std::size_t step = k < 200 ? 1 : std::max<std::size_t>(1, std::size_t(double(k) * 0.01));
-    if (k < m.count && k + step > m.count) k = m.count;
-    else k += step;
+    if (k < m.count && k + step > m.count)
+      k = m.count;
+    else
+      k += step;
   }
   return series;
 }
@@ -170,10 +174,11 @@ nlohmann::json spectrumJson(const std::vector<SpectrumResult>& spectra, const Fl
     for (double a : r.anisotropy) anisotropy += a;
     json["points"] = s.spectrum.count;
     json["max_frequency"] = s.spectrum.maxFrequency;
-    json["orderings"][s.ordering] = {{"low_frequency_power", s.spectrum.lowFrequencyPower},
-                                     {"peak_power", r.power.empty() ? 0.0 : r.power[std::size_t(peak)]},
-                                     {"peak_frequency", r.frequency.empty() ? 0.0 : r.frequency[std::size_t(peak)]},
-                                     {"mean_anisotropy_db", r.anisotropy.empty() ? 0.0 : anisotropy / double(r.anisotropy.size())}};
+    json["orderings"][s.ordering] = {
+        {"low_frequency_power", s.spectrum.lowFrequencyPower},
+        {"peak_power", r.power.empty() ? 0.0 : r.power[std::size_t(peak)]},
+        {"peak_frequency", r.frequency.empty() ? 0.0 : r.frequency[std::size_t(peak)]},
+        {"mean_anisotropy_db", r.anisotropy.empty() ? 0.0 : anisotropy / double(r.anisotropy.size())}};
   }
   return json;
 }
@@ -194,9 +199,7 @@ struct Options {
   std::string scene;  // file mode: the scene the file must belong to (checked by fingerprint)
 };
 
-bool isSurfelFile(const std::string& input) {
-  return std::filesystem::path(input).extension() == ".surfels";
-}
+bool isSurfelFile(const std::string& input) { return std::filesystem::path(input).extension() == ".surfels"; }
 
 // Scene mode: capture a root, order it every way, measure each ordering.
 std::vector<Measured> analyzeScene(const Options& options, nlohmann::json& report) {
@@ -373,15 +376,13 @@ void printText(const nlohmann::json& report) {
     const char* separator = " ";
     for (SurfelOrdering ordering : kOrderings) {
       const std::string name(orderingName(ordering));
-      std::printf("%s%s %.3f", separator, name.c_str(),
-                  s["orderings"][name]["low_frequency_power"].get<double>());
+      std::printf("%s%s %.3f", separator, name.c_str(), s["orderings"][name]["low_frequency_power"].get<double>());
       separator = ", ";
     }
     std::printf(" (white noise 1; blue noise well below)\n");
   }
   if (report.contains("files"))
-    for (const auto& [what, file] : report["files"].items())
-      std::printf("wrote %s\n", file.get<std::string>().c_str());
+    for (const auto& [what, file] : report["files"].items()) std::printf("wrote %s\n", file.get<std::string>().c_str());
 }
 
 void run(const Options& options) {
@@ -430,7 +431,8 @@ void addAnalyzeCommand(CLI::App& app) {
   command->add_option("--scene", options->scene, "with a .surfels file: fail unless it was made for this scene");
   command->add_option("-o,--output", options->output,
                       "folder for analyze.csv, rho.svg, spectrum.csv and spectrum.svg (created if missing)");
-  command->add_option("--csv", options->csv, "write the per-prefix table (k, d_min, rho, mean_nn) to this file (instead of DIR/analyze.csv)");
+  command->add_option("--csv", options->csv,
+                      "write the per-prefix table (k, d_min, rho, mean_nn) to this file (instead of DIR/analyze.csv)");
   command->add_option("--max", options->max, "surfels to order (scene); prefix measured (file: default whole arrays)")
       ->check(CLI::Range(1u, 100'000'000u))
       ->capture_default_str();
@@ -443,7 +445,9 @@ void addAnalyzeCommand(CLI::App& app) {
   command->add_option("--spectrum-points", options->spectrum.count, "points of each flat-patch sample")
       ->check(CLI::Range(16u, 65536u))
       ->capture_default_str();
-  command->add_option("--spectrum-candidates", options->spectrum.candidates, "candidates the flat-patch points are ordered from")
+  command
+      ->add_option("--spectrum-candidates", options->spectrum.candidates,
+                   "candidates the flat-patch points are ordered from")
       ->check(CLI::Range(16u, 10'000'000u))
       ->capture_default_str();
   command->add_option("--spectrum-seeds", options->spectrum.realizations, "flat-patch samples averaged")

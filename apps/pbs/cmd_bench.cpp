@@ -59,7 +59,8 @@ void printRasterReport(const nlohmann::json& r) {
 }
 
 void printOrderReport(const nlohmann::json& r) {
-  std::printf("ordering %s of %s points on a unit sphere, one thread\n", withThousands(r["max"].get<std::uint64_t>()).c_str(),
+  std::printf("ordering %s of %s points on a unit sphere, one thread\n",
+              withThousands(r["max"].get<std::uint64_t>()).c_str(),
               withThousands(r["points"].get<std::uint64_t>()).c_str());
   for (const char* name : {"farthest", "dart", "random"}) {
     const auto& o = r[name];
@@ -114,7 +115,9 @@ void addBenchCommand(CLI::App& app) {
   orderCommand->add_option("--points", order->points, "initial points on the unit sphere")
       ->check(CLI::Range(1, 100'000'000))
       ->capture_default_str();
-  orderCommand->add_option("--max", order->max, "surfels to order")->check(CLI::Range(1, 100'000'000))->capture_default_str();
+  orderCommand->add_option("--max", order->max, "surfels to order")
+      ->check(CLI::Range(1, 100'000'000))
+      ->capture_default_str();
   orderCommand->add_option("--seed", order->seed, "seed of the points and the orderings")->capture_default_str();
   orderCommand->add_flag("--json", order->json, "print JSON instead of text");
   orderCommand->callback([order] {

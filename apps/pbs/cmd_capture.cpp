@@ -66,7 +66,8 @@ void addCaptureCommand(CLI::App& app) {
       const Bounds& box = loaded.hierarchy.worldBounds[node];
       const glm::vec3 halfSize = glm::max(glm::vec3(box.size()) * 0.5f, glm::vec3(1e-30f));
       CaptureOptions capture = options->capture;
-      capture.backend = options->backend == "embree" ? CaptureOptions::Backend::Embree : CaptureOptions::Backend::Raster;
+      capture.backend =
+          options->backend == "embree" ? CaptureOptions::Backend::Embree : CaptureOptions::Backend::Raster;
       capture.onView = [&](std::uint32_t view, const Camera& camera, const Framebuffer& g) {
         const std::string prefix = "view" + std::to_string(view) + "_";
         const auto write = [&](const char* name, const std::vector<std::uint8_t>& rgba) {
@@ -80,16 +81,16 @@ void addCaptureCommand(CLI::App& app) {
       const CaptureResult result = captureNode(loaded.scene, loaded.hierarchy, node, capture);
       if (options->json) {
         // With what the capture used: its G-buffer, of which each view clears depth alone.
-        const nlohmann::json report = {
-            {"scene", loaded.name},
-            {"node", node},
-            {"views", result.views},
-            {"surfels", result.surfels.size()},
-            {"coverage", result.coverage},
-            {"output", folder.string()},
-            {"used", {{"backend", options->backend},
-                      {"gbuffer", channelNames(kCaptureChannels)},
-                      {"cleared_each_view", channelNames(kCaptureClearedChannels)}}}};
+        const nlohmann::json report = {{"scene", loaded.name},
+                                       {"node", node},
+                                       {"views", result.views},
+                                       {"surfels", result.surfels.size()},
+                                       {"coverage", result.coverage},
+                                       {"output", folder.string()},
+                                       {"used",
+                                        {{"backend", options->backend},
+                                         {"gbuffer", channelNames(kCaptureChannels)},
+                                         {"cleared_each_view", channelNames(kCaptureClearedChannels)}}}};
         std::cout << report.dump(2) << "\n";
       } else {
         std::printf("node %u (%s): %u views of %s, %s surfels, coverage %.3f; images in %s\n", node,

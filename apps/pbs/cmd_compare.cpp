@@ -54,11 +54,12 @@ nlohmann::json differenceJson(const ImageDifference& d, const RgbaImage& a, cons
 }
 
 void printDifference(const ImageDifference& d, const RgbaImage& a) {
-  std::printf("flip %.4f (median %.4f, max %.3f, foreground %.4f)  psnr %s dB (foreground %s dB)  ssim %.4f  "
-              "holes %.4g  bloat %.4g (%s; coverage A %.0f px, B %.0f px)\n",
-              d.flipMean, d.flipMedian, d.flipMax, d.flipForegroundMean, dbText(d.psnr).c_str(),
-              dbText(d.foregroundPsnr).c_str(), d.ssim, d.holeFraction, d.bloatFraction, sizeText(a).c_str(),
-              d.coverageA, d.coverageB);
+  std::printf(
+      "flip %.4f (median %.4f, max %.3f, foreground %.4f)  psnr %s dB (foreground %s dB)  ssim %.4f  "
+      "holes %.4g  bloat %.4g (%s; coverage A %.0f px, B %.0f px)\n",
+      d.flipMean, d.flipMedian, d.flipMax, d.flipForegroundMean, dbText(d.psnr).c_str(),
+      dbText(d.foregroundPsnr).c_str(), d.ssim, d.holeFraction, d.bloatFraction, sizeText(a).c_str(), d.coverageA,
+      d.coverageB);
 }
 
 }  // namespace
@@ -86,7 +87,8 @@ void addCompareCommand(CLI::App& app) {
   addCompareOptions(*command, options->background, options->pixelsPerDegree);
   command->add_option("--flip-map", options->flipMap, "write FLIP's per-pixel error as a colour-scaled PNG");
   ImageThresholds& limits = options->thresholds;
-  command->add_option("--max-flip", limits.maxFlip, "fail when the mean FLIP is above this")->check(CLI::NonNegativeNumber);
+  command->add_option("--max-flip", limits.maxFlip, "fail when the mean FLIP is above this")
+      ->check(CLI::NonNegativeNumber);
   command->add_option("--min-psnr", limits.minPsnr, "fail when the whole image's PSNR (dB) is below this");
   command->add_option("--min-foreground-psnr", limits.minForegroundPsnr,
                       "fail when the foreground's PSNR (dB) is below this");

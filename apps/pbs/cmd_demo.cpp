@@ -117,9 +117,10 @@ void run(const DemoOptions& options) {
               withThousands(stats.nodesWithSurfels).c_str(), withThousands(settings.file.threshold).c_str(),
               withThousands(stats.arrays).c_str(), withThousands(stats.surfels).c_str(), surfelizeSeconds,
               settings.file.resolution);
-  std::printf("render     %ux%u against Embree at %u samples per pixel (%.1f s); FLIP over the foreground, lower is "
-              "better:\n",
-              options.width, options.height, kReferenceSamples, reference.seconds);
+  std::printf(
+      "render     %ux%u against Embree at %u samples per pixel (%.1f s); FLIP over the foreground, lower is "
+      "better:\n",
+      options.width, options.height, kReferenceSamples, reference.seconds);
   for (std::size_t i = 0; i < std::size(frames); ++i)
     std::printf("  %-18s %8.1f ms   FLIP %.4f   foreground PSNR %5.1f dB   holes %.3f   bloat %.3f\n", frames[i].name,
                 frames[i].frame.seconds * 1e3, errors[i].flipForegroundMean, errors[i].foregroundPsnr,
@@ -138,8 +139,9 @@ void addDemoCommand(CLI::App& app) {
   options->surfelize.file.resolution = 256;
   SurfelFileOptions& file = options->surfelize.file;
   CLI::App* command = app.add_subcommand(
-      "demo", "The main job on the embedded default scene (or SCENE): surfelize, render with surfels and with rays, "
-              "measure both against a converged reference");
+      "demo",
+      "The main job on the embedded default scene (or SCENE): surfelize, render with surfels and with rays, "
+      "measure both against a converged reference");
   command->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->capture_default_str();
   command->add_option("-o,--output", options->output, "folder for the .surfels file and the three images")
       ->capture_default_str();
@@ -148,8 +150,12 @@ void addDemoCommand(CLI::App& app) {
       ->check(CLI::Range(1u, 1u << 26))
       ->capture_default_str();
   addCaptureOptions(*command, file.resolution, file.directions);
-  command->add_option("--width", options->width, "image width")->check(CLI::Range(1u, kMaxViewportSize))->capture_default_str();
-  command->add_option("--height", options->height, "image height")->check(CLI::Range(1u, kMaxViewportSize))->capture_default_str();
+  command->add_option("--width", options->width, "image width")
+      ->check(CLI::Range(1u, kMaxViewportSize))
+      ->capture_default_str();
+  command->add_option("--height", options->height, "image height")
+      ->check(CLI::Range(1u, kMaxViewportSize))
+      ->capture_default_str();
   command->add_flag("--json", options->json, "print JSON instead of text");
   addThreadsOption(*command, options->threads);
   command->callback([options] { runWithThreads(options->threads, [&] { run(*options); }); });

@@ -63,7 +63,10 @@ class SurfelSources {
   // `reader` must have been required for the scene (loadAndAnalyze or openWithoutMeshes with it).
   SurfelSources(const LoadedScene& loaded, SurfelFileReader reader, std::uint64_t cacheBytes, CaptureSource source,
                 bool quiet)
-      : loaded_(loaded), source_(source), quiet_(quiet), cache_(std::move(reader), loaded.scene, loaded.hierarchy, cacheBytes) {}
+      : loaded_(loaded),
+        source_(source),
+        quiet_(quiet),
+        cache_(std::move(reader), loaded.scene, loaded.hierarchy, cacheBytes) {}
 
   SurfelOrdering fileOrdering() const { return cache_.options().ordering; }
   // The arrays' lengths and packing, which decide the traversal (each view's kind among it).
@@ -88,7 +91,8 @@ class SurfelSources {
     };
     SurfelizeStats stats;
     const SurfelFile file = surfelize(loaded_.scene, loaded_.hierarchy, settings, &stats);
-    if (stats.arrays > 0) meter.finish(std::to_string(stats.arrays) + " arrays, " + withThousands(stats.surfels) + " surfels");
+    if (stats.arrays > 0)
+      meter.finish(std::to_string(stats.arrays) + " arrays, " + withThousands(stats.surfels) + " surfels");
     const SceneSurfels& made =
         made_.emplace(*setting.ordering, sceneSurfelsOf(file, loaded_.scene, loaded_.hierarchy, "ordering=" + name))
             .first->second;
@@ -130,14 +134,14 @@ class SimplifiedScenes {
     nlohmann::json list = nlohmann::json::array();
     for (const auto& [ratio, made] : made_) {
       const SimplifiedScene& s = made.simplified;
-      list.push_back({{"ratio", ratio},
-                      {"seconds", made.seconds},
-                      {"mesh_triangles_before", s.trianglesBefore},
-                      {"mesh_triangles_after", s.trianglesAfter},
-                      {"kept_fraction",
-                       s.trianglesBefore > 0 ? double(s.trianglesAfter) / double(s.trianglesBefore) : 1.0},
-                      {"largest_error", s.largestError},
-                      {"target_error", SimplifyOptions{}.targetError}});
+      list.push_back(
+          {{"ratio", ratio},
+           {"seconds", made.seconds},
+           {"mesh_triangles_before", s.trianglesBefore},
+           {"mesh_triangles_after", s.trianglesAfter},
+           {"kept_fraction", s.trianglesBefore > 0 ? double(s.trianglesAfter) / double(s.trianglesBefore) : 1.0},
+           {"largest_error", s.largestError},
+           {"target_error", SimplifyOptions{}.targetError}});
     }
     return list;
   }
@@ -202,8 +206,9 @@ void run(const EvalOptions& options) {
   const std::uint64_t cacheBytes = options.cacheMb << 20;
   const std::vector<std::uint64_t> meshFingerprints = reader.sceneTable().meshes;
   const auto loadStart = std::chrono::steady_clock::now();
-  const bool wholeRays = referenceMode == RenderMode::Embree ||
-                         std::any_of(settings.begin(), settings.end(), [](const EvalSetting& s) { return s.mode == RenderMode::Embree; });
+  const bool wholeRays =
+      referenceMode == RenderMode::Embree ||
+      std::any_of(settings.begin(), settings.end(), [](const EvalSetting& s) { return s.mode == RenderMode::Embree; });
   LoadedScene loaded = meshesOnDemand ? openWithoutMeshes(options.scene, reader)
                                       : loadAndAnalyze(options.scene, LoadOptions{}, reader, {.rays = wholeRays});
   const double loadSeconds = secondsSince(loadStart);
@@ -286,12 +291,14 @@ void run(const EvalOptions& options) {
   writeTextFile(folder / "summary.json", summary.dump(2) + "\n");
 
   std::printf("%s, %s path: %ux%u, %zu frames; reference %s at %u samples, median %.1f ms; BVH %.2f s, load %.2f s%s\n",
-              loaded.name.c_str(), options.path.c_str(), width, height, cameras.size(), options.referenceRenderer.c_str(),
-              options.referenceSamples, summary["reference"]["median_seconds"].get<double>() * 1e3, results.buildSeconds,
-              loadSeconds, meshesOnDemand ? "; meshes read as frames draw them" : "");
+              loaded.name.c_str(), options.path.c_str(), width, height, cameras.size(),
+              options.referenceRenderer.c_str(), options.referenceSamples,
+              summary["reference"]["median_seconds"].get<double>() * 1e3, results.buildSeconds, loadSeconds,
+              meshesOnDemand ? "; meshes read as frames draw them" : "");
   std::string kinds;
   for (FrameKind kind : {FrameKind::Near, FrameKind::Mid, FrameKind::Far}) {
-    const auto n = std::count_if(results.views.begin(), results.views.end(), [&](const EvalView& v) { return v.kind == kind; });
+    const auto n =
+        std::count_if(results.views.begin(), results.views.end(), [&](const EvalView& v) { return v.kind == kind; });
     kinds += std::string(kinds.empty() ? "" : ", ") + std::to_string(n) + " " + frameKindName(kind);
   }
   std::printf("frames: %s\n", kinds.c_str());
@@ -310,19 +317,22 @@ void addEvalCommand(CLI::App& app) {
       "--reference-samples): FLIP and PSNR over the foreground, SSIM, holes, bloat, time");
   command->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->required();
   command->add_option("--surfels", options->surfels, "the scene's .surfels file (from pbs surfelize)")->required();
-  command->add_option("-o,--output", options->output,
-                      "folder for eval.csv, summary.json, error_vs_time.svg, contact_sheet.png (created if missing)")
+  command
+      ->add_option("-o,--output", options->output,
+                   "folder for eval.csv, summary.json, error_vs_time.svg, contact_sheet.png (created if missing)")
       ->required();
-  command->add_option("--sweep", options->sweeps,
-                      "KEY=V1,V2,… or KEY=V+KEY=V (keys: " + sweepKeys() +
-                          "), repeatable; each value one setting over the baseline LOD options (--threshold-pixels, --point-size, "
-                          "…), which is measured as 'surfels'. Default: "
-                          "overdraw=4,8,32 threshold=64,256 splat=nearest, the file's other orderings and "
-                          "simplify=0.25,0.05,0.01 (meshes simplified to that fraction of their triangles, drawn in "
-                          "place of surfels)");
-  command->add_option("--peers", options->peers,
-                      "the exact renderers measured beside the surfels: embree=N,… (rays, N samples per pixel) and "
-                      "exact=N,… (the rasterizer drawing every triangle)")
+  command->add_option(
+      "--sweep", options->sweeps,
+      "KEY=V1,V2,… or KEY=V+KEY=V (keys: " + sweepKeys() +
+          "), repeatable; each value one setting over the baseline LOD options (--threshold-pixels, --point-size, "
+          "…), which is measured as 'surfels'. Default: "
+          "overdraw=4,8,32 threshold=64,256 splat=nearest, the file's other orderings and "
+          "simplify=0.25,0.05,0.01 (meshes simplified to that fraction of their triangles, drawn in "
+          "place of surfels)");
+  command
+      ->add_option("--peers", options->peers,
+                   "the exact renderers measured beside the surfels: embree=N,… (rays, N samples per pixel) and "
+                   "exact=N,… (the rasterizer drawing every triangle)")
       ->capture_default_str();
   addLodOptions(*command, options->baseline);
   addPathOption(*command, options->path);
@@ -335,11 +345,14 @@ void addEvalCommand(CLI::App& app) {
                    "node, so a scene larger than memory, or than rays can hold, can be measured)")
       ->check(CLI::IsMember({"embree", "exact"}))
       ->capture_default_str();
-  command->add_option("--frames", options->frames, "views on the path")->check(CLI::Range(1u, 100000u))->capture_default_str();
+  command->add_option("--frames", options->frames, "views on the path")
+      ->check(CLI::Range(1u, 100000u))
+      ->capture_default_str();
   command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
-  command->add_option("--orbit", options->orbit,
-                      "AZ,EL,DIST: degrees, degrees, distance in bounding radii (the orbit; the approach's direction "
-                      "and start)")
+  command
+      ->add_option("--orbit", options->orbit,
+                   "AZ,EL,DIST: degrees, degrees, distance in bounding radii (the orbit; the approach's direction "
+                   "and start)")
       ->capture_default_str();
   addCompareOptions(*command, options->background, options->pixelsPerDegree);
   addCaptureSourceOption(*command, options->captureFrom,

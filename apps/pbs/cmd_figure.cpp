@@ -24,10 +24,12 @@ namespace {
 // bunny.glb of the shared scenes ($PBS_SCENES, else ../shared/scenes beside the repository).
 std::string defaultMesh() {
   const char* env = std::getenv("PBS_SCENES");
-  const std::filesystem::path folder = env && *env ? std::filesystem::path(env) : std::filesystem::path(PBS_DEFAULT_SCENES);
+  const std::filesystem::path folder =
+      env && *env ? std::filesystem::path(env) : std::filesystem::path(PBS_DEFAULT_SCENES);
   const std::filesystem::path mesh = folder / "bunny.glb";
   if (!std::filesystem::is_regular_file(mesh))
-    throw std::runtime_error(mesh.string() + " not found: give --mesh F.glb, or set PBS_SCENES to the shared scenes folder");
+    throw std::runtime_error(mesh.string() +
+                             " not found: give --mesh F.glb, or set PBS_SCENES to the shared scenes folder");
   return mesh.string();
 }
 
@@ -42,14 +44,19 @@ void addScaling(CLI::App& figure) {
   auto options = std::make_shared<Options>();
   ScalingOptions& scaling = options->scaling;
   CLI::App* command = figure.add_subcommand(
-      "scaling", "frame time against scene size: generated cities of about 1 M to 1.4 G triangles (with bunny.glb), "
-                 "each surfelized in memory and drawn exactly and with surfels");
-  command->add_option("-o,--output", options->output, "folder for scaling.csv, scaling.json, scaling.svg (created if missing)")
+      "scaling",
+      "frame time against scene size: generated cities of about 1 M to 1.4 G triangles (with bunny.glb), "
+      "each surfelized in memory and drawn exactly and with surfels");
+  command
+      ->add_option("-o,--output", options->output,
+                   "folder for scaling.csv, scaling.json, scaling.svg (created if missing)")
       ->required();
   command->add_option("--mesh", scaling.meshes,
                       "a .gltf/.glb file the cities instance (repeat for several; default: bunny.glb of $PBS_SCENES "
                       "or ../shared/scenes)");
-  command->add_option("--frames", scaling.frames, "views per city along the --path")->check(CLI::Range(1u, 1000u))->capture_default_str();
+  command->add_option("--frames", scaling.frames, "views per city along the --path")
+      ->check(CLI::Range(1u, 1000u))
+      ->capture_default_str();
   command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
   command->add_option("--max-triangles", scaling.maxTriangles, "leave out the cities of more triangles")
       ->check(positiveNumber());
@@ -81,12 +88,11 @@ void addViews(CLI::App& figure) {
       "views", "image quality near to far: one direction at three distances, exact | surfels | difference");
   command->add_option("scene", views.scene, "a .gltf/.glb file, or 'default'")->required();
   command->add_option("--surfels", views.surfels, "the scene's .surfels file (default: made in memory)");
-  command->add_option("-o,--output", options->output, "folder for views.png, views.csv, views.json (created if missing)")
+  command
+      ->add_option("-o,--output", options->output, "folder for views.png, views.csv, views.json (created if missing)")
       ->required();
   command->add_option("--size", options->size, "WxH pixels of each view")->capture_default_str();
-  command->add_option("--direction", views.direction, "AZ,EL in degrees")
-      ->delimiter(',')
-      ->capture_default_str();
+  command->add_option("--direction", views.direction, "AZ,EL in degrees")->delimiter(',')->capture_default_str();
   command->add_option("--distances", views.distances, "NEAR,MIDDLE,FAR in bounding radii from the centre")
       ->delimiter(',')
       ->check(positiveNumber())
@@ -111,16 +117,18 @@ void addPaths(CLI::App& figure) {
   };
   auto options = std::make_shared<Options>();
   CLI::App* command = figure.add_subcommand(
-      "paths", "the camera paths (orbit: blue, approach: red, flythrough: green) drawn from above over the scene "
-               "rendered exactly: every eye (left panel) and the scene close up (right); paths.png, paths.json");
+      "paths",
+      "the camera paths (orbit: blue, approach: red, flythrough: green) drawn from above over the scene "
+      "rendered exactly: every eye (left panel) and the scene close up (right); paths.png, paths.json");
   command->add_option("scene", options->paths.scene, "a .gltf/.glb file, or 'default'")->capture_default_str();
   command->add_option("-o,--output", options->output, "folder for paths.png and paths.json (created if missing)")
       ->required();
   command->add_option("--frames", options->paths.frames, "cameras per path")
       ->check(CLI::Range(1u, 100000u))
       ->capture_default_str();
-  command->add_option("--orbit", options->orbit,
-                      "AZ,EL,DIST: the orbit's start, and the approach's direction and start distance")
+  command
+      ->add_option("--orbit", options->orbit,
+                   "AZ,EL,DIST: the orbit's start, and the approach's direction and start distance")
       ->capture_default_str();
   command->add_option("--size", options->size, "WxH pixels of each of the two panels")->capture_default_str();
   addThreadsOption(*command, options->threads);
@@ -142,12 +150,14 @@ void addStream(CLI::App& figure) {
   auto options = std::make_shared<Options>();
   StreamFigureOptions& stream = options->stream;
   CLI::App* command = figure.add_subcommand(
-      "stream", "a view while its surfels stream in over a simulated link: FLIP against a converged reference over "
-                "time at two bandwidths, prefixes chunk by chunk beside whole arrays one by one");
+      "stream",
+      "a view while its surfels stream in over a simulated link: FLIP against a converged reference over "
+      "time at two bandwidths, prefixes chunk by chunk beside whole arrays one by one");
   command->add_option("scene", stream.scene, "a .gltf/.glb file, or 'default'")->required();
   command->add_option("--surfels", stream.surfels, "the scene's .surfels file (from pbs surfelize)")->required();
-  command->add_option("-o,--output", options->output,
-                      "folder for stream.svg, stream.png, stream.csv, stream.json (created if missing)")
+  command
+      ->add_option("-o,--output", options->output,
+                   "folder for stream.svg, stream.png, stream.csv, stream.json (created if missing)")
       ->required();
   command->add_option("--bandwidths", stream.bandwidths, "MB/s (10^6 bytes a second) of the links compared")
       ->delimiter(',')

@@ -25,7 +25,8 @@ bool writesGltf(const std::string& output) { return std::filesystem::path(output
 void writeAndReport(const Scene& scene, const MeshReader& meshAt, const std::string& output) {
   std::uint64_t bytes = 0;
   if (writesGltf(output)) {
-    for (const std::filesystem::path& file : writeGltf(scene, meshAt, output)) bytes += std::filesystem::file_size(file);
+    for (const std::filesystem::path& file : writeGltf(scene, meshAt, output))
+      bytes += std::filesystem::file_size(file);
   } else {
     writeGlb(scene, output);
     bytes = std::filesystem::file_size(output);
@@ -36,7 +37,9 @@ void writeAndReport(const Scene& scene, const MeshReader& meshAt, const std::str
               withThousands(summary.uniqueTriangles).c_str(), double(bytes) / 1e6);
 }
 
-void writeAndReport(const Scene& scene, const std::string& output) { writeAndReport(scene, loadedMeshes(scene), output); }
+void writeAndReport(const Scene& scene, const std::string& output) {
+  writeAndReport(scene, loadedMeshes(scene), output);
+}
 
 // Before a city with --unique is baked into a .glb: its size is known exactly from the instanced city
 // (the same draws), so refuse what a .glb cannot hold (one 32-bit chunk) or memory cannot, instead of

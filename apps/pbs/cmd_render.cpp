@@ -134,7 +134,8 @@ void run(const RenderOptions& options) {
   std::optional<LazyMeshes> meshes;
   if (meshesOnDemand)
     meshes.emplace(loaded.scene, loaded.decodeMesh, surfelFile->sceneTable().meshes, loaded.name, cacheBytes);
-  const std::uint64_t bvhEstimate = mode == RenderMode::Embree ? embreeMemoryEstimate(loaded.scene, loaded.hierarchy) : 0;
+  const std::uint64_t bvhEstimate =
+      mode == RenderMode::Embree ? embreeMemoryEstimate(loaded.scene, loaded.hierarchy) : 0;
   if (mode == RenderMode::Embree) {
     // The rays' BVHs come on top of the scene: refuse a build that would not fit before starting it.
     std::uint64_t sceneBytes = 0;
@@ -151,9 +152,9 @@ void run(const RenderOptions& options) {
                                                                    : "streams surfels: not with --mode " + modeName);
   std::optional<SurfelStream> stream;
   if (options.streamMBps > 0.0)
-    stream.emplace(*surfels, loaded.scene, loaded.hierarchy, options.lod,
-                   StreamOptions{.bytesPerSecond = options.streamMBps * 1e6,
-                                 .order = *streamOrderFromName(options.streamOrder)});
+    stream.emplace(
+        *surfels, loaded.scene, loaded.hierarchy, options.lod,
+        StreamOptions{.bytesPerSecond = options.streamMBps * 1e6, .order = *streamOrderFromName(options.streamOrder)});
   FrameRenderer renderer(loaded.scene, loaded.hierarchy, {.mode = mode, .lod = options.lod, .samples = options.samples},
                          width, height,
                          {.cache = surfels ? &*surfels : nullptr,
@@ -165,14 +166,17 @@ void run(const RenderOptions& options) {
   const std::filesystem::path output(options.output);
   if (options.frames > 0 && !output.empty()) std::filesystem::create_directories(output);
 
-  nlohmann::json report = {{"scene", loaded.name}, {"mode", modeName},         {"width", width},
-                            {"height", height},   {"samples", options.samples}};
+  nlohmann::json report = {
+      {"scene", loaded.name}, {"mode", modeName}, {"width", width}, {"height", height}, {"samples", options.samples}};
   // What the frames use, so that a user can see what was left out (a channel no pass reads is never
   // allocated, and the 8-bit conversion runs only for an 8-bit image file).
-  report["used"] = {{"gbuffer", channelNames(renderer.channels())},
-                    {"cleared_each_pass", renderer.clearsDepth() ? std::vector<std::string>{"depth"} : std::vector<std::string>{}},
-                    {"passes_per_frame", options.samples},
-                    {"image_file", output.empty() ? "none" : keepsFloat(frameFile(options, 0)) ? "float" : "8-bit"}};
+  report["used"] = {
+      {"gbuffer", channelNames(renderer.channels())},
+      {"cleared_each_pass", renderer.clearsDepth() ? std::vector<std::string>{"depth"} : std::vector<std::string>{}},
+      {"passes_per_frame", options.samples},
+      {"image_file", output.empty()                      ? "none"
+                     : keepsFloat(frameFile(options, 0)) ? "float"
+                                                         : "8-bit"}};
   if (mode == RenderMode::Embree) {
     report["build_seconds"] = renderer.buildSeconds();
     report["bvh_peak_bytes"] = renderer.bvhPeakBytes();
@@ -202,14 +206,15 @@ void run(const RenderOptions& options) {
     } else {
       report.update(entry);
       if (!options.json)
-        std::printf("%s, %s: %ux%u in %.1f ms (traverse %.1f, raster %.1f): %s triangles of %s nodes, %s surfels of "
-                    "%s nodes%s%s%s%s\n",
-                    loaded.name.c_str(), modeName.c_str(), width, height, frame.seconds * 1e3,
-                    frame.stats.traverseSeconds * 1e3, frame.stats.rasterSeconds * 1e3,
-                    withThousands(frame.stats.triangles).c_str(), withThousands(frame.stats.nodesGeometry).c_str(),
-                    withThousands(frame.stats.surfels).c_str(), withThousands(frame.stats.nodesSurfels).c_str(),
-                    geometryText(mode, frame.stats).c_str(), stream ? streamText(stream->stats()).c_str() : "",
-                    output.empty() ? "" : "; wrote ", output.string().c_str());
+        std::printf(
+            "%s, %s: %ux%u in %.1f ms (traverse %.1f, raster %.1f): %s triangles of %s nodes, %s surfels of "
+            "%s nodes%s%s%s%s\n",
+            loaded.name.c_str(), modeName.c_str(), width, height, frame.seconds * 1e3,
+            frame.stats.traverseSeconds * 1e3, frame.stats.rasterSeconds * 1e3,
+            withThousands(frame.stats.triangles).c_str(), withThousands(frame.stats.nodesGeometry).c_str(),
+            withThousands(frame.stats.surfels).c_str(), withThousands(frame.stats.nodesSurfels).c_str(),
+            geometryText(mode, frame.stats).c_str(), stream ? streamText(stream->stats()).c_str() : "",
+            output.empty() ? "" : "; wrote ", output.string().c_str());
     }
   }
   if (options.frames > 0) {
@@ -238,18 +243,18 @@ void run(const RenderOptions& options) {
 
 void addRenderCommand(CLI::App& app) {
   auto options = std::make_shared<RenderOptions>();
-  CLI::App* command =
-      app.add_subcommand(
-          "render", "Render a view (or a camera path) with surfels for small nodes, or exactly (rasterizer or rays)");
+  CLI::App* command = app.add_subcommand(
+      "render", "Render a view (or a camera path) with surfels for small nodes, or exactly (rasterizer or rays)");
   command->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->required();
   command->add_option("--surfels", options->surfels, "the scene's .surfels file (from pbs surfelize)");
   command->add_option("--mode", options->mode, "surfels (default with --surfels), exact (rasterizer) or embree (rays)")
       ->check(CLI::IsMember({"surfels", "exact", "embree"}));
   addSamplesOption(*command, "--samples", options->samples,
                    "samples per pixel, resolved into colour with fractional alpha (coverage)");
-  command->add_option("--orbit", options->orbit,
-                      "AZ,EL,DIST: degrees, degrees, distance in bounding radii (the orbit; the approach's direction "
-                      "and start)")
+  command
+      ->add_option("--orbit", options->orbit,
+                   "AZ,EL,DIST: degrees, degrees, distance in bounding radii (the orbit; the approach's direction "
+                   "and start)")
       ->capture_default_str();
   addPathOption(*command, options->path);
   command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
@@ -261,18 +266,21 @@ void addRenderCommand(CLI::App& app) {
   addCacheOption(*command, options->cacheMb,
                  "surfels (and, for a glTF scene with a version 4 .surfels file, meshes) are read as frames draw "
                  "them; the least recently drawn arrays and meshes are dropped beyond this many MB each");
-  command->add_option("--stream", options->streamMBps,
-                      "MB/s: as if the .surfels file and the meshes came over a link of this many megabytes (10^6 "
-                      "bytes) a second; each frame draws what has arrived (prefixes cut short, geometry only where "
-                      "its mesh arrived), the link fetching what the view lacks most first")
+  command
+      ->add_option("--stream", options->streamMBps,
+                   "MB/s: as if the .surfels file and the meshes came over a link of this many megabytes (10^6 "
+                   "bytes) a second; each frame draws what has arrived (prefixes cut short, geometry only where "
+                   "its mesh arrived), the link fetching what the view lacks most first")
       ->check(positiveNumber());
-  command->add_option("--stream-fps", options->streamFps,
-                      "frames a second on the stream's clock: frame f shows what arrived by (f + 1) / fps")
+  command
+      ->add_option("--stream-fps", options->streamFps,
+                   "frames a second on the stream's clock: frame f shows what arrived by (f + 1) / fps")
       ->check(positiveNumber())
       ->capture_default_str();
-  command->add_option("--stream-order", options->streamOrder,
-                      "prefixes: a chunk at a time of the prefix that lacks most pixels; arrays: whole arrays one by "
-                      "one, each drawn once complete")
+  command
+      ->add_option("--stream-order", options->streamOrder,
+                   "prefixes: a chunk at a time of the prefix that lacks most pixels; arrays: whole arrays one by "
+                   "one, each drawn once complete")
       ->check(CLI::IsMember({"prefixes", "arrays"}))
       ->capture_default_str();
   addMaxMemoryOption(*command, options->maxMemory);

@@ -104,7 +104,8 @@ void addSurfelizeCommand(CLI::App& app) {
         surfelizeToFile(loaded.scene, loaded.decodeMesh, cacheBytes, loaded.name, settings, options->output, &stats);
       else
         surfelizeToFile(loaded.scene, loaded.hierarchy, settings, options->output, &stats);
-      if (stats.arrays > 0) meter.finish(std::to_string(stats.arrays) + " arrays, " + withThousands(stats.surfels) + " surfels");
+      if (stats.arrays > 0)
+        meter.finish(std::to_string(stats.arrays) + " arrays, " + withThousands(stats.surfels) + " surfels");
       const std::uint64_t bytes = std::filesystem::file_size(options->output);
       const double seconds = secondsSince(start);
       // How the arrays store their colours, read back from the tables: what the file left out.
@@ -128,10 +129,11 @@ void addSurfelizeCommand(CLI::App& app) {
             {"color_encodings", encodings},
             {"meshes_decoded", stats.meshesDecoded},
             {"mesh_peak_bytes_loaded", stats.meshPeakBytesLoaded},
-            {"used", {{"meshes", meshesOnDemand ? "read as captures draw them" : "read whole"},
-                      {"capture_gbuffer", channelNames(kCaptureChannels)},
-                      {"cleared_each_view", channelNames(kCaptureClearedChannels)},
-                      {"color_encodings", encodings}}},
+            {"used",
+             {{"meshes", meshesOnDemand ? "read as captures draw them" : "read whole"},
+              {"capture_gbuffer", channelNames(kCaptureChannels)},
+              {"cleared_each_view", channelNames(kCaptureClearedChannels)},
+              {"color_encodings", encodings}}},
             {"threshold", settings.file.threshold},
             {"max_surfels", settings.file.maxSurfels},
             {"resolution", settings.file.resolution},

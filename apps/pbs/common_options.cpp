@@ -62,7 +62,8 @@ void addMinTrianglesOption(CLI::App& command, std::uint64_t& minTriangles) {
 
 void addLodOptions(CLI::App& command, LodOptions& lod) {
   CLI::Option* threshold =
-      command.add_option("--threshold-pixels", lod.threshold, "projected size (pixels) above which nodes are descended")
+      command
+          .add_option("--threshold-pixels", lod.threshold, "projected size (pixels) above which nodes are descended")
           ->check(positiveNumber())
           ->capture_default_str();
   addOldSpelling(command, "--threshold", threshold, lod.threshold, positiveNumber());
@@ -82,13 +83,15 @@ void addLodOptions(CLI::App& command, LodOptions& lod) {
           },
           "blend (discs blended on the front surface, fractional coverage) or nearest (points, nearest wins)")
       ->default_str(splatModeName(lod.splat));
-  command.add_option("--point-size", lod.pointSize,
-                     "0: sized from the prefix (discs that close the surface); else a fixed size in pixels for "
-                     "--splat nearest, below 1 sub-pixel points")
+  command
+      .add_option("--point-size", lod.pointSize,
+                  "0: sized from the prefix (discs that close the surface); else a fixed size in pixels for "
+                  "--splat nearest, below 1 sub-pixel points")
       ->check(CLI::Range(0.0f, 64.0f))
       ->capture_default_str();
-  command.add_option("--cull", lod.backFaceCosine,
-                     "surfels whose cosine to the eye is below this are not drawn (-1: draw all)")
+  command
+      .add_option("--cull", lod.backFaceCosine,
+                  "surfels whose cosine to the eye is below this are not drawn (-1: draw all)")
       ->check(CLI::Range(-1.0f, 1.0f))
       ->capture_default_str();
   command.add_option("--coverage-gain", lod.coverageGain, "blend mode: multiplies each splat's coverage")
@@ -100,7 +103,8 @@ void addLodOptions(CLI::App& command, LodOptions& lod) {
                   "a node whose array is too short for its size: descend (lower its threshold, the default) or "
                   "grow (draw the whole array with larger points, the paper's cap)")
       ->transform(CLI::CheckedTransformer(exhausted));
-  const std::map<std::string, PrefixRule> rules = {{"coverage", PrefixRule::Coverage}, {"packing", PrefixRule::Packing}};
+  const std::map<std::string, PrefixRule> rules = {{"coverage", PrefixRule::Coverage},
+                                                   {"packing", PrefixRule::Packing}};
   command.add_option("--prefix-rule", lod.prefixRule, "coverage (paper, default) or packing (authors' later rule)")
       ->transform(CLI::CheckedTransformer(rules));
   std::map<std::string, GeometryDrawer> drawers;
@@ -130,7 +134,7 @@ void addSamplesOption(CLI::App& command, const std::string& name, std::uint32_t&
           [](const std::string& text) {
             std::uint32_t n = 0;
             return CLI::detail::lexical_cast(text, n) && isSupportedSampleCount(n) ? std::string()
-                                                                                     : "expected 1, 4, 16, 64 or 256";
+                                                                                   : "expected 1, 4, 16, 64 or 256";
           },
           "SAMPLES"))
       ->capture_default_str();
@@ -146,21 +150,20 @@ void addPathOption(CLI::App& command, std::string& path) {
 }
 
 void addCompareOptions(CLI::App& command, glm::vec3& background, double& pixelsPerDegree) {
-  command
-      .add_option_function<std::string>(
-          "--background",
-          [&background](const std::string& text) {
-            glm::vec3 colour(-1.0f);
-            char comma1 = 0, comma2 = 0;
-            std::istringstream in(text);
-            in >> colour.r >> comma1 >> colour.g >> comma2 >> colour.b;
-            const bool inRange = glm::all(glm::greaterThanEqual(colour, glm::vec3(0.0f))) &&
-                                 glm::all(glm::lessThanEqual(colour, glm::vec3(1.0f)));
-            if (!in || comma1 != ',' || comma2 != ',' || !(in >> std::ws).eof() || !inRange)
-              throw CLI::ValidationError("--background", "expected R,G,B with each in [0, 1], got " + text);
-            background = colour;
-          },
-          "R,G,B in [0, 1]: the background both images are composited over (default 1,1,1: white)");
+  command.add_option_function<std::string>(
+      "--background",
+      [&background](const std::string& text) {
+        glm::vec3 colour(-1.0f);
+        char comma1 = 0, comma2 = 0;
+        std::istringstream in(text);
+        in >> colour.r >> comma1 >> colour.g >> comma2 >> colour.b;
+        const bool inRange = glm::all(glm::greaterThanEqual(colour, glm::vec3(0.0f))) &&
+                             glm::all(glm::lessThanEqual(colour, glm::vec3(1.0f)));
+        if (!in || comma1 != ',' || comma2 != ',' || !(in >> std::ws).eof() || !inRange)
+          throw CLI::ValidationError("--background", "expected R,G,B with each in [0, 1], got " + text);
+        background = colour;
+      },
+      "R,G,B in [0, 1]: the background both images are composited over (default 1,1,1: white)");
   command.add_option("--ppd", pixelsPerDegree, "FLIP's observer: pixels per degree of visual angle")
       ->check(CLI::Range(1.0, 1000.0))
       ->capture_default_str();
@@ -178,7 +181,9 @@ void addCaptureSourceOption(CLI::App& command, CaptureSource& source, const std:
   std::map<std::string, CaptureSource> names;
   for (CaptureSource s : {CaptureSource::Auto, CaptureSource::Triangles, CaptureSource::ChildSurfels})
     names.emplace(std::string(captureSourceName(s)), s);
-  command.add_option("--capture-from", source, help + " (auto, the default: children where the triangles are over twice as many)")
+  command
+      .add_option("--capture-from", source,
+                  help + " (auto, the default: children where the triangles are over twice as many)")
       ->transform(CLI::CheckedTransformer(names));
 }
 

@@ -37,8 +37,7 @@ std::vector<std::uint8_t> contactSheet(std::uint32_t width, std::uint32_t height
       for (std::size_t x = 0; x < width; ++x) {
         const std::uint8_t* in = &tiles[t][(y * width + x) * 4];
         std::uint8_t* out = &sheet[((y0 + y) * sheetWidth + x0 + x) * 3];
-        for (int c = 0; c < 3; ++c)
-          out[c] = std::uint8_t((in[c] * in[3] + background[c] * (255 - in[3]) + 127) / 255);
+        for (int c = 0; c < 3; ++c) out[c] = std::uint8_t((in[c] * in[3] + background[c] * (255 - in[3]) + 127) / 255);
       }
     }
   }

@@ -14,8 +14,7 @@ inline constexpr float kDifferenceGain = 4.0f;
 
 // |a − b| × gain per RGB channel, clamped, alpha 1: what the contact sheet shows of the error. Both
 // images must have the same size (else std::invalid_argument).
-std::vector<std::uint8_t> differenceRgba8(const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b,
-                                          float gain);
+std::vector<std::uint8_t> differenceRgba8(const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b, float gain);
 
 // `rows` × `columns` tiles of width×height RGBA8 each, rows top first, every tile composited over
 // `background` (RGB8) by its alpha: one RGB8 image of columns·width × rows·height. `tiles` lists the

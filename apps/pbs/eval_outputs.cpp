@@ -124,11 +124,11 @@ std::string evalCsv(const std::vector<EvalSetting>& settings, const EvalResults&
     for (const EvalFrame& f : results.settings[s].frames) {
       const EvalView& view = results.views[f.frame];
       const ImageDifference& e = f.error;
-      appendCsvLine(csv, settings[s].name + "," + std::to_string(f.frame) + "," + frameKindName(view.kind),
-                    {view.geometryShare, f.seconds, f.speedupOverFastestExact, f.stats.traverseSeconds,
-                     f.stats.rasterSeconds, double(f.stats.triangles), double(f.stats.surfels), e.flipForegroundMean,
-                     e.flipMean, e.flipMedian, e.flipMax, e.foregroundPsnr, e.psnr, e.ssim, e.holeFraction,
-                     e.bloatFraction, f.surfelLoadSeconds});
+      appendCsvLine(
+          csv, settings[s].name + "," + std::to_string(f.frame) + "," + frameKindName(view.kind),
+          {view.geometryShare, f.seconds, f.speedupOverFastestExact, f.stats.traverseSeconds, f.stats.rasterSeconds,
+           double(f.stats.triangles), double(f.stats.surfels), e.flipForegroundMean, e.flipMean, e.flipMedian,
+           e.flipMax, e.foregroundPsnr, e.psnr, e.ssim, e.holeFraction, e.bloatFraction, f.surfelLoadSeconds});
     }
   }
   return csv;
@@ -153,7 +153,9 @@ nlohmann::json summaryJson(const EvalRunInfo& info, const std::vector<EvalSettin
       {"height", info.height},
       {"frames", info.frames},
       {"reference",
-       {{"renderer", info.referenceRenderer}, {"samples", info.referenceSamples}, {"median_seconds", median(referenceSeconds)}}},
+       {{"renderer", info.referenceRenderer},
+        {"samples", info.referenceSamples},
+        {"median_seconds", median(referenceSeconds)}}},
       {"meshes", info.meshesOnDemand ? "read as frames draw them" : "read whole"},
       {"load_seconds", info.loadSeconds},
       {"surfels_load_seconds", info.surfelsLoadSeconds},
@@ -168,8 +170,8 @@ nlohmann::json summaryJson(const EvalRunInfo& info, const std::vector<EvalSettin
   std::vector<std::pair<double, double>> points;
   for (std::size_t s = 0; s < settings.size(); ++s) {
     nlohmann::json entry = {{"name", settings[s].name}};
-    for (std::optional<FrameKind> kind :
-         {std::optional<FrameKind>(), std::optional(FrameKind::Near), std::optional(FrameKind::Mid), std::optional(FrameKind::Far)}) {
+    for (std::optional<FrameKind> kind : {std::optional<FrameKind>(), std::optional(FrameKind::Near),
+                                          std::optional(FrameKind::Mid), std::optional(FrameKind::Far)}) {
       const EvalSummary summary = summarize(settings[s].name, results.settings[s], results.views, kind);
       if (summary.frames > 0) entry[kindOrAll(kind)] = summaryEntry(summary);
       if (!kind) points.emplace_back(summary.medianSeconds, summary.medianFlip);
@@ -195,7 +197,7 @@ Plot errorTimePlot(const std::vector<EvalSetting>& settings, const std::vector<E
     points.emplace_back(s.medianSeconds * 1e3, s.medianFlip);
     if (setting.simplify) simplified.emplace_back(*setting.simplify, i);
     if (setting.mode == RenderMode::Embree) embree.emplace_back(double(setting.samples), i);
-    const std::string color = setting.isPeer()  ? "black"
+    const std::string color = setting.isPeer()   ? "black"
                               : setting.simplify ? simplifiedColor
                               : baseline == i    ? "#d62728"
                                                  : "#1f77b4";

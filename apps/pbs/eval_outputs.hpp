@@ -34,7 +34,7 @@ struct EvalSummary {
   double medianSeconds = 0.0, medianTraverseSeconds = 0.0, medianRasterSeconds = 0.0;
   double medianSpeedup = 0.0;  // over the fastest exact peer, frame by frame
   double medianTriangles = 0.0, medianSurfels = 0.0;
-  double medianFlip = 0.0, worstFlip = 0.0;                      // foreground FLIP; worst: largest
+  double medianFlip = 0.0, worstFlip = 0.0;  // foreground FLIP; worst: largest
   std::uint32_t worstFlipFrame = 0;
   double medianFlipMean = 0.0;                                   // whole-image FLIP
   double medianForegroundPsnr = 0.0, worstForegroundPsnr = 0.0;  // worst: smallest; +inf when identical
@@ -63,10 +63,10 @@ struct EvalRunInfo {
   std::uint32_t width = 0, height = 0, frames = 0;
   std::string referenceRenderer;  // "embree" or "exact"
   std::uint32_t referenceSamples = 0;
-  bool meshesOnDemand = false;  // the scene opened without its mesh arrays
-  std::size_t baseline = 0;  // index into the settings
-  double loadSeconds = 0.0;         // the scene file
-  double surfelsLoadSeconds = 0.0;  // opening the .surfels file (its tables); frames read their prefixes
+  bool meshesOnDemand = false;        // the scene opened without its mesh arrays
+  std::size_t baseline = 0;           // index into the settings
+  double loadSeconds = 0.0;           // the scene file
+  double surfelsLoadSeconds = 0.0;    // opening the .surfels file (its tables); frames read their prefixes
   std::uint64_t surfelBytesRead = 0;  // of the .surfels file, by opening it and by every frame
 };
 

@@ -52,15 +52,17 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
   std::size_t done = 0;
   const auto progress = [&](const std::string& name, std::size_t f) {
     ++done;
-    if (onProgress) onProgress(done, total, name + ", frame " + std::to_string(f + 1) + "/" + std::to_string(cameras.size()));
+    if (onProgress)
+      onProgress(done, total, name + ", frame " + std::to_string(f + 1) + "/" + std::to_string(cameras.size()));
   };
 
   EvalResults results;
   // One BVH over the whole scene, where the reference or a peer casts rays over it.
-  const bool wholeRays = inputs.referenceMode == RenderMode::Embree ||
-                         std::any_of(settings.begin(), settings.end(),
-                                     [](const EvalSetting& s) { return s.mode == RenderMode::Embree; });
-  if (wholeRays && inputs.meshes) throw std::invalid_argument("runEval: Embree over a scene whose meshes are read on demand");
+  const bool wholeRays =
+      inputs.referenceMode == RenderMode::Embree ||
+      std::any_of(settings.begin(), settings.end(), [](const EvalSetting& s) { return s.mode == RenderMode::Embree; });
+  if (wholeRays && inputs.meshes)
+    throw std::invalid_argument("runEval: Embree over a scene whose meshes are read on demand");
   std::optional<EmbreeScene> rays;
   if (wholeRays) {
     const auto build = std::chrono::steady_clock::now();
@@ -71,10 +73,9 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
 
   std::vector<RgbaImage> reference;
   {
-    FrameRenderer renderer(scene, hierarchy,
-                           {.mode = inputs.referenceMode, .lod = {}, .samples = inputs.referenceSamples}, width,
-                           height,
-                           {.meshes = inputs.referenceMode == RenderMode::Exact ? inputs.meshes : nullptr, .rays = sharedRays});
+    FrameRenderer renderer(
+        scene, hierarchy, {.mode = inputs.referenceMode, .lod = {}, .samples = inputs.referenceSamples}, width, height,
+        {.meshes = inputs.referenceMode == RenderMode::Exact ? inputs.meshes : nullptr, .rays = sharedRays});
     for (std::size_t f = 0; f < cameras.size(); ++f) {
       FrameResult frame = renderer.render(cameras[f]);
       EvalView view{.camera = cameras[f], .referenceSeconds = frame.seconds};

@@ -32,7 +32,7 @@ struct EvalView {
 // One row of eval.csv.
 struct EvalFrame {
   std::uint32_t frame = 0;
-  double seconds = 0.0;  // the whole frame (FrameResult::seconds) less reading surfels from the file
+  double seconds = 0.0;            // the whole frame (FrameResult::seconds) less reading surfels from the file
   double surfelLoadSeconds = 0.0;  // reading the prefixes it drew that were not read yet (SurfelCache)
   LodStats stats;
   ImageDifference error;  // this frame (A) against the reference of the same view (B), without the map
@@ -50,8 +50,8 @@ struct EvalSettingResult {
 struct EvalResults {
   std::vector<EvalView> views;
   std::vector<std::uint8_t> referenceSheet;  // the reference of the contact sheet's frame as RGBA8
-  double buildSeconds = 0.0;                 // Embree's BVH, built once for the reference and the Embree peers (0: none)
-  std::vector<EvalSettingResult> settings;   // parallel to the settings given
+  double buildSeconds = 0.0;                // Embree's BVH, built once for the reference and the Embree peers (0: none)
+  std::vector<EvalSettingResult> settings;  // parallel to the settings given
 };
 
 struct EvalInputs {
@@ -62,7 +62,7 @@ struct EvalInputs {
   // A scene opened without its mesh arrays: exact frames and surfel frames from the file's cache read the
   // meshes they draw through it (no setting may then use Embree over the whole scene).
   LazyMeshes* meshes = nullptr;
-  CompareOptions compare;       // background and observer; the FLIP map is taken for the sheet's frame only
+  CompareOptions compare;        // background and observer; the FLIP map is taken for the sheet's frame only
   std::uint32_t sheetFrame = 0;  // the frame the contact sheet shows
   // The surfels and LOD options that decide each view's kind (the file's own arrays, the baseline).
   const SceneSurfels* kindSurfels = nullptr;

@@ -88,8 +88,8 @@ std::pair<std::string, std::string> keyAndValue(const std::string& option, const
 }
 
 EvalSetting baselineSettingNamed(const std::string& name, const LodOptions& baseline) {
-  return EvalSetting{.name = name, .mode = RenderMode::Surfels, .samples = 1, .lod = baseline, .ordering = {},
-                     .simplify = {}};
+  return EvalSetting{
+      .name = name, .mode = RenderMode::Surfels, .samples = 1, .lod = baseline, .ordering = {}, .simplify = {}};
 }
 
 // "KEY=V+KEY=V…": one setting with every change at once.
@@ -114,7 +114,8 @@ bool EvalSetting::drawsLike(const EvalSetting& o) const {
 }
 
 std::string sweepKeys() {
-  return "embree, exact, overdraw, threshold, exhausted, point, splat, cull, gain, band, rule, geometry, ordering, simplify";
+  return "embree, exact, overdraw, threshold, exhausted, point, splat, cull, gain, band, rule, geometry, ordering, "
+         "simplify";
 }
 
 std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& baseline, const std::string& option) {
@@ -130,8 +131,7 @@ std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& b
     if (setting.isPeer()) setting.name = key + "=" + std::to_string(setting.samples);
     settings.push_back(std::move(setting));
   }
-  if (settings.empty() || text.back() == ',')
-    throw CLI::ValidationError(option, "an empty value in '" + text + "'");
+  if (settings.empty() || text.back() == ',') throw CLI::ValidationError(option, "an empty value in '" + text + "'");
   return settings;
 }
 
@@ -157,8 +157,9 @@ std::vector<EvalSetting> evalSettings(const std::vector<std::string>& peers, con
     for (EvalSetting& setting : parseSweep(text, baseline, option)) {
       if (option == "--peers" && !setting.isPeer())
         throw CLI::ValidationError("--peers", "takes embree=N,… and exact=N,… only, got '" + text + "'");
-      const bool seen = std::any_of(settings.begin(), settings.end(),
-                                    [&](const EvalSetting& s) { return s.drawsLike(setting) || s.name == setting.name; });
+      const bool seen = std::any_of(settings.begin(), settings.end(), [&](const EvalSetting& s) {
+        return s.drawsLike(setting) || s.name == setting.name;
+      });
       if (!seen) settings.push_back(std::move(setting));
     }
   };

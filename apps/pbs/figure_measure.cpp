@@ -55,5 +55,4 @@ std::vector<ModeFrames> ModeComparison::render(std::span<const Camera> cameras,
   return frames;
 }
 
-
 }  // namespace pbs::cli

@@ -54,5 +54,4 @@ class ModeComparison {
   FrameRenderer surfels_;
 };
 
-
 }  // namespace pbs::cli

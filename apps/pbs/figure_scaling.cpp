@@ -77,25 +77,25 @@ ScalingPoint measureCity(const Scene& city, const Hierarchy& hierarchy, const Sc
 std::string scalingCsv(const std::vector<ScalingPoint>& points) {
   std::string csv = std::string(kCsvHeader) + "\n";
   for (const ScalingPoint& p : points)
-    appendCsvLine(csv, csvNumber(double(p.triangles)),
-                  {double(p.instances), double(p.levels), double(kScalingFanout), p.surfelizeSeconds,
-                   double(p.surfelsMade), p.exactMs, p.surfelsMs, p.surfelsDrawn, p.trianglesDrawn,
-                   p.exactTrianglesDrawn, p.psnr, p.ssim});
+    appendCsvLine(
+        csv, csvNumber(double(p.triangles)),
+        {double(p.instances), double(p.levels), double(kScalingFanout), p.surfelizeSeconds, double(p.surfelsMade),
+         p.exactMs, p.surfelsMs, p.surfelsDrawn, p.trianglesDrawn, p.exactTrianglesDrawn, p.psnr, p.ssim});
   return csv;
 }
 
 nlohmann::json scalingJson(const ScalingOptions& options, const std::vector<ScalingPoint>& points) {
   const Orbit orbit;
-  nlohmann::json json = {{"figure", "scaling"},
-                         {"meshes", options.meshes},
-                         {"fanout", kScalingFanout},
-                         {"width", options.width},
-                         {"height", options.height},
-                         {"frames", options.frames},
-                         {"orbit", {{"azimuth", orbit.azimuthDegrees},
-                                    {"elevation", orbit.elevationDegrees},
-                                    {"distance", orbit.distance}}},
-                         {"cities", nlohmann::json::array()}};
+  nlohmann::json json = {
+      {"figure", "scaling"},
+      {"meshes", options.meshes},
+      {"fanout", kScalingFanout},
+      {"width", options.width},
+      {"height", options.height},
+      {"frames", options.frames},
+      {"orbit",
+       {{"azimuth", orbit.azimuthDegrees}, {"elevation", orbit.elevationDegrees}, {"distance", orbit.distance}}},
+      {"cities", nlohmann::json::array()}};
   for (const ScalingPoint& p : points)
     json["cities"].push_back({{"triangles", p.triangles},
                               {"instances", p.instances},

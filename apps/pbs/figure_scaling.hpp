@@ -19,9 +19,9 @@ struct ScalingOptions {
   std::uint32_t frames = 3;         // views per city along the path
   CameraPath path = CameraPath::Orbit;
   std::uint32_t width = 1920, height = 1080;
-  LodOptions lod;  // of the surfels mode
+  LodOptions lod;                                                          // of the surfels mode
   std::uint64_t maxTriangles = std::numeric_limits<std::uint64_t>::max();  // cities above are left out
-  bool quiet = false;               // no progress on stderr
+  bool quiet = false;                                                      // no progress on stderr
 };
 
 // The series: fanout 12 at 1 to 4 levels, 12 to 20,736 instances (bunny: 0.83 M to 1.44 G triangles).

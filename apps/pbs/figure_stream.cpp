@@ -94,16 +94,18 @@ std::string streamCsv(const std::vector<StreamSeries>& all) {
 
 nlohmann::json streamJson(const StreamFigureOptions& options, const std::string& scene,
                           const std::vector<StreamSeries>& all, const ImageDifference& loadedError) {
-  nlohmann::json json = {{"figure", "stream"},
-                         {"scene", scene},
-                         {"surfels", options.surfels},
-                         {"width", options.width},
-                         {"height", options.height},
-                         {"orbit", {options.orbit.azimuthDegrees, options.orbit.elevationDegrees, options.orbit.distance}},
-                         {"reference_samples", options.referenceSamples},
-                         {"every_prefix_loaded", {{"flip_foreground", loadedError.flipForegroundMean},
-                                                  {"psnr_foreground", finiteOrNull(loadedError.foregroundPsnr)}}},
-                         {"series", nlohmann::json::array()}};
+  nlohmann::json json = {
+      {"figure", "stream"},
+      {"scene", scene},
+      {"surfels", options.surfels},
+      {"width", options.width},
+      {"height", options.height},
+      {"orbit", {options.orbit.azimuthDegrees, options.orbit.elevationDegrees, options.orbit.distance}},
+      {"reference_samples", options.referenceSamples},
+      {"every_prefix_loaded",
+       {{"flip_foreground", loadedError.flipForegroundMean},
+        {"psnr_foreground", finiteOrNull(loadedError.foregroundPsnr)}}},
+      {"series", nlohmann::json::array()}};
   for (const StreamSeries& s : all) {
     nlohmann::json steps = nlohmann::json::array();
     for (const StreamStep& step : s.steps)
@@ -125,8 +127,8 @@ nlohmann::json streamJson(const StreamFigureOptions& options, const std::string&
 std::string streamSvg(const StreamFigureOptions& options, const std::string& scene,
                       const std::vector<StreamSeries>& all, double loadedFlip) {
   Plot plot;
-  plot.title = scene + ": FLIP while the surfels stream in, against the " +
-               std::to_string(options.referenceSamples) + "-sample reference";
+  plot.title = scene + ": FLIP while the surfels stream in, against the " + std::to_string(options.referenceSamples) +
+               "-sample reference";
   plot.x = {.label = "seconds (simulated link)", .log = false, .min = 0.0, .max = options.seconds};
   plot.y = {.label = "FLIP over covered pixels", .log = false, .min = 0.0, .max = std::nullopt};
   for (const StreamSeries& s : all) {
@@ -173,8 +175,8 @@ void writeStreamFigure(const StreamFigureOptions& options, const std::filesystem
     for (StreamOrder order : kOrders) {
       const double done = double(all.size() * options.steps);
       all.push_back(streamSeries(loaded, options, camera, reference, megabytesPerSecond, order, [&](std::uint32_t i) {
-        meter.update((done + i + 1) / total, std::to_string(std::size_t(done) + i + 1) + "/" +
-                                                 std::to_string(std::size_t(total)) + " frames");
+        meter.update((done + i + 1) / total,
+                     std::to_string(std::size_t(done) + i + 1) + "/" + std::to_string(std::size_t(total)) + " frames");
       }));
     }
   meter.finish(std::to_string(all.size()) + " series of " + std::to_string(options.steps) + " frames");

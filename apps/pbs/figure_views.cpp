@@ -46,22 +46,21 @@ std::string viewsCsv(const std::vector<ViewRow>& rows) {
 }
 
 nlohmann::json viewsJson(const ViewsOptions& options, const std::string& scene, const std::vector<ViewRow>& rows) {
-  nlohmann::json json = {
-      {"figure", "views"},
-      {"scene", scene},
-      {"surfels", options.surfels.empty() ? "made in memory, capture resolution " +
-                                                  std::to_string(options.surfelize.file.resolution)
-                                            : options.surfels},
-      {"width", options.width},
-      {"height", options.height},
-      {"azimuth", options.direction[0]},
-      {"elevation", options.direction[1]},
-      {"sheet",
-       {{"file", "views.png"},
-        {"rows", kViewNames},
-        {"columns", {"exact", "surfels", "difference"}},
-        {"difference_gain", kDifferenceGain}}},
-      {"views", nlohmann::json::array()}};
+  nlohmann::json json = {{"figure", "views"},
+                         {"scene", scene},
+                         {"surfels", options.surfels.empty() ? "made in memory, capture resolution " +
+                                                                   std::to_string(options.surfelize.file.resolution)
+                                                             : options.surfels},
+                         {"width", options.width},
+                         {"height", options.height},
+                         {"azimuth", options.direction[0]},
+                         {"elevation", options.direction[1]},
+                         {"sheet",
+                          {{"file", "views.png"},
+                           {"rows", kViewNames},
+                           {"columns", {"exact", "surfels", "difference"}},
+                           {"difference_gain", kDifferenceGain}}},
+                         {"views", nlohmann::json::array()}};
   for (const ViewRow& r : rows)
     json["views"].push_back({{"view", r.name},
                              {"distance", r.distance},
@@ -132,8 +131,8 @@ void writeViewsFigure(const ViewsOptions& options, const std::filesystem::path& 
   for (const ViewRow& r : rows)
     std::printf("%-7s %8.2f %10.1f %10.1f %12s %12s %12s %7.2f %7.4f %9.2e\n", r.name, r.distance, r.exactMs,
                 r.surfelsMs, withThousands(r.surfelsStats.surfels).c_str(),
-                withThousands(r.surfelsStats.triangles).c_str(), withThousands(r.exactTriangles).c_str(),
-                r.error.psnr, r.error.ssim, r.error.holeFraction);
+                withThousands(r.surfelsStats.triangles).c_str(), withThousands(r.exactTriangles).c_str(), r.error.psnr,
+                r.error.ssim, r.error.holeFraction);
   std::printf("wrote %s/{views.png, views.csv, views.json}\n", folder.string().c_str());
 }
 

@@ -17,7 +17,7 @@ struct ViewsOptions {
   std::string surfels;  // its .surfels file; empty: made in memory with `surfelize`
   SurfelizeOptions surfelize;
   std::uint32_t width = 1920, height = 1080;
-  LodOptions lod;  // of the surfels mode
+  LodOptions lod;                                  // of the surfels mode
   std::array<double, 2> direction = {30.0, 20.0};  // azimuth and elevation, degrees (orbit_camera.hpp)
   // Near, middle, far, in bounding radii from the centre. On the default scene at 1920×1080 the LOD
   // moves from ~40 nodes drawn as geometry and ~200 as surfels (near: the plant fills the frame), to

@@ -21,7 +21,8 @@ namespace {
 // libpbs_image_io.so beside the running binary, loaded once and kept for the life of the process.
 void* imageLibrary() {
   static void* const library = [] {
-    const std::filesystem::path module = std::filesystem::read_symlink("/proc/self/exe").parent_path() / "libpbs_image_io.so";
+    const std::filesystem::path module =
+        std::filesystem::read_symlink("/proc/self/exe").parent_path() / "libpbs_image_io.so";
     void* handle = dlopen(module.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!handle) throw std::runtime_error(std::string("cannot load the image plug-in: ") + dlerror());
     return handle;
@@ -66,9 +67,8 @@ void writeWhole(const std::filesystem::path& file, const Write& write) {
 void requirePixels(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height, int channels,
                    std::size_t given) {
   if (channels <= 0 || given != std::size_t(width) * height * std::size_t(channels))
-    throw std::invalid_argument(file.string() + ": cannot write image: " + std::to_string(given) +
-                                " values for " + std::to_string(width) + "x" + std::to_string(height) + "x" +
-                                std::to_string(channels));
+    throw std::invalid_argument(file.string() + ": cannot write image: " + std::to_string(given) + " values for " +
+                                std::to_string(width) + "x" + std::to_string(height) + "x" + std::to_string(channels));
 }
 
 }  // namespace
@@ -86,8 +86,8 @@ bool writesWithoutPlugin(const std::filesystem::path& file) { return file.extens
 void writeImage8(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height, int channels,
                  std::span<const std::uint8_t> pixels) {
   requirePixels(file, width, height, channels, pixels.size());
-  const auto write = writesWithoutPlugin(file) && channels <= 4 ? &writePng8
-                                                                : imageFunction<PbsWriteImage8>("pbs_write_image8");
+  const auto write =
+      writesWithoutPlugin(file) && channels <= 4 ? &writePng8 : imageFunction<PbsWriteImage8>("pbs_write_image8");
   writeWhole(file, [&](const char* path, char* error, std::size_t errorSize) {
     return write(path, width, height, channels, pixels.data(), error, errorSize);
   });

@@ -24,7 +24,8 @@ std::uint64_t physicalMemory() {
 }
 
 void addMaxMemoryOption(CLI::App& command, std::uint64_t& bytes) {
-  command.add_option("--max-memory", bytes, "refuse jobs estimated to need more (e.g. 512MB, 4GB; default: all of RAM)")
+  command
+      .add_option("--max-memory", bytes, "refuse jobs estimated to need more (e.g. 512MB, 4GB; default: all of RAM)")
       ->transform(CLI::AsSizeValue(false));
 }
 
@@ -33,7 +34,8 @@ void requireMemory(std::uint64_t estimate, const std::string& what, std::uint64_
   if (!given) limit = physicalMemory();
   if (estimate <= limit) return;
   throw std::runtime_error(what + " would need about " + gigabytes(estimate) + ", more than the limit of " +
-                           gigabytes(limit) + (given ? " (--max-memory)" : " (the machine's memory; see --max-memory)"));
+                           gigabytes(limit) +
+                           (given ? " (--max-memory)" : " (the machine's memory; see --max-memory)"));
 }
 
 }  // namespace pbs::cli

@@ -48,7 +48,8 @@ void ProgressMeter::show(double fraction, std::string_view detail, bool final) {
   fraction = std::clamp(std::isfinite(fraction) ? fraction : 0.0, 0.0, 1.0);
   const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
   std::string timing = clockText(elapsed) + " elapsed";
-  if (!final && fraction > 0.0) timing.append(", ").append(clockText(elapsed * (1.0 - fraction) / fraction)).append(" left");
+  if (!final && fraction > 0.0)
+    timing.append(", ").append(clockText(elapsed * (1.0 - fraction) / fraction)).append(" left");
   const int percent = int(std::floor(fraction * 100.0));
   if (style_ == Style::Bar) {
     constexpr int kWidth = 30;

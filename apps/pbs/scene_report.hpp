@@ -17,8 +17,8 @@ struct LoadedScene {
   Scene scene;
   Hierarchy hierarchy;
   SceneSummary summary;
-  double parseSeconds = 0;      // import (or generation) and validation
-  double hierarchySeconds = 0;  // world transforms, exact bounds, subtree counts
+  double parseSeconds = 0;        // import (or generation) and validation
+  double hierarchySeconds = 0;    // world transforms, exact bounds, subtree counts
   LazyMeshes::Decode decodeMesh;  // set when opened without its mesh arrays (openWithoutMeshes)
 };
 

@@ -169,8 +169,7 @@ std::string renderSvg(const Plot& plot) {
     if (!usable(m.x, plot.x.log) || !usable(m.y, plot.y.log)) continue;
     const std::string color = escape(m.color.empty() ? std::string("black") : m.color);
     svg.append("<circle class=\"marker\" cx=\"" + number(px(m.x)) + "\" cy=\"" + number(py(m.y)) +
-               "\" r=\"4\" fill=\"" + color + "\"><title>" + escape(m.label) +
-               "</title></circle>\n");
+               "\" r=\"4\" fill=\"" + color + "\"><title>" + escape(m.label) + "</title></circle>\n");
     svg.append("<text x=\"" + number(px(m.x) + 6) + "\" y=\"" + number(py(m.y) - 6) + "\" font-size=\"10\" fill=\"" +
                color + "\">" + escape(m.label) + "</text>\n");
   }

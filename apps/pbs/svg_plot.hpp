@@ -27,8 +27,8 @@ struct PlotMarker {
 
 struct PlotAxis {
   std::string label;
-  bool log = false;            // base-10 logarithmic scale, ticks at powers of ten
-  std::optional<double> min;   // range; unset: fitted to the data (linear ranges padded to nice ticks)
+  bool log = false;           // base-10 logarithmic scale, ticks at powers of ten
+  std::optional<double> min;  // range; unset: fitted to the data (linear ranges padded to nice ticks)
   std::optional<double> max;
 };
 
@@ -36,10 +36,10 @@ struct Plot {
   std::string title;
   PlotAxis x;
   PlotAxis y;
-  std::vector<PlotSeries> series;  // one <polyline> each, drawn in order, listed in the legend
-  std::vector<PlotMarker> markers; // drawn over the series, not in the legend; non-finite ones (and ≤ 0
-                                   // on a log axis) are left out; fitted ranges include them
-  int width = 800;                 // SVG size in pixels
+  std::vector<PlotSeries> series;   // one <polyline> each, drawn in order, listed in the legend
+  std::vector<PlotMarker> markers;  // drawn over the series, not in the legend; non-finite ones (and ≤ 0
+                                    // on a log axis) are left out; fitted ranges include them
+  int width = 800;                  // SVG size in pixels
   int height = 500;
 };
 

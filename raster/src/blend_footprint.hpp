@@ -24,9 +24,9 @@ inline constexpr float kMaxCutoff = 8.0f;
 float kernelWeight(float q);
 
 struct Footprint {
-  float x, y;         // window position of the centre
-  float depth;        // window depth of the centre
-  float tolerance;    // window depth of one disc radius along the view ray
+  float x, y;                    // window position of the centre
+  float depth;                   // window depth of the centre
+  float tolerance;               // window depth of one disc radius along the view ray
   float conicA, conicB, conicC;  // q = A dx² + 2B dx dy + C dy², the inverse covariance
   float depthDx, depthDy;        // window depth change per pixel along the disc's plane
   float depthReach;              // the plane's depth change is clamped to the disc's own depth extent

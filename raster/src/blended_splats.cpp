@@ -121,9 +121,11 @@ void drawTile(Framebuffer& framebuffer, const TileGrid& grid, std::uint32_t tile
               std::span<const SurfelSplatSet> sets, TileScratch& scratch) {
   const int size = 1 << kTileShift;
   const int tileX = int(tile % grid.columns) << kTileShift, tileY = int(tile / grid.columns) << kTileShift;
-  const int width = std::min(size, int(framebuffer.width) - tileX), height = std::min(size, int(framebuffer.height) - tileY);
+  const int width = std::min(size, int(framebuffer.width) - tileX),
+            height = std::min(size, int(framebuffer.height) - tileY);
   const auto pixelOf = [&](std::uint32_t local) {
-    return std::size_t(tileY + int(local >> kTileShift)) * framebuffer.width + std::size_t(tileX) + (local & (size - 1));
+    return std::size_t(tileY + int(local >> kTileShift)) * framebuffer.width + std::size_t(tileX) +
+           (local & (size - 1));
   };
   bool any = false;
   for (const Chunk& chunk : chunks) any |= chunk.tileStart[tile + 1] > chunk.tileStart[tile];
@@ -242,18 +244,21 @@ void drawBlendedSplats(Framebuffer& framebuffer, const Camera& camera, std::span
     forEachSetPart(sets, starts, c * kChunkSurfels, std::min(total, (c + 1) * kChunkSurfels),
                    [&](std::size_t s, std::size_t index, std::size_t count) {
                      const FootprintProjector projector(camera, sets[s], std::uint32_t(s), options);
-                     for (std::size_t i = index; i < index + count; ++i) kept += projector.project(i, chunk.footprints[kept]);
+                     for (std::size_t i = index; i < index + count; ++i)
+                       kept += projector.project(i, chunk.footprints[kept]);
                    });
     chunk.footprints.resize(kept);
     binChunk(grid, chunk);
   });
 
   tbb::enumerable_thread_specific<std::unique_ptr<TileScratch>> scratches;
-  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, grid.count(), 1), [&](const tbb::blocked_range<std::uint32_t>& r) {
-    std::unique_ptr<TileScratch>& scratch = scratches.local();
-    if (!scratch) scratch = std::make_unique<TileScratch>();
-    for (std::uint32_t tile = r.begin(); tile != r.end(); ++tile) drawTile(framebuffer, grid, tile, chunks, sets, *scratch);
-  });
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, grid.count(), 1),
+                    [&](const tbb::blocked_range<std::uint32_t>& r) {
+                      std::unique_ptr<TileScratch>& scratch = scratches.local();
+                      if (!scratch) scratch = std::make_unique<TileScratch>();
+                      for (std::uint32_t tile = r.begin(); tile != r.end(); ++tile)
+                        drawTile(framebuffer, grid, tile, chunks, sets, *scratch);
+                    });
 }
 
 }  // namespace pbs

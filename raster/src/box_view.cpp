@@ -47,8 +47,8 @@ Camera boxViewCamera(const Bounds& box, const glm::dvec3& direction, std::uint32
   const double cx = 0.5 * (lo.x + hi.x), cy = 0.5 * (lo.y + hi.y);
   const double halfW = 0.5 * width * pixel, halfH = 0.5 * height * pixel;
   const double margin = 1e-3 * std::max({hi.z - lo.z, largest, extent}) + 1e-9 * std::max(1.0, glm::length(center));
-  return orthographicCamera(view, cx - halfW, cx + halfW, cy - halfH, cy + halfH, -hi.z - margin, -lo.z + margin,
-                            width, height);
+  return orthographicCamera(view, cx - halfW, cx + halfW, cy - halfH, cy + halfH, -hi.z - margin, -lo.z + margin, width,
+                            height);
 }
 
 }  // namespace pbs

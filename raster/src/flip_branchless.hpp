@@ -22,9 +22,7 @@ PBS_CLONE_INLINE float selectFloat(bool condition, float ifTrue, float ifFalse) 
 }
 
 // x limited to [0, 1], NaN becoming 0.
-PBS_CLONE_INLINE float clampToUnit(float x) {
-  return selectFloat(x > 0.0f, selectFloat(x < 1.0f, x, 1.0f), 0.0f);
-}
+PBS_CLONE_INLINE float clampToUnit(float x) { return selectFloat(x > 0.0f, selectFloat(x < 1.0f, x, 1.0f), 0.0f); }
 
 // log2 of a positive normal float: x = m·2^e with m in [√½, √2), ln m by the series
 // 2·atanh(s) = 2·(s + s³/3 + s⁵/5 + s⁷/7 + s⁹/9), s = (m − 1)/(m + 1), |s| ≤ 0.172 (series error < 1e-9).
@@ -37,7 +35,8 @@ PBS_CLONE_INLINE float log2Positive(float x) {
   const float exponent = float(int(bits >> 23) - 127 + int(high));
   const float s = (m - 1.0f) / (m + 1.0f);
   const float s2 = s * s;
-  const float lnM = 2.0f * s * (1.0f + s2 * (1.0f / 3.0f + s2 * (1.0f / 5.0f + s2 * (1.0f / 7.0f + s2 * (1.0f / 9.0f)))));
+  const float lnM =
+      2.0f * s * (1.0f + s2 * (1.0f / 3.0f + s2 * (1.0f / 5.0f + s2 * (1.0f / 7.0f + s2 * (1.0f / 9.0f)))));
   return exponent + lnM * float(std::numbers::log2e);
 }
 

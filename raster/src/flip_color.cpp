@@ -67,7 +67,8 @@ float largestColorDistance() {
 
 // Filtered YCxCz back to linear RGB clamped to the display's range, then Hunt-adjusted CIELAB.
 PBS_CLONE_INLINE glm::vec3 filteredToHuntLab(float achromatic, float redGreen, float blueYellow) {
-  const glm::vec3 rgb = multiply(kRelativeXyzToLinearRgb, ycxczToRelativeXyz(glm::vec3(achromatic, redGreen, blueYellow)));
+  const glm::vec3 rgb =
+      multiply(kRelativeXyzToLinearRgb, ycxczToRelativeXyz(glm::vec3(achromatic, redGreen, blueYellow)));
   const glm::vec3 displayable(clampToUnit(rgb.r), clampToUnit(rgb.g), clampToUnit(rgb.b));
   return relativeXyzToHuntLab(multiply(kLinearRgbToRelativeXyz, displayable));
 }
@@ -94,7 +95,8 @@ struct FilteredRow {
 
 // ΔEc of one row from the filtered rows of the two images.
 PBS_AVX2_CLONES
-void colorErrorOfRow(const FilteredRow& reference, const FilteredRow& test, std::uint32_t width, float cmax, float* out) {
+void colorErrorOfRow(const FilteredRow& reference, const FilteredRow& test, std::uint32_t width, float cmax,
+                     float* out) {
   const float pccmax = kPc * cmax;
   const float* refY = reference.achromatic.data();
   const float* refCx = reference.redGreen.data();
@@ -143,8 +145,7 @@ void filterOpponentRow(const ColorFilters& filters, const OpponentPlanes& planes
 
 OpponentPlanes toOpponentPlanes(std::span<const glm::vec3> srgb, std::uint32_t width, std::uint32_t height) {
   OpponentPlanes planes;
-  for (Plane* plane : {&planes.achromatic, &planes.redGreen, &planes.blueYellow})
-    *plane = Plane(width, height);
+  for (Plane* plane : {&planes.achromatic, &planes.redGreen, &planes.blueYellow}) *plane = Plane(width, height);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, height), [&](const tbb::blocked_range<std::uint32_t>& rows) {
     for (std::uint32_t y = rows.begin(); y != rows.end(); ++y)
       convertRow(srgb.data() + std::size_t(y) * width, width, planes.achromatic.row(y), planes.redGreen.row(y),

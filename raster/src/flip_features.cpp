@@ -32,7 +32,8 @@ HalfKernel balancedDerivative(KernelShape shape, double centre, const std::vecto
   }
   HalfKernel kernel{shape, std::vector<float>(taps.size(), 0.0f)};
   if (positive == 0.0 || negative == 0.0) return kernel;
-  for (std::size_t k = 0; k < taps.size(); ++k) kernel.weights[k] = float(taps[k] / (taps[k] > 0.0 ? positive : negative));
+  for (std::size_t k = 0; k < taps.size(); ++k)
+    kernel.weights[k] = float(taps[k] / (taps[k] > 0.0 ? positive : negative));
   return kernel;
 }
 
@@ -43,7 +44,13 @@ struct RowScratch {
   PaddedRow padded;
 
   RowScratch(std::uint32_t width, std::uint32_t radius)
-      : smoothed(width), slope(width), curvature(width), dx(width), dy(width), ddx(width), ddy(width),
+      : smoothed(width),
+        slope(width),
+        curvature(width),
+        dx(width),
+        dy(width),
+        ddx(width),
+        ddy(width),
         padded(width, radius) {}
 };
 
@@ -98,7 +105,7 @@ FeatureFilters makeFeatureFilters(double pixelsPerDegree) {
     const double g = std::exp(-x * x / (2.0 * sigma * sigma));
     gaussian[k - 1] = g;
     gaussianSum += 2.0 * g;
-    edge[k - 1] = -x * g;                               // d/dx of the Gaussian, up to scale
+    edge[k - 1] = -x * g;                                // d/dx of the Gaussian, up to scale
     point[k - 1] = (x * x / (sigma * sigma) - 1.0) * g;  // d²/dx², up to scale
   }
   FeatureFilters filters;

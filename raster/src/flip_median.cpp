@@ -44,9 +44,8 @@ std::uint32_t binOfRank(const std::vector<std::uint64_t>& counts, std::uint64_t&
 
 float kthSmallest(std::span<const float> values, const std::vector<std::uint64_t>& highCounts, std::uint64_t k) {
   const std::uint32_t high = binOfRank(highCounts, k);
-  const std::vector<std::uint64_t> lowCounts = histogram(values, [high](std::uint32_t bits) {
-    return (bits >> 16) == high ? bits & 0xffffu : std::uint32_t(kBins);
-  });
+  const std::vector<std::uint64_t> lowCounts = histogram(
+      values, [high](std::uint32_t bits) { return (bits >> 16) == high ? bits & 0xffffu : std::uint32_t(kBins); });
   const std::uint32_t low = binOfRank(lowCounts, k);
   return std::bit_cast<float>((high << 16) | low);
 }

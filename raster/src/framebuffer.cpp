@@ -24,10 +24,10 @@ void forEachChannel(Framebuffer& framebuffer, Visit&& visit) {
 }
 
 constexpr ValueNames<Channel, 5> kChannelNames{{{{kChannelColor, "color"},
-                                                   {kChannelPosition, "position"},
-                                                   {kChannelNormal, "normal"},
-                                                   {kChannelIds, "ids"},
-                                                   {kChannelCoverage, "coverage"}}}};
+                                                 {kChannelPosition, "position"},
+                                                 {kChannelNormal, "normal"},
+                                                 {kChannelIds, "ids"},
+                                                 {kChannelCoverage, "coverage"}}}};
 
 bool allocated(const Framebuffer& framebuffer, ChannelMask channel) {
   return channel == 0 || (framebuffer.channels & channel) != 0;

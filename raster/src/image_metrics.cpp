@@ -212,7 +212,8 @@ ImageDifference compareImages(const RgbaImage& a, const RgbaImage& b, const Comp
   d.rmse = std::sqrt(total.squares / (3.0 * double(d.pixels)));
   d.psnr = psnrOf(total.squares, 3.0 * double(d.pixels));
   d.foregroundPixels = total.foregroundPixels;
-  d.foregroundRmse = total.foregroundPixels > 0 ? std::sqrt(total.foregroundSquares / (3.0 * double(total.foregroundPixels))) : 0.0;
+  d.foregroundRmse =
+      total.foregroundPixels > 0 ? std::sqrt(total.foregroundSquares / (3.0 * double(total.foregroundPixels))) : 0.0;
   d.foregroundPsnr = psnrOf(total.foregroundSquares, 3.0 * double(total.foregroundPixels));
   d.flipForegroundMean = total.foregroundPixels > 0 ? total.foregroundFlip / double(total.foregroundPixels) : 0.0;
   d.coverageA = total.coverageA;

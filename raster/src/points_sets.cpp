@@ -24,8 +24,7 @@ void checkFramebuffer(const Framebuffer& framebuffer, const Camera& camera) {
   const auto check = [&](bool wanted, std::size_t size, const char* name) {
     if (size != (wanted ? pixels : 0))
       throw std::invalid_argument(std::string("drawPoints: the framebuffer's ") + name + " channel has " +
-                                  std::to_string(size) + " pixels, expected " +
-                                  std::to_string(wanted ? pixels : 0));
+                                  std::to_string(size) + " pixels, expected " + std::to_string(wanted ? pixels : 0));
   };
   check(true, framebuffer.depth.size(), "depth");
   check(framebuffer.has(kChannelColor), framebuffer.color.size(), "colour");

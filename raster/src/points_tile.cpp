@@ -48,9 +48,7 @@ struct TileView {
       pixels[local] = depth < old ? depth : old;
     }
   }
-  void test(std::uint32_t local, float depth, std::uint32_t payload) const {
-    test(local, depth, pack(depth, payload));
-  }
+  void test(std::uint32_t local, float depth, std::uint32_t payload) const { test(local, depth, pack(depth, payload)); }
 
   // test() over `count` consecutive pixels.
   void testRow(std::uint32_t local, std::uint32_t count, float depth, std::uint32_t payload) const {
@@ -59,7 +57,8 @@ struct TileView {
 };
 
 // A PixelSplat's depth and payload lie side by side as View::pack puts them, so one load reads the packed pixel.
-static_assert(offsetof(PixelSplat, payload) == offsetof(PixelSplat, depth) + 4 && std::endian::native == std::endian::little);
+static_assert(offsetof(PixelSplat, payload) == offsetof(PixelSplat, depth) + 4 &&
+              std::endian::native == std::endian::little);
 
 template <class View>
 void drawSplats(const View& view, std::span<const PixelSplat> splats) {
@@ -124,9 +123,8 @@ void drawChunks(const View& view, std::span<const ChunkBins> chunks, std::uint32
 }
 
 template <bool kPayloads>
-void drawTileWith(Framebuffer& framebuffer, const TileGrid& grid, std::uint32_t tile,
-                  std::span<const ChunkBins> chunks, const PointSets& sets, std::uint64_t batchStart,
-                  TileScratch& scratch) {
+void drawTileWith(Framebuffer& framebuffer, const TileGrid& grid, std::uint32_t tile, std::span<const ChunkBins> chunks,
+                  const PointSets& sets, std::uint64_t batchStart, TileScratch& scratch) {
   using View = TileView<kPayloads>;
   const std::uint32_t size = grid.tileSize();
   View view;

@@ -18,9 +18,7 @@ std::uint32_t sideOf(std::uint32_t samples) {
 
 }  // namespace
 
-bool isSupportedSampleCount(std::uint32_t samples) {
-  return samples >= 1 && samples <= 256 && sideOf(samples) != 0;
-}
+bool isSupportedSampleCount(std::uint32_t samples) { return samples >= 1 && samples <= 256 && sideOf(samples) != 0; }
 
 std::vector<glm::dvec2> subpixelSamples(std::uint32_t samples) {
   if (!isSupportedSampleCount(samples))
@@ -53,12 +51,13 @@ std::vector<glm::vec4> resolveSamples(const SampleSums& sums) {
   std::vector<glm::vec4> image(sums.sums.size());
   const float perSample = 1.0f / float(sums.samples);
   // Each pixel on its own: any split of the range gives the same bits.
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, image.size(), 4096), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      const glm::vec4& sum = sums.sums[i];
-      if (sum.a > 0.0f) image[i] = glm::vec4(glm::vec3(sum) / sum.a, sum.a * perSample);
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, image.size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const glm::vec4& sum = sums.sums[i];
+                        if (sum.a > 0.0f) image[i] = glm::vec4(glm::vec3(sum) / sum.a, sum.a * perSample);
+                      }
+                    });
   return image;
 }
 

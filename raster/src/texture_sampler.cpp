@@ -15,14 +15,12 @@ std::int64_t positiveModulo(std::int64_t i, std::int64_t n) {
 
 std::int64_t wrapTexel(std::int64_t i, std::int64_t size, TextureWrap wrap) {
   switch (wrap) {
-    case TextureWrap::ClampToEdge:
-      return std::clamp<std::int64_t>(i, 0, size - 1);
+    case TextureWrap::ClampToEdge: return std::clamp<std::int64_t>(i, 0, size - 1);
     case TextureWrap::MirroredRepeat: {
       const std::int64_t m = positiveModulo(i, 2 * size);
       return m < size ? m : 2 * size - 1 - m;
     }
-    case TextureWrap::Repeat:
-      break;
+    case TextureWrap::Repeat: break;
   }
   return positiveModulo(i, size);
 }

@@ -9,9 +9,7 @@
 
 namespace pbs {
 
-int resolveThreadCount(int threads) {
-  return threads > 0 ? threads : tbb::info::default_concurrency();
-}
+int resolveThreadCount(int threads) { return threads > 0 ? threads : tbb::info::default_concurrency(); }
 
 void runWithThreads(int threads, const std::function<void()>& work) {
   const int count = resolveThreadCount(threads);

@@ -15,8 +15,8 @@ inline constexpr int kTileStride = kTileSize;
 static_assert(kTileSize % kBlockSize == 0);
 
 struct TileBuffer {
-  int x0 = 0, y0 = 0;           // window pixel of the tile's first pixel
-  int width = 0, height = 0;    // ≤ kTileSize; smaller at the right and bottom of the window
+  int x0 = 0, y0 = 0;         // window pixel of the tile's first pixel
+  int width = 0, height = 0;  // ≤ kTileSize; smaller at the right and bottom of the window
   alignas(64) float depth[kTileSize * kTileStride];
   alignas(64) std::uint32_t ids[kTileSize * kTileStride];  // packed ids; kNoTriangle where none won
 };

@@ -73,7 +73,8 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
       // or the record interpolates nothing over w).
       const float w = layout.inverseW != kAbsent ? 1.0f / planeValue<1>(record + layout.inverseW, dx, dy).x : 1.0f;
       if (positions) positions[pixel] = planeValue<3>(record + layout.position, dx, dy) * w;
-      if (normals) normals[pixel] = unitNormal(planeValue<3>(record + layout.normal, dx, dy), record + layout.normal + 9);
+      if (normals)
+        normals[pixel] = unitNormal(planeValue<3>(record + layout.normal, dx, dy), record + layout.normal + 9);
       if (colors) {
         if (span.texture) {
           const glm::vec2 uv = planeValue<2>(record + layout.uv, dx, dy) * w;

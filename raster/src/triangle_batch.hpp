@@ -26,9 +26,9 @@ inline constexpr int kMaxBinnedTiles = 16;
 // A run of consecutive triangles of one draw and one mesh part.
 struct TriangleSpan {
   const TriangleDraw* draw = nullptr;
-  glm::vec4 baseColor{1.0f};                  // the material's (white without one)
-  const Texture* texture = nullptr;           // null: not sampled (no colour channel, or no usable texture)
-  std::size_t firstIndex = 0;                 // into draw->indices
+  glm::vec4 baseColor{1.0f};         // the material's (white without one)
+  const Texture* texture = nullptr;  // null: not sampled (no colour channel, or no usable texture)
+  std::size_t firstIndex = 0;        // into draw->indices
   std::uint32_t firstPrimitive = 0;
   std::uint32_t count = 0;       // triangles
   std::uint32_t batchStart = 0;  // the batch position of its first triangle
@@ -81,7 +81,7 @@ struct TriangleBatch {
   ShadingLayout layouts[2];
   const ShadingLayout& layoutOf(const TriangleSpan& span) const { return layouts[span.texture != nullptr]; }
   std::uint32_t maxStride() const { return std::max(layouts[0].stride, layouts[1].stride); }
-  double guardX, guardY;   // the guard band as bounds on |x/w| and |y/w|
+  double guardX, guardY;  // the guard band as bounds on |x/w| and |y/w|
   int tilesX, tilesY;
 
   std::vector<TriangleSpan> spans;

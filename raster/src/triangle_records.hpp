@@ -37,15 +37,15 @@ inline CoordinateRange rangeOf(std::int32_t a, std::int32_t b, std::int32_t c) {
   std::int32_t low = a, high = b;
   order(low, high);
   std::int32_t third = c;
-  order(low, third);  // low is now the least
+  order(low, third);   // low is now the least
   order(third, high);  // high is now the greatest
   return {low, high};
 }
 
 // A triangle as coverage and depth need it: 48 bytes.
 struct RasterTriangle {
-  std::int32_t x[3];  // snapped window positions in 1/256 pixel, ordered so that twice the signed
-  std::int32_t y[3];  // area is positive (clockwise on the y-down screen)
+  std::int32_t x[3];                     // snapped window positions in 1/256 pixel, ordered so that twice the signed
+  std::int32_t y[3];                     // area is positive (clockwise on the y-down screen)
   std::uint16_t minX, minY, maxX, maxY;  // the pixels whose centres its box holds, within the viewport
   // Window depth at pixel (px, py) is (z0 + zy·dy) + zx·dx with dx = px − minX, dy = py − minY.
   float z0, zx, zy;
@@ -61,10 +61,10 @@ struct AttributePlane {
 };
 
 struct ShadingHeader {
-  std::uint32_t span;       // index into TriangleBatch::spans
-  std::uint32_t primitive;  // triangle index within its mesh
-  std::uint16_t minX, minY; // the planes' origin pixel
-  glm::u8vec4 flatColor;    // the base colour of an untextured triangle
+  std::uint32_t span;        // index into TriangleBatch::spans
+  std::uint32_t primitive;   // triangle index within its mesh
+  std::uint16_t minX, minY;  // the planes' origin pixel
+  glm::u8vec4 flatColor;     // the base colour of an untextured triangle
 };
 
 // What a pixel's winner needs to fill the channels, packed into one record of floats per

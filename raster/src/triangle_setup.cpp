@@ -124,9 +124,16 @@ class ChunkWriter {
     }
     const AttributePlane<double> depth = deltaPlane(l, v0->depth, v1->depth, v2->depth);
     const std::uint32_t local = std::uint32_t(chunk_.raster.size());
-    const RasterTriangle& raster = chunk_.raster.emplace_back(RasterTriangle{
-        {v0->x, v1->x, v2->x}, {v0->y, v1->y, v2->y}, std::uint16_t(px0), std::uint16_t(py0), std::uint16_t(px1),
-        std::uint16_t(py1), float(depth.c), float(depth.x), float(depth.y), packTriangleId(chunkIndex_, local)});
+    const RasterTriangle& raster = chunk_.raster.emplace_back(RasterTriangle{{v0->x, v1->x, v2->x},
+                                                                             {v0->y, v1->y, v2->y},
+                                                                             std::uint16_t(px0),
+                                                                             std::uint16_t(py0),
+                                                                             std::uint16_t(px1),
+                                                                             std::uint16_t(py1),
+                                                                             float(depth.c),
+                                                                             float(depth.x),
+                                                                             float(depth.y),
+                                                                             packTriangleId(chunkIndex_, local)});
     forEachBin(batch_, raster, [&](int bin) { ++binCounts_[bin]; });
     appendRecord(source, span, l, v0, v1, v2, std::uint16_t(px0), std::uint16_t(py0));
   }
@@ -146,8 +153,7 @@ class ChunkWriter {
     if (layout.inverseW != ShadingLayout::kAbsent) {
       const AttributePlane<double> q =
           span.affine ? AttributePlane<double>{1.0, 0.0, 0.0} : deltaPlane(l, v0->invW, v1->invW, v2->invW);
-      storePlane<1>(record + layout.inverseW,
-                    {glm::vec1(float(q.c)), glm::vec1(float(q.x)), glm::vec1(float(q.y))});
+      storePlane<1>(record + layout.inverseW, {glm::vec1(float(q.c)), glm::vec1(float(q.x)), glm::vec1(float(q.y))});
     }
     const AttributePlane<glm::vec2> lf{
         {float(l.c[0]), float(l.c[1])}, {float(l.x[0]), float(l.x[1])}, {float(l.y[0]), float(l.y[1])}};
@@ -287,10 +293,9 @@ void setupChunk(TriangleBatch& batch, std::uint32_t chunkIndex) {
 
   const std::uint32_t begin = chunkIndex * kChunkTriangles;
   const std::uint32_t end = std::min(begin + kChunkTriangles, batch.triangleCount);
-  const auto spanAfter = std::upper_bound(batch.spans.begin(), batch.spans.end(), begin,
-                                          [](std::uint32_t position, const TriangleSpan& span) {
-                                            return position < span.batchStart;
-                                          });
+  const auto spanAfter =
+      std::upper_bound(batch.spans.begin(), batch.spans.end(), begin,
+                       [](std::uint32_t position, const TriangleSpan& span) { return position < span.batchStart; });
   // Spans are consecutive in the batch: walk those the chunk overlaps, each in one loop.
   for (std::uint32_t s = std::uint32_t(spanAfter - batch.spans.begin()) - 1, position = begin; position < end; ++s) {
     const TriangleSpan& span = batch.spans[s];

@@ -15,7 +15,6 @@
 
 #include "pbs/raster/triangles.hpp"
 
-
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -41,8 +40,8 @@ void checkTarget(const Framebuffer& framebuffer, const Camera& camera) {
          " does not match camera viewport " + std::to_string(camera.width) + "x" + std::to_string(camera.height));
   if (framebuffer.width == 0 || framebuffer.height == 0 || framebuffer.width > kMaxViewportSize ||
       framebuffer.height > kMaxViewportSize)
-    fail("viewport " + std::to_string(framebuffer.width) + "x" + std::to_string(framebuffer.height) +
-         " outside 1 … " + std::to_string(kMaxViewportSize));
+    fail("viewport " + std::to_string(framebuffer.width) + "x" + std::to_string(framebuffer.height) + " outside 1 … " +
+         std::to_string(kMaxViewportSize));
   const std::size_t pixels = framebuffer.pixelCount();
   const bool sized = framebuffer.depth.size() == pixels &&
                      (!framebuffer.has(kChannelColor) || framebuffer.color.size() == pixels) &&

@@ -76,8 +76,7 @@ void addValidIndices(const std::uint32_t* indices, std::size_t first, std::size_
 }
 
 // The index range a span references (indices past the vertex array are skipped later).
-void chooseCacheRange(const TriangleSpan& span, std::size_t vertexLimit, std::uint32_t& first,
-                      std::uint32_t& count) {
+void chooseCacheRange(const TriangleSpan& span, std::size_t vertexLimit, std::uint32_t& first, std::uint32_t& count) {
   const std::uint32_t* indices = span.draw->indices.data() + span.firstIndex;
   const auto range = parallelScan<Extent<std::uint32_t>>(
       std::size_t(span.count) * 3, [&](std::size_t begin, std::size_t end, Extent<std::uint32_t>& extent) {
@@ -134,22 +133,21 @@ PBS_CLONE_INLINE void addAttributes(const TriangleBatch& batch, const TriangleSp
 template <class Body>
 void forEachCachedRun(TriangleBatch& batch, Body body) {
   const std::vector<TriangleSpan>& spans = batch.spans;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batch.vertices.size(), 1024),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      // The last span starting at or before r.begin() holds it (empty spans share the
-                      // start of the next one, and come before it).
-                      const auto after = std::upper_bound(spans.begin(), spans.end(), r.begin(),
-                                                          [](std::size_t i, const TriangleSpan& span) {
-                                                            return i < span.cacheOffset;
-                                                          });
-                      for (std::size_t s = std::size_t(after - spans.begin()) - 1, i = r.begin(); i < r.end(); ++s) {
-                        const TriangleSpan& span = spans[s];
-                        const std::size_t end = std::min<std::size_t>(r.end(), span.cacheOffset + span.vertexCount);
-                        if (i >= end) continue;
-                        body(span, std::uint32_t(i - span.cacheOffset), std::uint32_t(end - span.cacheOffset));
-                        i = end;
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, batch.vertices.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        // The last span starting at or before r.begin() holds it (empty spans share the
+        // start of the next one, and come before it).
+        const auto after =
+            std::upper_bound(spans.begin(), spans.end(), r.begin(),
+                             [](std::size_t i, const TriangleSpan& span) { return i < span.cacheOffset; });
+        for (std::size_t s = std::size_t(after - spans.begin()) - 1, i = r.begin(); i < r.end(); ++s) {
+          const TriangleSpan& span = spans[s];
+          const std::size_t end = std::min<std::size_t>(r.end(), span.cacheOffset + span.vertexCount);
+          if (i >= end) continue;
+          body(span, std::uint32_t(i - span.cacheOffset), std::uint32_t(end - span.cacheOffset));
+          i = end;
+        }
+      });
 }
 
 PBS_AVX2_CLONES
@@ -179,14 +177,14 @@ struct WindowExtent {
 bool shouldDefer(const TriangleBatch& batch, const TriangleSpan& span) {
   if (span.vertexCount == 0) return false;
   const ProjectedVertex* vertices = batch.vertices.data() + span.cacheOffset;
-  const auto window = parallelScan<WindowExtent>(span.vertexCount, [&](std::size_t first, std::size_t end,
-                                                                       WindowExtent& extent) {
-    for (std::size_t v = first; v < end; ++v) {
-      extent.outside |= !vertices[v].inside;
-      extent.x.add(vertices[v].x);
-      extent.y.add(vertices[v].y);
-    }
-  });
+  const auto window =
+      parallelScan<WindowExtent>(span.vertexCount, [&](std::size_t first, std::size_t end, WindowExtent& extent) {
+        for (std::size_t v = first; v < end; ++v) {
+          extent.outside |= !vertices[v].inside;
+          extent.x.add(vertices[v].x);
+          extent.y.add(vertices[v].y);
+        }
+      });
   if (window.outside) return false;
   const PixelBox box = pixelBox(batch.framebuffer, window.x.lo, window.y.lo, window.x.hi, window.y.hi);
   if (box.empty()) return true;

@@ -30,8 +30,8 @@ inline glm::dvec3 inlineWindowFromClip(const Camera& camera, const glm::dvec4& c
 inline WindowVertex snapToWindow(const Camera& camera, const glm::dvec4& clip) {
   const glm::dvec3 window = inlineWindowFromClip(camera, clip);
   const double scale = double(kSubpixelScale);
-  return {std::int32_t(std::floor(window.x * scale + 0.5)), std::int32_t(std::floor(window.y * scale + 0.5)),
-          window.z, clip.w == 1.0 ? 1.0 : 1.0 / clip.w};
+  return {std::int32_t(std::floor(window.x * scale + 0.5)), std::int32_t(std::floor(window.y * scale + 0.5)), window.z,
+          clip.w == 1.0 ? 1.0 : 1.0 / clip.w};
 }
 
 // The pixels whose centres 256·p + 128 lie within a box of snapped positions, within the viewport;

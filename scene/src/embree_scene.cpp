@@ -34,8 +34,8 @@ EmbreeScene::EmbreeScene(const Scene& scene, const Hierarchy& hierarchy, std::sp
   impl.meshes = makeEmbreeMeshes(scene);
   const std::vector<std::uint32_t> instanceNodes = rayInstanceNodes(scene, hierarchy, nodes);
   buildMeshScenes(impl.meshes, scene, instanceNodes);
-  impl.instances = makeEmbreeInstances(impl.meshes, scene, hierarchy, impl.materials, instanceNodes,
-                                       nodesCenter(hierarchy, nodes));
+  impl.instances =
+      makeEmbreeInstances(impl.meshes, scene, hierarchy, impl.materials, instanceNodes, nodesCenter(hierarchy, nodes));
 }
 
 EmbreeScene::~EmbreeScene() = default;
@@ -48,7 +48,9 @@ void EmbreeScene::render(const Camera& camera, Framebuffer& framebuffer) const {
 
 const glm::dvec3& EmbreeScene::origin() const { return impl_->instances.origin; }
 
-std::uint64_t EmbreeScene::bytes() const { return std::uint64_t(std::max<std::int64_t>(0, impl_->meshes.allocations->bytes)); }
+std::uint64_t EmbreeScene::bytes() const {
+  return std::uint64_t(std::max<std::int64_t>(0, impl_->meshes.allocations->bytes));
+}
 
 std::uint64_t EmbreeScene::peakBytes() const {
   return std::uint64_t(std::max<std::int64_t>(0, impl_->meshes.allocations->peakBytes));

@@ -11,8 +11,9 @@ namespace {
 // The part holding `triangle`: parts cover the indices in order, so the last one starting at or
 // before it.
 const MeshPart& partOf(const Mesh& mesh, std::uint32_t triangle) {
-  const auto after = std::upper_bound(mesh.parts.begin(), mesh.parts.end(), std::uint64_t(triangle) * 3,
-                                      [](std::uint64_t index, const MeshPart& part) { return index < part.firstIndex; });
+  const auto after =
+      std::upper_bound(mesh.parts.begin(), mesh.parts.end(), std::uint64_t(triangle) * 3,
+                       [](std::uint64_t index, const MeshPart& part) { return index < part.firstIndex; });
   return *(after - 1);
 }
 
@@ -30,8 +31,8 @@ void shadeHit(const ShadingView& view, const ShadedInstance& instance, NormalMat
 
   // The hit point from the barycentrics on the double-precision triangle rather than from the ray's
   // float t: it lies on the triangle's plane, as the rasterizer's interpolated depth does.
-  const glm::dvec3 object = b0 * glm::dvec3(mesh.positions[i0]) + b1 * glm::dvec3(mesh.positions[i1]) +
-                            b2 * glm::dvec3(mesh.positions[i2]);
+  const glm::dvec3 object =
+      b0 * glm::dvec3(mesh.positions[i0]) + b1 * glm::dvec3(mesh.positions[i1]) + b2 * glm::dvec3(mesh.positions[i2]);
   const glm::dvec3 world = glm::dvec3(*instance.worldFromObject * glm::dvec4(object, 1.0));
   const double depth = windowFromClip(*view.camera, view.clipFromWorld * glm::dvec4(world, 1.0)).z;
   // The near/far interval of the ray already bounds the hit; rounding may still step just outside.

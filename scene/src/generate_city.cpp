@@ -19,7 +19,7 @@
 namespace pbs {
 namespace {
 
-constexpr double kLeafSpacing = 2.5;  // a unit prototype scaled up to 1.5 and turned still fits
+constexpr double kLeafSpacing = 2.5;    // a unit prototype scaled up to 1.5 and turned still fits
 constexpr double kStreetFactor = 1.15;  // room between neighbouring blocks
 constexpr double kBlockTurn = 0.12;     // radians, either way
 
@@ -48,7 +48,8 @@ Mesh flattenPrototype(Scene& city, const Scene& prototype, std::size_t index) {
   std::vector<MeshPiece> pieces;
   for (std::uint32_t n : hierarchy.preorder) {
     const Node& node = prototype.nodes[n];
-    if (node.mesh >= 0) pieces.push_back({&prototype.meshes[std::size_t(node.mesh)], normalise * hierarchy.world[n], materialOffset});
+    if (node.mesh >= 0)
+      pieces.push_back({&prototype.meshes[std::size_t(node.mesh)], normalise * hierarchy.world[n], materialOffset});
   }
   const std::string name = prototype.roots.size() == 1 && !prototype.nodes[prototype.roots[0]].name.empty()
                                ? prototype.nodes[prototype.roots[0]].name
@@ -202,8 +203,8 @@ UnbakedCity generateUniqueCity(const std::vector<Scene>& prototypes, const CityO
   // placeNodes draws the same either way, so the unique city is the instanced one, baked.
   city.scene.nodes = placeNodes(std::uint32_t(flattened->size()), options);
   city.scene.roots = {0};
-  auto placements = std::make_shared<const std::vector<std::pair<std::uint32_t, glm::dmat4>>>(
-      describeLeaves(city.scene, *flattened));
+  auto placements =
+      std::make_shared<const std::vector<std::pair<std::uint32_t, glm::dmat4>>>(describeLeaves(city.scene, *flattened));
   auto names = std::make_shared<std::vector<std::string>>();
   for (const std::uint32_t leaf : leavesOf(city.scene)) names->push_back(city.scene.nodes[leaf].name);
   city.bake = [flattened, placements, names](std::uint32_t mesh) {

@@ -26,8 +26,7 @@ struct Plant {
   SeededRandom random;
 };
 
-std::uint32_t addNode(Plant& plant, std::int64_t parent, std::string name, const dmat4& local,
-                      std::int32_t mesh = -1) {
+std::uint32_t addNode(Plant& plant, std::int64_t parent, std::string name, const dmat4& local, std::int32_t mesh = -1) {
   Scene& scene = plant.scene;
   const auto index = std::uint32_t(scene.nodes.size());
   scene.nodes.push_back({std::move(name), local, {}, mesh});
@@ -194,7 +193,8 @@ void addRack(Plant& plant, std::uint32_t parent, std::string name, const dmat4& 
       const dvec3 from(0.0, top ? 8.85 : 6.4, 0.85 * (lane % 3 - 1));
       const std::int32_t pipe = lane % 2 == 0 ? p.pipeGrey : p.pipeBlue;
       if (loops && top && lane != 1) {
-        const std::uint32_t run = addNode(plant, module, numbered("lane", std::size_t(lane)), at(from.x, from.y, from.z));
+        const std::uint32_t run =
+            addNode(plant, module, numbered("lane", std::size_t(lane)), at(from.x, from.y, from.z));
         addNode(plant, run, "loop", dmat4(1.0), p.expansionLoop);
         addNode(plant, run, "flange", alongX(), p.flange);
       } else {

@@ -16,66 +16,45 @@ namespace {
 
 std::string componentTypeName(int componentType) {
   switch (componentType) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-      return "BYTE";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return "UNSIGNED_BYTE";
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-      return "SHORT";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return "UNSIGNED_SHORT";
-    case TINYGLTF_COMPONENT_TYPE_INT:
-      return "INT";
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-      return "UNSIGNED_INT";
-    case TINYGLTF_COMPONENT_TYPE_FLOAT:
-      return "FLOAT";
-    default:
-      return std::to_string(componentType) + " (not a glTF componentType)";
+    case TINYGLTF_COMPONENT_TYPE_BYTE: return "BYTE";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return "UNSIGNED_BYTE";
+    case TINYGLTF_COMPONENT_TYPE_SHORT: return "SHORT";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return "UNSIGNED_SHORT";
+    case TINYGLTF_COMPONENT_TYPE_INT: return "INT";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return "UNSIGNED_INT";
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return "FLOAT";
+    default: return std::to_string(componentType) + " (not a glTF componentType)";
   }
 }
 
 std::size_t componentSize(int componentType) {
   switch (componentType) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return 1;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
     case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return 2;
-    default:
-      return 4;  // INT, UNSIGNED_INT, FLOAT: the only others a rule lets through
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    default: return 4;  // INT, UNSIGNED_INT, FLOAT: the only others a rule lets through
   }
 }
 
 // Components per element for the types a mesh attribute or index can have; 0 for matrices.
 int typeComponents(int type) {
   switch (type) {
-    case TINYGLTF_TYPE_SCALAR:
-      return 1;
-    case TINYGLTF_TYPE_VEC2:
-      return 2;
-    case TINYGLTF_TYPE_VEC3:
-      return 3;
-    case TINYGLTF_TYPE_VEC4:
-      return 4;
-    default:
-      return 0;
+    case TINYGLTF_TYPE_SCALAR: return 1;
+    case TINYGLTF_TYPE_VEC2: return 2;
+    case TINYGLTF_TYPE_VEC3: return 3;
+    case TINYGLTF_TYPE_VEC4: return 4;
+    default: return 0;
   }
 }
 
 const char* typeName(int components) {
   switch (components) {
-    case 1:
-      return "SCALAR";
-    case 2:
-      return "VEC2";
-    case 3:
-      return "VEC3";
-    case 4:
-      return "VEC4";
-    default:
-      return "a matrix";
+    case 1: return "SCALAR";
+    case 2: return "VEC2";
+    case 3: return "VEC3";
+    case 4: return "VEC4";
+    default: return "a matrix";
   }
 }
 
@@ -93,24 +72,12 @@ bool rangeFits(std::size_t offset, std::size_t length, std::size_t size) {
 template <typename F>
 void withComponentType(int componentType, F&& f) {
   switch (componentType) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-      f(std::int8_t{});
-      break;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      f(std::uint8_t{});
-      break;
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-      f(std::int16_t{});
-      break;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      f(std::uint16_t{});
-      break;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-      f(std::uint32_t{});
-      break;
-    default:
-      f(float{});
-      break;
+    case TINYGLTF_COMPONENT_TYPE_BYTE: f(std::int8_t{}); break;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: f(std::uint8_t{}); break;
+    case TINYGLTF_COMPONENT_TYPE_SHORT: f(std::int16_t{}); break;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: f(std::uint16_t{}); break;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: f(std::uint32_t{}); break;
+    default: f(float{}); break;
   }
 }
 
@@ -144,12 +111,9 @@ void decodeVectors(const std::uint8_t* src, std::size_t stride, bool normalized,
 
 std::uint32_t sparseIndex(const AccessorView& view, std::size_t j) {
   switch (view.sparseIndexType) {
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return load<std::uint8_t>(view.sparseIndices + j);
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      return load<std::uint16_t>(view.sparseIndices + 2 * j);
-    default:
-      return load<std::uint32_t>(view.sparseIndices + 4 * j);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return load<std::uint8_t>(view.sparseIndices + j);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return load<std::uint16_t>(view.sparseIndices + 2 * j);
+    default: return load<std::uint32_t>(view.sparseIndices + 4 * j);
   }
 }
 

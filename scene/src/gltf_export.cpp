@@ -29,8 +29,8 @@ constexpr int kElementArrayBuffer = 34963;
 // A name beside `file` that no other writer in this or another process picks.
 std::filesystem::path temporaryBeside(const std::filesystem::path& file) {
   static std::atomic<std::uint64_t> counter{0};
-  return file.parent_path() / (file.filename().string() + "." + std::to_string(::getpid()) + "-" +
-                               std::to_string(counter++) + ".tmp");
+  return file.parent_path() /
+         (file.filename().string() + "." + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".tmp");
 }
 
 // Where the views' bytes go: the one buffer of a .glb, held in memory (model.buffers[0].data), or .bin
@@ -150,12 +150,11 @@ std::vector<int> addIndexAccessors(tinygltf::Model& model, BinaryData& data, con
   }
   std::vector<int> accessors;
   for (const MeshPart& part : mesh.parts) {
-    accessors.push_back(part.indexCount == 0
-                            ? -1
-                            : addAccessor(model, view, std::size_t(part.firstIndex) * (narrow ? 2 : 4),
-                                          narrow ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
-                                                 : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
-                                          TINYGLTF_TYPE_SCALAR, part.indexCount));
+    accessors.push_back(part.indexCount == 0 ? -1
+                                             : addAccessor(model, view, std::size_t(part.firstIndex) * (narrow ? 2 : 4),
+                                                           narrow ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
+                                                                  : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                                                           TINYGLTF_TYPE_SCALAR, part.indexCount));
   }
   return accessors;
 }

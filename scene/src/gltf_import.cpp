@@ -85,11 +85,11 @@ LazyGltf openGltfWithoutMeshes(const std::filesystem::path& file) {
   auto source = std::make_shared<Source>(MappedFile(file), gltf::Document{}, file.string());
   LazyGltf lazy;
   source->model = gltf::parseDocument(source->mapped.bytes(), source->name, file.parent_path(), lazy.imported.warnings);
-  const gltf::MaterialImport materials = buildScene(
-      source->model, source->name, lazy.imported, source->gltfMeshOf,
-      [&](int gltfMesh, const gltf::MaterialOf& materialOf, gltf::SkippedPrimitives& skipped) {
-        return gltf::describeMesh(source->model, gltfMesh, source->name, materialOf, skipped);
-      });
+  const gltf::MaterialImport materials =
+      buildScene(source->model, source->name, lazy.imported, source->gltfMeshOf,
+                 [&](int gltfMesh, const gltf::MaterialOf& materialOf, gltf::SkippedPrimitives& skipped) {
+                   return gltf::describeMesh(source->model, gltfMesh, source->name, materialOf, skipped);
+                 });
   source->materialOf = materials.used();
   for (const std::span<const std::uint8_t> buffer : source->model.bufferBytes) lazy.bufferBytes += buffer.size();
   // Reading a mesh needs its accessors, views and buffers, not the node graph (on a city of 111,111

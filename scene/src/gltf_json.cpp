@@ -24,33 +24,25 @@ constexpr std::int64_t kMaxSize = (std::int64_t{1} << 53) - 1;  // largest integ
 
 std::string describe(dom::element value) {
   switch (value.type()) {
-    case dom::element_type::INT64:
-      return std::to_string(std::int64_t(value));
-    case dom::element_type::UINT64:
-      return std::to_string(std::uint64_t(value));
+    case dom::element_type::INT64: return std::to_string(std::int64_t(value));
+    case dom::element_type::UINT64: return std::to_string(std::uint64_t(value));
     case dom::element_type::DOUBLE: {
       char text[32];
       const auto end = std::to_chars(text, text + sizeof text, double(value)).ptr;
       return std::string(text, end);
     }
-    case dom::element_type::STRING:
-      return "a string";
-    case dom::element_type::ARRAY:
-      return "an array";
-    case dom::element_type::OBJECT:
-      return "an object";
-    case dom::element_type::BOOL:
-      return bool(value) ? "true" : "false";
-    default:
-      return "null";
+    case dom::element_type::STRING: return "a string";
+    case dom::element_type::ARRAY: return "an array";
+    case dom::element_type::OBJECT: return "an object";
+    case dom::element_type::BOOL: return bool(value) ? "true" : "false";
+    default: return "null";
   }
 }
 
 // The properties of one JSON object, read by key with their types checked; errors name `element`.
 class Fields {
  public:
-  Fields(dom::element value, std::string element, std::string_view file)
-      : element_(std::move(element)), file_(file) {
+  Fields(dom::element value, std::string element, std::string_view file) : element_(std::move(element)), file_(file) {
     if (value.get(object_) != simdjson::SUCCESS) fail("is " + describe(value) + ", not a JSON object");
   }
 
@@ -105,9 +97,8 @@ class Fields {
 
   std::vector<int> references(const char* key) const {
     std::vector<int> result;
-    forEachItem(key, [&](dom::element item) {
-      result.push_back(static_cast<int>(integerValue(item, key, 0, kMaxIndex)));
-    });
+    forEachItem(key,
+                [&](dom::element item) { result.push_back(static_cast<int>(integerValue(item, key, 0, kMaxIndex))); });
     return result;
   }
 
@@ -297,10 +288,9 @@ dom::element parseJson(dom::parser& parser, std::span<const std::uint8_t> text, 
                        std::string_view file) {
   dom::element root;
   const bool copy = readableAfter < simdjson::SIMDJSON_PADDING;
-  const simdjson::error_code error =
-      parser.allocate(text.size(), kMaxJsonDepth) != simdjson::SUCCESS
-          ? simdjson::MEMALLOC
-          : parser.parse(text.data(), text.size(), copy).get(root);
+  const simdjson::error_code error = parser.allocate(text.size(), kMaxJsonDepth) != simdjson::SUCCESS
+                                         ? simdjson::MEMALLOC
+                                         : parser.parse(text.data(), text.size(), copy).get(root);
   if (error == simdjson::DEPTH_ERROR) {
     throw InputError(file, "JSON", "nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
   }

@@ -14,14 +14,10 @@ namespace {
 
 TextureWrap wrapMode(int value, const char* which, std::string_view file, const std::string& sampler) {
   switch (value) {
-    case TINYGLTF_TEXTURE_WRAP_REPEAT:
-      return TextureWrap::Repeat;
-    case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
-      return TextureWrap::ClampToEdge;
-    case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
-      return TextureWrap::MirroredRepeat;
-    default:
-      throw InputError(file, sampler, std::string(which) + " " + std::to_string(value) + " is not a wrap mode");
+    case TINYGLTF_TEXTURE_WRAP_REPEAT: return TextureWrap::Repeat;
+    case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return TextureWrap::ClampToEdge;
+    case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return TextureWrap::MirroredRepeat;
+    default: throw InputError(file, sampler, std::string(which) + " " + std::to_string(value) + " is not a wrap mode");
   }
 }
 
@@ -31,14 +27,11 @@ TextureFilter filterMode(int value, const char* which, std::string_view file, co
     case -1:  // absent: the spec leaves it to the implementation
     case TINYGLTF_TEXTURE_FILTER_LINEAR:
     case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST:
-    case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR:
-      return TextureFilter::Linear;
+    case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR: return TextureFilter::Linear;
     case TINYGLTF_TEXTURE_FILTER_NEAREST:
     case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST:
-    case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR:
-      return TextureFilter::Nearest;
-    default:
-      throw InputError(file, sampler, std::string(which) + " " + std::to_string(value) + " is not a filter");
+    case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR: return TextureFilter::Nearest;
+    default: throw InputError(file, sampler, std::string(which) + " " + std::to_string(value) + " is not a filter");
   }
 }
 
@@ -69,7 +62,7 @@ std::uint32_t MaterialImport::use(int material, std::string_view referrer) {
 
 std::function<std::uint32_t(int, std::string_view)> MaterialImport::used() const {
   return [index = materialIndex_, defaultMaterial = defaultMaterial_](int material, std::string_view) {
-    const std::int64_t chosen = material == -1 ? defaultMaterial
+    const std::int64_t chosen = material == -1                       ? defaultMaterial
                                 : validIndex(material, index.size()) ? index[static_cast<std::size_t>(material)]
                                                                      : -1;
     if (chosen < 0) throw std::logic_error("glTF material " + std::to_string(material) + " was not used at import");

@@ -59,7 +59,8 @@ void validateMesh(const Scene& scene, std::size_t m, std::string_view source) {
     return;
   }
   if (!allFinite(mesh.positions)) throw InputError(source, name, "a position is not finite");
-  if (mesh.normals.size() != mesh.positions.size()) throw InputError(source, name, "normal count differs from position count");
+  if (mesh.normals.size() != mesh.positions.size())
+    throw InputError(source, name, "normal count differs from position count");
   if (!allFinite(mesh.normals)) throw InputError(source, name, "a normal is not finite");
   if (!mesh.uvs.empty() && mesh.uvs.size() != mesh.positions.size())
     throw InputError(source, name, "uv count differs from position count");
@@ -70,7 +71,8 @@ void validateMesh(const Scene& scene, std::size_t m, std::string_view source) {
       throw InputError(source, name,
                        "index " + std::to_string(mesh.indices[i]) + " out of range (" +
                            std::to_string(mesh.positions.size()) + " vertices)");
-  if (validateParts(scene, mesh, name, source) != mesh.indices.size()) throw InputError(source, name, "parts do not cover every index");
+  if (validateParts(scene, mesh, name, source) != mesh.indices.size())
+    throw InputError(source, name, "parts do not cover every index");
 }
 
 }  // namespace
@@ -168,8 +170,10 @@ Hierarchy walkFrom(const Scene& scene, std::span<const std::uint32_t> starts, bo
     stack.pop_back();
     h.preorder.push_back(n);
     const Node& node = scene.nodes[n];
-    if (h.parent[n] >= 0) h.world[n] = h.world[h.parent[n]] * node.local;
-    else if (!startsInOwnFrame) h.world[n] = node.local;
+    if (h.parent[n] >= 0)
+      h.world[n] = h.world[h.parent[n]] * node.local;
+    else if (!startsInOwnFrame)
+      h.world[n] = node.local;
     for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) {
       h.parent[*child] = std::int32_t(n);
       h.depth[*child] = h.depth[n] + 1;

@@ -128,9 +128,9 @@ ClusteredPoints clusterPoints(std::span<const glm::vec3> positions) {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> keyed(positions.size());
   for (std::size_t i = 0; i < positions.size(); ++i) {
     const glm::vec3 q = glm::clamp((positions[i] - lo) / extent, 0.0f, 1.0f) * 1023.0f;
-    keyed[i] = {spreadBits(std::uint32_t(q.x)) | (spreadBits(std::uint32_t(q.y)) << 1) |
-                    (spreadBits(std::uint32_t(q.z)) << 2),
-                std::uint32_t(i)};
+    keyed[i] = {
+        spreadBits(std::uint32_t(q.x)) | (spreadBits(std::uint32_t(q.y)) << 1) | (spreadBits(std::uint32_t(q.z)) << 2),
+        std::uint32_t(i)};
   }
   std::sort(keyed.begin(), keyed.end());  // ties by index: deterministic
   for (int axis = 0; axis < 3; ++axis) {

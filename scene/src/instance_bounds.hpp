@@ -18,7 +18,7 @@ namespace pbs::detail {
 // box tests that grow with the logarithm of the mesh's size, not with it.
 struct ClusteredPoints {
   static constexpr std::size_t kClusterSize = 16;
-  static constexpr std::size_t kFanout = 16;  // boxes per box of the level above
+  static constexpr std::size_t kFanout = 16;    // boxes per box of the level above
   static constexpr std::size_t kMaxLevels = 8;  // 16 × 16^7 points: all a 32-bit index can reach
   // Coordinates stored per axis (x of every point, then y, then z), so that the values of a run of
   // points or boxes are computed in vector registers.

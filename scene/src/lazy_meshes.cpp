@@ -105,18 +105,20 @@ void LazyMeshes::load(std::span<const std::uint32_t> meshes) {
   try {
     // Isolated: a thread waiting here for its decodes must not take up another task meanwhile (say, a
     // capture that requires a mesh this very call is decoding: it would wait for itself).
-    tbb::this_task_arena::isolate([&] { tbb::parallel_for(std::size_t(0), meshes.size(), [&](std::size_t i) {
-      const std::uint32_t m = meshes[i];
-      decoded[i] = decode_(m);
-      const std::uint64_t fingerprint = meshFingerprint(decoded[i]);
-      if (fingerprint == fingerprints_[m]) return;
-      char text[160];
-      std::snprintf(text, sizeof text,
-                    "differs from the mesh the surfels were made from (fingerprint %016llx, expected %016llx): "
-                    "run pbs surfelize again",
-                    static_cast<unsigned long long>(fingerprint), static_cast<unsigned long long>(fingerprints_[m]));
-      throw InputError(source_, "mesh " + std::to_string(m), text);
-    }); });
+    tbb::this_task_arena::isolate([&] {
+      tbb::parallel_for(std::size_t(0), meshes.size(), [&](std::size_t i) {
+        const std::uint32_t m = meshes[i];
+        decoded[i] = decode_(m);
+        const std::uint64_t fingerprint = meshFingerprint(decoded[i]);
+        if (fingerprint == fingerprints_[m]) return;
+        char text[160];
+        std::snprintf(text, sizeof text,
+                      "differs from the mesh the surfels were made from (fingerprint %016llx, expected %016llx): "
+                      "run pbs surfelize again",
+                      static_cast<unsigned long long>(fingerprint), static_cast<unsigned long long>(fingerprints_[m]));
+        throw InputError(source_, "mesh " + std::to_string(m), text);
+      });
+    });
   } catch (...) {
     const std::lock_guard lock(mutex_);
     for (std::uint32_t m : meshes) state_[m] = State::Unloaded;

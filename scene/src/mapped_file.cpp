@@ -23,7 +23,7 @@ MappedFile::MappedFile(const std::filesystem::path& file) {
   if (descriptor < 0) fail("cannot open: ");
   // The mapping keeps the file; the descriptor is closed on every way out.
   const std::unique_ptr<const int, void (*)(const int*)> closing(&descriptor, [](const int* d) { ::close(*d); });
-  struct stat status{};
+  struct stat status {};
   if (::fstat(descriptor, &status) != 0) fail("cannot read: ");
   if (!S_ISREG(status.st_mode)) {
     throw InputError(name, "", S_ISDIR(status.st_mode) ? "is a directory, not a file" : "is not a regular file");

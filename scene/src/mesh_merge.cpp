@@ -67,7 +67,8 @@ Mesh mergeMeshes(std::span<const MeshPiece> pieces, std::string name) {
   }
 
   // Stable, so within a material the triangles keep the pieces' order.
-  std::stable_sort(parts.begin(), parts.end(), [](const PartRef& a, const PartRef& b) { return a.material < b.material; });
+  std::stable_sort(parts.begin(), parts.end(),
+                   [](const PartRef& a, const PartRef& b) { return a.material < b.material; });
   for (const PartRef& ref : parts) {
     const MeshPiece& piece = pieces[ref.piece];
     const MeshPart& part = piece.mesh->parts[ref.part];

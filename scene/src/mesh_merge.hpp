@@ -14,7 +14,7 @@ namespace pbs {
 
 struct MeshPiece {
   const Mesh* mesh = nullptr;
-  glm::dmat4 transform{1.0};        // into the merged mesh's frame
+  glm::dmat4 transform{1.0};         // into the merged mesh's frame
   std::uint32_t materialOffset = 0;  // added to each part's material
 };
 

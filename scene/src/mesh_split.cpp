@@ -29,7 +29,7 @@ std::size_t partContaining(const std::vector<MeshPart>& parts, std::uint32_t ind
 Mesh buildPiece(const Mesh& mesh, std::span<const std::uint32_t> triangles, std::vector<std::uint32_t>& remap) {
   Mesh piece;
   std::vector<std::uint32_t> sourceVertex;  // of each piece vertex
-  sourceVertex.reserve(triangles.size());  // a closed mesh has about half a vertex per triangle
+  sourceVertex.reserve(triangles.size());   // a closed mesh has about half a vertex per triangle
   piece.indices.reserve(triangles.size() * 3);
   std::size_t sourcePart = mesh.parts.size();  // of the previous triangle; none yet
   for (const std::uint32_t triangle : triangles) {

@@ -33,10 +33,10 @@ PlantMaterials addMaterials(Scene& scene) {
     return addMaterial(scene, name, glm::vec3(1.0f), std::int32_t(addTexture(scene, std::move(texture))));
   };
   PlantMaterials m{};
-  m.storagePaint = textured("storage paint", makePaintedSteelTexture("storage paint", {0.9f, 0.9f, 0.86f},
-                                                                     {0.75f, 0.1f, 0.08f}, 11));
-  m.vesselPaint = textured("vessel paint", makePaintedSteelTexture("vessel paint", {0.78f, 0.8f, 0.82f},
-                                                                   {0.1f, 0.3f, 0.65f}, 23));
+  m.storagePaint = textured("storage paint",
+                            makePaintedSteelTexture("storage paint", {0.9f, 0.9f, 0.86f}, {0.75f, 0.1f, 0.08f}, 11));
+  m.vesselPaint =
+      textured("vessel paint", makePaintedSteelTexture("vessel paint", {0.78f, 0.8f, 0.82f}, {0.1f, 0.3f, 0.65f}, 23));
   m.checkerPlate = textured("checker plate", makeCheckerPlateTexture("checker plate", 37));
   m.hazardStripes = textured("hazard stripes", makeHazardStripeTexture("hazard stripes", 41));
   m.concrete = textured("concrete", makeConcreteTexture("concrete", 53));
@@ -79,7 +79,8 @@ std::int32_t addCoolingTower(Scene& scene, std::uint32_t material) {
   std::vector<glm::vec2> outline;
   for (int i = 0; i <= 60; ++i) {
     const double y = height * i / 60.0;
-    outline.emplace_back(float(throat * std::sqrt(1.0 + ((y - throatHeight) / c) * ((y - throatHeight) / c))), float(y));
+    outline.emplace_back(float(throat * std::sqrt(1.0 + ((y - throatHeight) / c) * ((y - throatHeight) / c))),
+                         float(y));
   }
   return addMesh(scene, makeRevolvedWall(outline, 0.6f, 384), "cooling tower", material);
 }
@@ -88,7 +89,8 @@ std::int32_t addPylon(Scene& scene, std::uint32_t material) {
   std::vector<AssemblyPart> parts = {{makeLattice({8.0f, 1.5f, 45.0f, 18, 0.25f}), glm::dmat4(1.0), material}};
   const Mesh arm = makeLattice({1.6f, 0.4f, 11.0f, 6, 0.15f});
   for (double height : {34.0, 41.0})
-    for (double side : {-1.0, 1.0}) parts.push_back({arm, at(0.0, height, 0.0) * turnZ(-side * glm::half_pi<double>()), material});
+    for (double side : {-1.0, 1.0})
+      parts.push_back({arm, at(0.0, height, 0.0) * turnZ(-side * glm::half_pi<double>()), material});
   return addAssembly(scene, "pylon", parts);
 }
 

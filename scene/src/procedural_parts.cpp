@@ -26,8 +26,8 @@ glm::vec2 edgeNormal(glm::vec2 from, glm::vec2 to, glm::vec2 side) {
 
 // Appends a section point whose v continues the previous one's by the distance between them.
 void addSectionPoint(std::vector<SectionPoint>& section, glm::vec2 position, glm::vec2 normal, bool hardEdgeBefore) {
-  const float v = section.empty() ? 0.0f
-                                  : section.back().v + glm::distance(section.back().position, position) * kUvPerMetre;
+  const float v =
+      section.empty() ? 0.0f : section.back().v + glm::distance(section.back().position, position) * kUvPerMetre;
   section.push_back({position, normal, v, hardEdgeBefore});
 }
 
@@ -168,7 +168,8 @@ Mesh makeGear(const GearShape& shape, std::uint32_t arcSegments) {
     arc(start + 0.6f * pitch, start + 0.85f * pitch, shape.tipRadius);
   }
   std::vector<glm::vec2> hole(angles.size());
-  for (std::size_t i = 0; i < angles.size(); ++i) hole[i] = shape.holeRadius * glm::vec2(std::cos(angles[i]), std::sin(angles[i]));
+  for (std::size_t i = 0; i < angles.size(); ++i)
+    hole[i] = shape.holeRadius * glm::vec2(std::cos(angles[i]), std::sin(angles[i]));
 
   Mesh mesh;
   const std::vector<SweepFrame> frames =

@@ -31,7 +31,8 @@ glm::vec3 anyPerpendicular(glm::vec3 v) {
 }
 
 // The polyline's points with its corners replaced by circular arcs.
-std::vector<PathSample> roundCorners(std::span<const glm::vec3> polyline, float bendRadius, std::uint32_t bendSegments) {
+std::vector<PathSample> roundCorners(std::span<const glm::vec3> polyline, float bendRadius,
+                                     std::uint32_t bendSegments) {
   std::vector<glm::vec3> points;
   for (const glm::vec3& p : polyline)
     if (points.empty() || glm::distance(points.back(), p) > 1e-6f) points.push_back(p);
@@ -45,8 +46,8 @@ std::vector<PathSample> roundCorners(std::span<const glm::vec3> polyline, float 
     const float angle = std::acos(std::clamp(glm::dot(in, out), -1.0f, 1.0f));
     if (angle < 1e-4f) continue;
     // Each segment gives at most half its length to each of its two corners.
-    const float trim = std::min(bendRadius * std::tan(angle * 0.5f),
-                                0.5f * std::min(glm::length(before), glm::length(after)));
+    const float trim =
+        std::min(bendRadius * std::tan(angle * 0.5f), 0.5f * std::min(glm::length(before), glm::length(after)));
     const float radius = trim / std::tan(angle * 0.5f);
     const glm::vec3 start = points[i] - in * trim;
     glm::vec3 inward = out - in * glm::dot(in, out);
@@ -147,7 +148,8 @@ void appendCap(Mesh& mesh, std::span<const SectionPoint> section, const SweepFra
     mesh.normals.push_back(outward);
     mesh.uvs.push_back(point.position * uvPerUnit);
   }
-  for (auto v = centre + 1; v + 1 < std::uint32_t(mesh.positions.size()); ++v) appendFacingTriangle(mesh, centre, v, v + 1);
+  for (auto v = centre + 1; v + 1 < std::uint32_t(mesh.positions.size()); ++v)
+    appendFacingTriangle(mesh, centre, v, v + 1);
 }
 
 void appendCappedSweep(Mesh& mesh, std::span<const SectionPoint> section, std::span<const SweepFrame> frames,

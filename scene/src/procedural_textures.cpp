@@ -21,7 +21,9 @@ std::uint32_t hash(std::uint32_t x, std::uint32_t y, std::uint32_t seed) {
   return h;
 }
 
-float hashUnit(std::uint32_t x, std::uint32_t y, std::uint32_t seed) { return float(hash(x, y, seed) >> 8) * 0x1.0p-24f; }
+float hashUnit(std::uint32_t x, std::uint32_t y, std::uint32_t seed) {
+  return float(hash(x, y, seed) >> 8) * 0x1.0p-24f;
+}
 
 // Value noise in 0..1 on a lattice of `cells` × `cells` over the unit square that wraps at its
 // edges, so a texture built from it repeats without a seam.
@@ -77,8 +79,8 @@ Texture makePaintedSteelTexture(std::string name, glm::vec3 paint, glm::vec3 str
     const float shade = 0.92f + 0.16f * fractalNoise(u, v, 4, 3, seed);
     glm::vec3 colour = (v > 0.42f && v < 0.58f ? stripe : paint) * shade;
     const float rust = smoothstep(0.68f, 0.76f, fractalNoise(u, v, 8, 4, seed + 101));
-    const glm::vec3 rustColour = glm::mix(glm::vec3(0.42f, 0.2f, 0.08f), glm::vec3(0.25f, 0.12f, 0.05f),
-                                          fractalNoise(u, v, 32, 2, seed + 202));
+    const glm::vec3 rustColour =
+        glm::mix(glm::vec3(0.42f, 0.2f, 0.08f), glm::vec3(0.25f, 0.12f, 0.05f), fractalNoise(u, v, 32, 2, seed + 202));
     return glm::mix(colour, rustColour, rust);
   });
 }

@@ -40,8 +40,8 @@ bool outsideClipVolume(const Camera& camera, const Bounds& worldBox) {
   return std::any_of(allOutside.begin(), allOutside.end(), [](bool outside) { return outside; });
 }
 
-void drawSceneTriangles(const Scene& scene, const Hierarchy& hierarchy, const Camera& camera,
-                        Framebuffer& framebuffer, const TriangleOptions& options) {
+void drawSceneTriangles(const Scene& scene, const Hierarchy& hierarchy, const Camera& camera, Framebuffer& framebuffer,
+                        const TriangleOptions& options) {
   std::vector<std::uint32_t> nodes(scene.nodes.size());
   std::iota(nodes.begin(), nodes.end(), 0u);
   drawNodeTriangles(scene, hierarchy, nodes, camera, framebuffer, options);

@@ -86,20 +86,21 @@ SceneScan scanScene(const Scene& scene, const Hierarchy& structure, const SceneS
   std::uint32_t next = 0;
   const std::size_t inFlight = 2 * std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
   tbb::parallel_pipeline(
-      inFlight,
-      tbb::make_filter<void, std::uint32_t>(tbb::filter_mode::serial_in_order,
-                                            [&](tbb::flow_control& control) -> std::uint32_t {
-                                              if (next == meshCount) control.stop();
-                                              return next++;
-                                            }) &
-          tbb::make_filter<std::uint32_t, std::shared_ptr<const Mesh>>(tbb::filter_mode::parallel,
-                                                                        [&](std::uint32_t m) {
-                                                                          std::shared_ptr<const Mesh> mesh = read(m);
-                                                                          answer(m, *mesh);
-                                                                          return mesh;
-                                                                        }) &
-          tbb::make_filter<std::shared_ptr<const Mesh>, void>(
-              tbb::filter_mode::serial_in_order, [&](const std::shared_ptr<const Mesh>& mesh) { fingerprint.add(*mesh); }));
+      inFlight, tbb::make_filter<void, std::uint32_t>(tbb::filter_mode::serial_in_order,
+                                                      [&](tbb::flow_control& control) -> std::uint32_t {
+                                                        if (next == meshCount) control.stop();
+                                                        return next++;
+                                                      }) &
+                    tbb::make_filter<std::uint32_t, std::shared_ptr<const Mesh>>(tbb::filter_mode::parallel,
+                                                                                 [&](std::uint32_t m) {
+                                                                                   std::shared_ptr<const Mesh> mesh =
+                                                                                       read(m);
+                                                                                   answer(m, *mesh);
+                                                                                   return mesh;
+                                                                                 }) &
+                    tbb::make_filter<std::shared_ptr<const Mesh>, void>(
+                        tbb::filter_mode::serial_in_order,
+                        [&](const std::shared_ptr<const Mesh>& mesh) { fingerprint.add(*mesh); }));
   scan.sceneFingerprint = fingerprint.finish();
   if (request.ownFrameAreas) scan.ownFrameAreas = ownFrameSurfaceAreas(scene, structure, areas);
   return scan;

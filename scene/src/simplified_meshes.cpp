@@ -56,9 +56,9 @@ SimplifiedMesh simplifyMesh(const Mesh& mesh, const SimplifyOptions& options) {
   for (const MeshPart& part : mesh.parts) {
     const auto target = std::size_t(std::llround(options.ratio * double(part.indexCount / 3))) * 3;
     float error = 0.0f;
-    const std::size_t count = meshopt_simplify(indices.data(), mesh.indices.data() + part.firstIndex,
-                                               part.indexCount, &mesh.positions[0].x, mesh.positions.size(),
-                                               sizeof(glm::vec3), target, float(options.targetError), lock, &error);
+    const std::size_t count =
+        meshopt_simplify(indices.data(), mesh.indices.data() + part.firstIndex, part.indexCount, &mesh.positions[0].x,
+                         mesh.positions.size(), sizeof(glm::vec3), target, float(options.targetError), lock, &error);
     result.error = std::max(result.error, error);
     if (count == 0) continue;  // the whole part collapsed: no empty part is kept
     out.parts.push_back({std::uint32_t(kept.size()), std::uint32_t(count), part.material});

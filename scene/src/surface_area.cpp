@@ -39,13 +39,12 @@ double areaUnder(const Scene& scene, const std::vector<double>& unitAreas, std::
                  AreaOf& areaOf) {
   if (const std::optional<double> s2 = similarityScaleSquared(linear)) {
     // Below a similarity every instance scales alike: reduce to the identity, which reuses mesh areas.
-    if (*s2 != 1.0 || linear != glm::dmat3(1.0)) return *s2 * areaUnder(scene, unitAreas, node, glm::dmat3(1.0), areaOf);
+    if (*s2 != 1.0 || linear != glm::dmat3(1.0))
+      return *s2 * areaUnder(scene, unitAreas, node, glm::dmat3(1.0), areaOf);
   }
   const Node& n = scene.nodes[node];
   const bool identity = linear == glm::dmat3(1.0);
-  double area = n.mesh < 0   ? 0.0
-                : identity   ? unitAreas[std::size_t(n.mesh)]
-                             : areaOf(std::uint32_t(n.mesh), linear);
+  double area = n.mesh < 0 ? 0.0 : identity ? unitAreas[std::size_t(n.mesh)] : areaOf(std::uint32_t(n.mesh), linear);
   for (std::uint32_t child : n.children)
     area += areaUnder(scene, unitAreas, child, linear * glm::dmat3(scene.nodes[child].local), areaOf);
   return area;
@@ -61,8 +60,8 @@ std::vector<std::uint32_t> irregularNodes(const Scene& scene, const Hierarchy& h
 }
 
 // ownFrameSurfaceAreas from the mesh areas and each irregular node's subtree area under its local transform.
-std::vector<double> sumOwnFrameAreas(const Scene& scene, const Hierarchy& hierarchy, const std::vector<double>& unitAreas,
-                                     const std::vector<double>& underLocal) {
+std::vector<double> sumOwnFrameAreas(const Scene& scene, const Hierarchy& hierarchy,
+                                     const std::vector<double>& unitAreas, const std::vector<double>& underLocal) {
   std::vector<double> own(scene.nodes.size(), 0.0);
   for (auto it = hierarchy.preorder.rbegin(); it != hierarchy.preorder.rend(); ++it) {
     const Node& n = scene.nodes[*it];
@@ -90,7 +89,9 @@ double meshArea(const Mesh& mesh, const glm::dmat3& linear) {
 }
 
 double subtreeSurfaceArea(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node) {
-  const auto areaOf = [&](std::uint32_t mesh, const glm::dmat3& linear) { return meshArea(scene.meshes[mesh], linear); };
+  const auto areaOf = [&](std::uint32_t mesh, const glm::dmat3& linear) {
+    return meshArea(scene.meshes[mesh], linear);
+  };
   return areaUnder(scene, meshAreas(scene), node, glm::dmat3(hierarchy.world[node]), areaOf);
 }
 
@@ -100,7 +101,9 @@ std::vector<double> ownFrameSurfaceAreas(const Scene& scene, const Hierarchy& hi
   const std::vector<std::uint32_t> irregular = irregularNodes(scene, hierarchy);
   tbb::parallel_for(std::size_t(0), irregular.size(), [&](std::size_t i) {
     const std::uint32_t n = irregular[i];
-    const auto areaOf = [&](std::uint32_t mesh, const glm::dmat3& linear) { return meshArea(scene.meshes[mesh], linear); };
+    const auto areaOf = [&](std::uint32_t mesh, const glm::dmat3& linear) {
+      return meshArea(scene.meshes[mesh], linear);
+    };
     underLocal[n] = areaUnder(scene, unitAreas, n, glm::dmat3(scene.nodes[n].local), areaOf);
   });
   return sumOwnFrameAreas(scene, hierarchy, unitAreas, underLocal);
@@ -119,7 +122,8 @@ std::vector<MeshAreaQuery> ownFrameAreaQueries(const Scene& scene, const Hierarc
   return queries;
 }
 
-std::vector<double> ownFrameSurfaceAreas(const Scene& scene, const Hierarchy& hierarchy, std::span<const double> answers) {
+std::vector<double> ownFrameSurfaceAreas(const Scene& scene, const Hierarchy& hierarchy,
+                                         std::span<const double> answers) {
   const std::vector<double> unitAreas(answers.begin(), answers.begin() + std::ptrdiff_t(scene.meshes.size()));
   std::size_t next = scene.meshes.size();
   const auto answer = [&](std::uint32_t, const glm::dmat3&) { return answers[next++]; };

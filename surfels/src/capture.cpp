@@ -25,8 +25,8 @@ void appendSurfels(const Framebuffer& framebuffer, const glm::vec3& direction, s
   for (std::size_t pixel = 0; pixel < framebuffer.pixelCount(); ++pixel) {
     if (!framebuffer.covered(pixel) || framebuffer.color[pixel].a < kMinCoveredAlpha) continue;
     const glm::vec3 normal = framebuffer.normal[pixel];
-    surfels.push_back({framebuffer.position[pixel], glm::dot(normal, direction) > 0.0f ? -normal : normal,
-                       framebuffer.color[pixel]});
+    surfels.push_back(
+        {framebuffer.position[pixel], glm::dot(normal, direction) > 0.0f ? -normal : normal, framebuffer.color[pixel]});
   }
 }
 
@@ -70,7 +70,8 @@ CaptureResult captureNode(const Scene& scene, const Hierarchy& hierarchy, std::u
   if (options.backend == CaptureOptions::Backend::Embree) {
     // Built once for all views: the BVH build is the Embree backend's main fixed cost.
     const EmbreeScene embree(scene, hierarchy, nodes);
-    return captureBox(box, options, [&](const Camera& camera, Framebuffer& framebuffer) { embree.render(camera, framebuffer); });
+    return captureBox(box, options,
+                      [&](const Camera& camera, Framebuffer& framebuffer) { embree.render(camera, framebuffer); });
   }
   return captureBox(box, options, [&](const Camera& camera, Framebuffer& framebuffer) {
     drawNodeTriangles(scene, hierarchy, nodes, camera, framebuffer, TriangleOptions{.cullBackFaces = false});

@@ -14,7 +14,8 @@ namespace pbs {
 
 namespace {
 
-constexpr ValueNames<FrameKind, 3> kKindNames{{{{FrameKind::Near, "near"}, {FrameKind::Mid, "mid"}, {FrameKind::Far, "far"}}}};
+constexpr ValueNames<FrameKind, 3> kKindNames{
+    {{{FrameKind::Near, "near"}, {FrameKind::Mid, "mid"}, {FrameKind::Far, "far"}}}};
 
 }  // namespace
 

@@ -23,7 +23,8 @@ constexpr ValueNames<RenderMode, 4> kModeNames{{{{RenderMode::Surfels, "surfels"
 
 // Only blended surfels leave pixels partly covered.
 ChannelMask coverageChannel(const FrameOptions& options) {
-  return options.mode == RenderMode::Surfels && options.lod.splat == SplatMode::Blend ? ChannelMask{kChannelCoverage} : ChannelMask{0};
+  return options.mode == RenderMode::Surfels && options.lod.splat == SplatMode::Blend ? ChannelMask{kChannelCoverage}
+                                                                                      : ChannelMask{0};
 }
 
 }  // namespace
@@ -143,7 +144,8 @@ LodStats FrameRenderer::drawPass(const Camera& camera, double& loadSeconds) {
                              : renderLod(scene_, hierarchy_, none_, camera, gbuffer_, options_.lod);
       break;
     case RenderMode::Simplified:
-      pass = renderSimplifiedLod(scene_, *sources_.simplified, hierarchy_, *sources_.surfels, camera, gbuffer_, options_.lod);
+      pass = renderSimplifiedLod(scene_, *sources_.simplified, hierarchy_, *sources_.surfels, camera, gbuffer_,
+                                 options_.lod);
       break;
     case RenderMode::Embree: {
       const auto cast = detail::Clock::now();

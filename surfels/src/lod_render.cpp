@@ -29,10 +29,9 @@ constexpr ValueNames<SplatMode, 2> kSplatNames{{{{SplatMode::Nearest, "nearest"}
 // screen when it draws surfels), in world space.
 glm::vec3 viewTowardNode(const SplatArray& splats, const glm::dmat4& world, const Camera& camera) {
   const glm::dmat4 worldFromEye = glm::inverse(camera.view);
-  const glm::dvec3 toNode = camera.isOrthographic()
-                                ? glm::dvec3(worldFromEye * glm::dvec4(0.0, 0.0, -1.0, 0.0))
-                                : glm::dvec3(world * glm::dvec4(splats.box.center(), 1.0)) -
-                                      glm::dvec3(worldFromEye * glm::dvec4(0.0, 0.0, 0.0, 1.0));
+  const glm::dvec3 toNode = camera.isOrthographic() ? glm::dvec3(worldFromEye * glm::dvec4(0.0, 0.0, -1.0, 0.0))
+                                                    : glm::dvec3(world * glm::dvec4(splats.box.center(), 1.0)) -
+                                                          glm::dvec3(worldFromEye * glm::dvec4(0.0, 0.0, 0.0, 1.0));
   const double length = glm::length(toNode);
   return length > 0.0 ? glm::vec3(toNode / length) : glm::vec3(0.0f, 0.0f, -1.0f);
 }

@@ -44,9 +44,7 @@ struct CellSortedPoints {
 
 constexpr int kBlockShift = 2;  // blocks of 4 × 4 × 4 cells
 
-glm::ivec3 dimsFor(const glm::vec3& extent, float cellSize) {
-  return glm::ivec3(glm::floor(extent / cellSize)) + 1;
-}
+glm::ivec3 dimsFor(const glm::vec3& extent, float cellSize) { return glm::ivec3(glm::floor(extent / cellSize)) + 1; }
 
 // Cells about the spacing of the last chosen points (extent / sqrt(max) on a surface), but no more
 // cells than twice the points, so memory and empty-cell visits stay linear.
@@ -67,8 +65,9 @@ CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t 
     }
   }
   grid.dims = dimsFor(extent, grid.cellSize);
-  const float magnitude = std::max({std::abs(box.lo.x), std::abs(box.lo.y), std::abs(box.lo.z), std::abs(box.lo.x + extent.x),
-                                    std::abs(box.lo.y + extent.y), std::abs(box.lo.z + extent.z)});
+  const float magnitude =
+      std::max({std::abs(box.lo.x), std::abs(box.lo.y), std::abs(box.lo.z), std::abs(box.lo.x + extent.x),
+                std::abs(box.lo.y + extent.y), std::abs(box.lo.z + extent.z)});
   grid.slack = 1e-3f * grid.cellSize + 16.0f * std::numeric_limits<float>::epsilon() * magnitude;
   const std::size_t cells = static_cast<std::size_t>(grid.dims.x) * grid.dims.y * grid.dims.z;
   std::vector<std::uint32_t> cellOfPoint(points.size());

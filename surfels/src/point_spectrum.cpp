@@ -95,9 +95,10 @@ FlatSpectrum flatPatchSpectrum(const PointOrdering& ordering, const FlatSpectrum
       options.candidates > std::numeric_limits<std::uint32_t>::max() / 4)
     throw std::invalid_argument("flatPatchSpectrum: count or candidates too large");
   FlatSpectrum result;
-  result.maxFrequency = options.maxFrequency != 0
-                            ? options.maxFrequency
-                            : std::max<std::uint32_t>(1, std::uint32_t(std::lround(4.0 * std::sqrt(double(options.count)))));
+  result.maxFrequency =
+      options.maxFrequency != 0
+          ? options.maxFrequency
+          : std::max<std::uint32_t>(1, std::uint32_t(std::lround(4.0 * std::sqrt(double(options.count)))));
   const std::size_t width = 2 * std::size_t(result.maxFrequency) + 1;
   std::vector<double> mean(width * width, 0.0);
   // The ordered patch is [0, 2)² with 4× the candidates and 4× the points; the measured window is its
@@ -124,8 +125,8 @@ FlatSpectrum flatPatchSpectrum(const PointOrdering& ordering, const FlatSpectrum
   }
   result.count = std::uint32_t((measured + options.realizations / 2) / options.realizations);
   result.radial = radialSpectrum(mean, result.maxFrequency);
-  const auto lowEnd = std::clamp<std::size_t>(std::size_t(std::sqrt(double(result.count)) / 2.0), 1,
-                                              result.radial.power.size());
+  const auto lowEnd =
+      std::clamp<std::size_t>(std::size_t(std::sqrt(double(result.count)) / 2.0), 1, result.radial.power.size());
   double low = 0.0;
   for (std::size_t r = 0; r < lowEnd; ++r) low += result.radial.power[r];
   result.lowFrequencyPower = low / double(lowEnd);

@@ -319,9 +319,10 @@ std::vector<glm::u8vec4> prefilteredColors(std::span<const glm::vec3> positions,
   // The first surfels' neighbourhoods are the largest (the first is everything): small grains let the
   // workers share them.
   constexpr std::size_t kGrain = 8;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
-    filterColors(grid, chosen, distances, byCell, r.begin(), r.end(), colors);
-  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), kGrain),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      filterColors(grid, chosen, distances, byCell, r.begin(), r.end(), colors);
+                    });
   return colors;
 }
 

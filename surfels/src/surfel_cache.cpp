@@ -73,8 +73,7 @@ void SurfelCache::loadPrefix(std::uint32_t array, std::size_t count) {
   const std::size_t wanted = std::min(splats.size(), chunks * kSurfelsPerChunk);
   if (wanted <= splats.loaded()) return;
   const std::size_t from = splats.loaded();
-  const std::vector<Surfel> read =
-      reader_.readRange(array, std::uint32_t(from), std::uint32_t(wanted - from));
+  const std::vector<Surfel> read = reader_.readRange(array, std::uint32_t(from), std::uint32_t(wanted - from));
   appendSurfels(splats, read);
   stats_.bytesRead = reader_.dataBytesRead();
   stats_.bytesLoaded += read.size() * kSplatBytesPerSurfel;

@@ -65,7 +65,7 @@ std::array<std::int16_t, 2> octEncode(const glm::vec3& normal) {
   glm::dvec3 n(normal);
   const double scale = std::max({std::abs(n.x), std::abs(n.y), std::abs(n.z)});
   if (!std::isfinite(scale) || !(scale > 0.0)) return {0, 0};  // +Z
-  n /= scale;  // before squaring, so tiny normals do not underflow
+  n /= scale;                                                  // before squaring, so tiny normals do not underflow
   n /= std::sqrt(glm::dot(n, n));
 
   double x = n.x / (std::abs(n.x) + std::abs(n.y) + std::abs(n.z));
@@ -124,7 +124,8 @@ Surfel decodeSurfel(const PackedSurfel& packed, const Bounds& box) {
   std::uint64_t position = 0;
   for (int i = 7; i >= 0; --i) position = (position << 8) | packed[i];
   std::int16_t oct[2];
-  for (int c = 0; c < 2; ++c) oct[c] = static_cast<std::int16_t>(std::uint16_t(packed[8 + 2 * c] | (packed[9 + 2 * c] << 8)));
+  for (int c = 0; c < 2; ++c)
+    oct[c] = static_cast<std::int16_t>(std::uint16_t(packed[8 + 2 * c] | (packed[9 + 2 * c] << 8)));
 
   Surfel surfel;
   for (int i = 0; i < 3; ++i) {

@@ -35,9 +35,9 @@
 //   data, per array at its data offset: count × surfelBytes(encoding) surfels (chunks of kSurfelsPerChunk), then
 //     one u64 checksum per chunk (Hash64 of the chunk's bytes, seeded by the chunk's index); a surfel is
 //     position u64, normal 2 × i16, then its colour: RGBA u8×4, RGB u8×3 or nothing
-// Version 3 has no scene table. Version 2 differs in its 96-byte array records (the colour encoding's place is reserved, 0 so RGBA,
-// and the record ends after the data offset) and in its node records (path length u32, the whole path,
-// array index u32).
+// Version 3 has no scene table. Version 2 differs in its 96-byte array records (the colour encoding's place is
+// reserved, 0 so RGBA, and the record ends after the data offset) and in its node records (path length u32, the whole
+// path, array index u32).
 #pragma once
 
 #include "pbs/raster/hash64.hpp"

@@ -79,8 +79,9 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
   }
   if (header.fileBytes > fileSize) throw InputError(file, "header", beyond(header.fileBytes, 0, fileSize));
   if (header.fileBytes < fileSize) {
-    throw InputError(file, "header",
-                     "file size " + number(fileSize) + " exceeds the " + number(header.fileBytes) + " bytes it declares");
+    throw InputError(
+        file, "header",
+        "file size " + number(fileSize) + " exceeds the " + number(header.fileBytes) + " bytes it declares");
   }
   fingerprint_ = header.fingerprint;
   version_ = header.version;
@@ -95,12 +96,12 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
   // Array table: the count is bounded by the file size before the table is read.
   const std::uint64_t recordBytes = arrayRecordBytes(header.version);
   if (header.arrayCount > fileSize / recordBytes) {
-    throw InputError(file, "array table",
-                     "counts absurd: " + number(header.arrayCount) + " arrays cannot fit in " + number(fileSize) +
-                         " bytes");
+    throw InputError(
+        file, "array table",
+        "counts absurd: " + number(header.arrayCount) + " arrays cannot fit in " + number(fileSize) + " bytes");
   }
-  const std::vector<std::uint8_t> arrayTable = readRange(
-      "array table", header.arrayTableOffset, header.arrayCount * recordBytes + kChecksumBytes);
+  const std::vector<std::uint8_t> arrayTable =
+      readRange("array table", header.arrayTableOffset, header.arrayCount * recordBytes + kChecksumBytes);
   checkTable("array table", arrayTable, kArrayTableSeed);
   arrays_.resize(header.arrayCount);
   std::vector<std::uint32_t> encodings(header.arrayCount);  // checked below, where errors can name a node
@@ -126,8 +127,8 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
       layoutNode(nodeSource, stored, header.version);
       const std::string& previous = n > 0 ? nodes_[n - 1].path : none;
       if (stored.shared > previous.size())
-        throw ShortRecord("node record " + number(n) + " shares " + number(stored.shared) +
-                          " bytes with a path of " + number(previous.size()));
+        throw ShortRecord("node record " + number(n) + " shares " + number(stored.shared) + " bytes with a path of " +
+                          number(previous.size()));
       nodes_[n] = {previous.substr(0, stored.shared) + stored.suffix, stored.array};
     }
   } catch (const ShortRecord& e) {
@@ -138,13 +139,13 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
   }
   for (const SurfelNodeRecord& node : nodes_) {
     if (node.array >= arrays_.size()) {
-      throw InputError(file, "node " + node.path,
-                       "uses array " + number(node.array) + " of " + number(arrays_.size()));
+      throw InputError(file, "node " + node.path, "uses array " + number(node.array) + " of " + number(arrays_.size()));
     }
   }
 
   // Scene table (version 4): right after the node table, its counts bounded by the file size.
-  std::uint64_t tablesEnd = std::max(header.arrayTableOffset + arrayTable.size(), header.nodeTableOffset + nodeTable.size());
+  std::uint64_t tablesEnd =
+      std::max(header.arrayTableOffset + arrayTable.size(), header.nodeTableOffset + nodeTable.size());
   tablesBytes_ = headerBytes.size() + arrayTable.size() + nodeTable.size();
   if (header.version >= 4) {
     const std::uint64_t offset = header.nodeTableOffset + nodeTable.size();
@@ -213,8 +214,9 @@ void SurfelFileReader::requireScene(std::uint64_t fingerprint) {
 void SurfelFileReader::requireStructure(std::uint64_t structure) {
   if (sceneTable_.instanceBounds.empty())
     throw InputError(path_.string(), "scene table",
-                     "none in a file of version " + number(version_) + ": run pbs surfelize again to read the scene's "
-                     "meshes as frames draw them");
+                     "none in a file of version " + number(version_) +
+                         ": run pbs surfelize again to read the scene's "
+                         "meshes as frames draw them");
   sceneRequired_ = structure == sceneTable_.structure;
   if (sceneRequired_) return;
   char text[160];
@@ -270,9 +272,9 @@ std::vector<Surfel> SurfelFileReader::readRange(std::uint32_t array, std::uint32
     const std::uint64_t size = std::min<std::uint64_t>(kSurfelsPerChunk * stored, data.size() - at);
     if (chunkChecksum(std::span(data).subspan(at, size), firstChunk + c) !=
         readU64(checksums.data() + c * kChecksumBytes)) {
-      throw InputError(path_.string(), element(),
-                       "checksum mismatch in surfel chunk " + number(firstChunk + c) + " (array " + number(array) +
-                           ")");
+      throw InputError(
+          path_.string(), element(),
+          "checksum mismatch in surfel chunk " + number(firstChunk + c) + " (array " + number(array) + ")");
     }
   }
 

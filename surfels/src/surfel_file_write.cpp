@@ -45,7 +45,8 @@ std::vector<StoredNode> storedNodes(std::span<const SurfelNodeRecord> nodes) {
   std::vector<StoredNode> stored;
   stored.reserve(nodes.size());
   const std::string none;
-  for (std::size_t n = 0; n < nodes.size(); ++n) stored.push_back(storedNode(nodes[n], n > 0 ? nodes[n - 1].path : none));
+  for (std::size_t n = 0; n < nodes.size(); ++n)
+    stored.push_back(storedNode(nodes[n], n > 0 ? nodes[n - 1].path : none));
   return stored;
 }
 
@@ -66,7 +67,8 @@ void checkSceneTable(const SurfelSceneTable& table) {
 }
 
 // Where the data begins: after the header and the three tables with their checksums.
-std::uint64_t dataStart(std::uint64_t arrayCount, std::span<const SurfelNodeRecord> nodes, const SurfelSceneTable& scene) {
+std::uint64_t dataStart(std::uint64_t arrayCount, std::span<const SurfelNodeRecord> nodes,
+                        const SurfelSceneTable& scene) {
   return kHeaderBytes + arrayCount * arrayRecordBytes(kSurfelFileVersion) + kChecksumBytes +
          nodeTableBytes(storedNodes(nodes)) + kChecksumBytes +
          sceneTableBytes(scene.instanceBounds.size(), scene.meshes.size());
@@ -113,8 +115,13 @@ std::vector<std::uint8_t> encodeArrayData(const SurfelArray& array, SurfelColorE
 SurfelFileWriter::SurfelFileWriter(const std::filesystem::path& path, std::uint64_t sceneFingerprint,
                                    const SurfelFileOptions& options, std::vector<SurfelNodeRecord> nodes,
                                    SurfelSceneTable sceneTable, std::uint32_t arrayCount)
-    : path_(path), fingerprint_(sceneFingerprint), options_(options), nodes_(std::move(nodes)),
-      sceneTable_(std::move(sceneTable)), infos_(arrayCount), waiting_(arrayCount) {
+    : path_(path),
+      fingerprint_(sceneFingerprint),
+      options_(options),
+      nodes_(std::move(nodes)),
+      sceneTable_(std::move(sceneTable)),
+      infos_(arrayCount),
+      waiting_(arrayCount) {
   checkNodes(nodes_, arrayCount);
   checkSceneTable(sceneTable_);
   temporary_ = path_;
@@ -138,16 +145,16 @@ void SurfelFileWriter::add(std::uint32_t index, const SurfelArray& array) {
     throw std::invalid_argument("surfel file: array " + std::to_string(index) + " added twice or out of range");
   checkArray(index, array);
   const SurfelColorEncoding encoding = colorEncodingOf(array.surfels);
-  infos_[index] = {.box = array.box,
-                   .coverage = array.coverage,
-                   .packing = array.packing,
-                   .packingEnd = array.packingEnd,
-                   .area = array.area,
-                   .count = std::uint32_t(array.surfels.size()),
-                   .dataOffset = 0,
-                   .colorEncoding = encoding,
-                   .constantColor = encoding == SurfelColorEncoding::Constant ? array.surfels.front().color
-                                                                              : glm::u8vec4(0)};
+  infos_[index] = {
+      .box = array.box,
+      .coverage = array.coverage,
+      .packing = array.packing,
+      .packingEnd = array.packingEnd,
+      .area = array.area,
+      .count = std::uint32_t(array.surfels.size()),
+      .dataOffset = 0,
+      .colorEncoding = encoding,
+      .constantColor = encoding == SurfelColorEncoding::Constant ? array.surfels.front().color : glm::u8vec4(0)};
   waiting_[index] = encodeArrayData(array, encoding);
   bytesWaiting_ += waiting_[index]->size();
   writeReadyArrays();

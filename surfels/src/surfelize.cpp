@@ -174,9 +174,10 @@ struct ArrayMaker {
         options(options),
         plan(detail::planSurfelArrays(scene, hierarchy, options.file.threshold)),
         paths(plan.nodes.empty() ? std::vector<std::string>() : nodePaths(scene, hierarchy)),
-        scan(scanScene(scene, hierarchy,
-                       {.worldBounds = worldBounds, .subtreeStarts = plan.representative, .ownFrameAreas = !plan.nodes.empty()},
-                       read)) {}
+        scan(scanScene(
+            scene, hierarchy,
+            {.worldBounds = worldBounds, .subtreeStarts = plan.representative, .ownFrameAreas = !plan.nodes.empty()},
+            read)) {}
 
   const Scene& scene;
   const Hierarchy& hierarchy;
@@ -303,7 +304,8 @@ struct ArrayMaker {
 std::vector<glm::vec3> orderingPositions(std::span<const Surfel> surfels) {
   const glm::vec3 side = glm::normalize(glm::vec3(0.3f, 0.8f, 0.52f));  // no axis: walls are often axis-aligned
   float extent = 0.0f;
-  for (const Surfel& s : surfels) extent = std::max({extent, std::abs(s.position.x), std::abs(s.position.y), std::abs(s.position.z)});
+  for (const Surfel& s : surfels)
+    extent = std::max({extent, std::abs(s.position.x), std::abs(s.position.y), std::abs(s.position.z)});
   const glm::vec3 shift(extent > 0.0f ? 3.0f * extent : 1.0f, 0.0f, 0.0f);
   std::vector<glm::vec3> positions(surfels.size());
   for (std::size_t i = 0; i < surfels.size(); ++i)
@@ -327,7 +329,8 @@ std::uint64_t surfelizeMemoryEstimate(const Scene& scene, const Hierarchy& hiera
   const std::uint64_t held =
       arraysHeldInIndexOrder(childArrays(scene, plan, options.source)) + std::uint64_t(std::max(workers, 1));
   const std::uint64_t arrays = std::min<std::uint64_t>(held, plan.representative.size()) * array;
-  return std::uint64_t(std::max(workers, 1)) * (capture + frame) + arrays + plan.representative.size() * sizeof(SurfelArray);
+  return std::uint64_t(std::max(workers, 1)) * (capture + frame) + arrays +
+         plan.representative.size() * sizeof(SurfelArray);
 }
 
 std::string_view captureSourceName(CaptureSource source) {
@@ -371,8 +374,8 @@ void surfelizeToFile(const Scene& scene, const Hierarchy& hierarchy, const Surfe
 }
 
 void surfelizeToFile(Scene& scene, const LazyMeshes::Decode& decode, std::uint64_t cacheBytes,
-                          const std::string& source, const SurfelizeOptions& options, const std::filesystem::path& path,
-                          SurfelizeStats* stats) {
+                     const std::string& source, const SurfelizeOptions& options, const std::filesystem::path& path,
+                     SurfelizeStats* stats) {
   const Hierarchy structure = analyzeStructure(scene);
   const MeshReader read = [&](std::uint32_t mesh) { return std::make_shared<const Mesh>(decode(mesh)); };
   ArrayMaker maker(scene, structure, options, read, true);

@@ -85,7 +85,8 @@ inline void repairSurfelChecksums(std::vector<std::uint8_t>& bytes) {
   const std::uint64_t arrayTable = loadU64(b + 72);
   const std::uint64_t nodeTable = loadU64(b + 80);
   const std::uint64_t nodeTableBytes = loadU64(b + 88);
-  const bool arraysFit = arrayCount <= size / recordBytes && fits(arrayTable, arrayCount * recordBytes + kChecksumBytes);
+  const bool arraysFit =
+      arrayCount <= size / recordBytes && fits(arrayTable, arrayCount * recordBytes + kChecksumBytes);
   if (arraysFit) {
     for (std::uint64_t a = 0; a < arrayCount; ++a) {
       const std::uint8_t* record = b + arrayTable + a * recordBytes;

@@ -30,16 +30,16 @@ GltfBuilder texturedQuad() {
   GltfBuilder b;
   const int positions = b.addAccessor(std::vector<float>{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, kFloat, "VEC3");
   const int normals = b.addAccessor(std::vector<float>{0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, kFloat, "VEC3");
-  const int uvs = b.addAccessor(std::vector<std::uint16_t>{0, 0, 65535, 0, 65535, 65535, 0, 65535}, kUnsignedShort,
-                                "VEC2", true);
+  const int uvs =
+      b.addAccessor(std::vector<std::uint16_t>{0, 0, 65535, 0, 65535, 65535, 0, 65535}, kUnsignedShort, "VEC2", true);
   const int indices = b.addAccessor(std::vector<std::uint8_t>{0, 1, 2, 0, 2, 3}, kUnsignedByte, "SCALAR");
   const int image = b.addView(fromBase64(kPngRgba2x2));
   b.append("images", {{"bufferView", image}, {"mimeType", "image/png"}});
   b.append("samplers", {{"wrapS", 33071}, {"wrapT", 33648}, {"magFilter", 9728}, {"minFilter", 9987}});
   b.append("textures", {{"source", 0}, {"sampler", 0}});
-  b.addMaterial({{"name", "checker"},
-                 {"pbrMetallicRoughness",
-                  {{"baseColorFactor", {1.0, 0.5, 0.25, 1.0}}, {"baseColorTexture", {{"index", 0}}}}}});
+  b.addMaterial(
+      {{"name", "checker"},
+       {"pbrMetallicRoughness", {{"baseColorFactor", {1.0, 0.5, 0.25, 1.0}}, {"baseColorTexture", {{"index", 0}}}}}});
   b.addMesh({{{"attributes", {{"POSITION", positions}, {"NORMAL", normals}, {"TEXCOORD_0", uvs}}},
               {"indices", indices},
               {"material", 0}}});
@@ -67,19 +67,20 @@ GltfBuilder uriTexture() {
 GltfBuilder hierarchy() {
   GltfBuilder b;
   const int strip = b.addAccessor(std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 2, 0}, kFloat, "VEC3");
-  const int quantized = b.addAccessor(std::vector<std::int8_t>{0, 0, 0, 127, 0, 0, 0, 127, 0, 0, 0, 127}, kByte,
-                                      "VEC3", true);
+  const int quantized =
+      b.addAccessor(std::vector<std::int8_t>{0, 0, 0, 127, 0, 0, 0, 127, 0, 0, 0, 127}, kByte, "VEC3", true);
   const int fanIndices = b.addAccessor(std::vector<std::uint32_t>{0, 1, 2, 3}, kUnsignedInt, "SCALAR");
   // Sparse: three zero positions of which two are replaced.
   const int sparseIndices = b.addView(bytesOf(std::vector<std::uint16_t>{1, 2}));
   const int sparseValues = b.addView(bytesOf(std::vector<float>{1, 0, 0, 0, 1, 0}));
-  const int sparse = b.append("accessors", {{"componentType", kFloat},
-                                            {"count", 3},
-                                            {"type", "VEC3"},
-                                            {"sparse",
-                                             {{"count", 2},
-                                              {"indices", {{"bufferView", sparseIndices}, {"componentType", kUnsignedShort}}},
-                                              {"values", {{"bufferView", sparseValues}}}}}});
+  const int sparse =
+      b.append("accessors", {{"componentType", kFloat},
+                             {"count", 3},
+                             {"type", "VEC3"},
+                             {"sparse",
+                              {{"count", 2},
+                               {"indices", {{"bufferView", sparseIndices}, {"componentType", kUnsignedShort}}},
+                               {"values", {{"bufferView", sparseValues}}}}}});
   b.addMesh({{{"attributes", {{"POSITION", strip}}}, {"mode", kModeStrip}},
              {{"attributes", {{"POSITION", quantized}}}, {"indices", fanIndices}, {"mode", kModeFan}},
              {{"attributes", {{"POSITION", strip}}}, {"mode", kModePoints}}});
@@ -87,8 +88,8 @@ GltfBuilder hierarchy() {
   b.addMaterial({{"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.4, 0.6, 1.0}}}}});
   b.addNode({{"name", "root"}, {"children", std::vector<int>{1, 2, 3}}, {"translation", {1.0, 2.0, 3.0}}});
   b.addNode({{"mesh", 0}, {"rotation", {0.0, 0.7071068, 0.0, 0.7071068}}, {"scale", {2.0, 2.0, 2.0}}});
-  b.addNode({{"mesh", 0},
-             {"matrix", {1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 5.0, 0.0, 0.0, 1.0}}});
+  b.addNode(
+      {{"mesh", 0}, {"matrix", {1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 5.0, 0.0, 0.0, 1.0}}});
   b.addNode({{"children", std::vector<int>{4}}});
   b.addNode({{"mesh", 1}});
   b.json["extensionsUsed"] = {"KHR_mesh_quantization"};
@@ -135,7 +136,8 @@ Scene exportedScene() {
   texture.wrapS = TextureWrap::ClampToEdge;
   texture.magFilter = TextureFilter::Nearest;
   scene.textures = {texture};
-  scene.materials = {Material{"textured", glm::vec4(1.0f), 0}, Material{"plain", glm::vec4(0.5f, 0.5f, 0.5f, 1.0f), -1}};
+  scene.materials = {Material{"textured", glm::vec4(1.0f), 0},
+                     Material{"plain", glm::vec4(0.5f, 0.5f, 0.5f, 1.0f), -1}};
   Node root{"root", glm::dmat4(1.0), {1, 2}, -1};
   Node a{"a", glm::dmat4(1.0), {}, 0};
   Node b{"b", glm::dmat4(1.0), {}, 1};

@@ -37,7 +37,9 @@ struct QuadInput {
   std::vector<glm::vec2> uvs{{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   std::vector<std::uint32_t> indices{0, 1, 2, 0, 2, 3};
   std::vector<MeshPart> parts{{0, 6, 0}};
-  Texture texture{.name = "checker", .width = 2, .height = 2,
+  Texture texture{.name = "checker",
+                  .width = 2,
+                  .height = 2,
                   .rgba8 = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255}};
   std::vector<SurfaceMaterial> materials{{glm::vec4(1.0f), &texture}};
   std::vector<glm::vec3> points;
@@ -54,12 +56,24 @@ struct QuadInput {
   QuadInput(const QuadInput&) = delete;  // the material points at this object's texture
 
   TriangleDraw triangles() const {
-    return TriangleDraw{.positions = positions, .normals = normals, .uvs = uvs, .indices = indices, .parts = parts,
-                        .materials = materials, .worldFromObject = worldFromObject, .nodeId = 1, .instanceId = 2};
+    return TriangleDraw{.positions = positions,
+                        .normals = normals,
+                        .uvs = uvs,
+                        .indices = indices,
+                        .parts = parts,
+                        .materials = materials,
+                        .worldFromObject = worldFromObject,
+                        .nodeId = 1,
+                        .instanceId = 2};
   }
   PointSet pointSet(float size) const {
-    return PointSet{.positions = points, .normals = pointNormals, .colors = pointColors,
-                    .worldFromObject = worldFromObject, .pointSize = size, .nodeId = 3, .instanceId = 4};
+    return PointSet{.positions = points,
+                    .normals = pointNormals,
+                    .colors = pointColors,
+                    .worldFromObject = worldFromObject,
+                    .pointSize = size,
+                    .nodeId = 3,
+                    .instanceId = 4};
   }
 };
 
@@ -380,8 +394,7 @@ TEST_P(StabilityNonFiniteInput, NeverReachesTheFramebuffer) {
     expectFiniteFramebuffer(framebuffer);
     const Framebuffer expected = draw(clean, cleanCamera);
     ASSERT_GT(coveredCount(expected), 0u);
-    EXPECT_EQ(test::coveredPixels(framebuffer),
-              c.drawsNothing ? test::PixelSet{} : test::coveredPixels(expected));
+    EXPECT_EQ(test::coveredPixels(framebuffer), c.drawsNothing ? test::PixelSet{} : test::coveredPixels(expected));
   }
 }
 
@@ -391,9 +404,17 @@ INSTANTIATE_TEST_SUITE_P(
     Cases, StabilityNonFiniteInput,
     testing::Values(
         // Vertex normals: the face normal stands in (pixels unit length, checked by the helper's finiteness).
-        NonFiniteCase{"NormalNaN", [](QuadInput& q, Camera&) { q.normals[1].x = kNaN; q.pointNormals[5].y = kNaN; },
+        NonFiniteCase{"NormalNaN",
+                      [](QuadInput& q, Camera&) {
+                        q.normals[1].x = kNaN;
+                        q.pointNormals[5].y = kNaN;
+                      },
                       false},
-        NonFiniteCase{"NormalInf", [](QuadInput& q, Camera&) { q.normals[2].z = kInf; q.pointNormals[7].z = -kInf; },
+        NonFiniteCase{"NormalInf",
+                      [](QuadInput& q, Camera&) {
+                        q.normals[2].z = kInf;
+                        q.pointNormals[7].z = -kInf;
+                      },
                       false},
         // Texture coordinates: NaN samples the texel at the origin, Inf is clamped; colour stays RGBA8.
         NonFiniteCase{"UvNaN", [](QuadInput& q, Camera&) { q.uvs[0] = glm::vec2(kNaN); }, false},

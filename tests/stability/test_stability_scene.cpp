@@ -138,8 +138,8 @@ TEST(StabilityScene, DuplicatedVerticesAndTrianglesImportWithUnitNormals) {
   GltfBuilder b;
   const int positions =
       b.addAccessor(std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0}, test::kFloat, "VEC3");
-  const int indices = b.addAccessor(std::vector<std::uint16_t>{0, 1, 2, 3, 4, 5, 0, 4, 2, 0, 0, 0},
-                                    test::kUnsignedShort, "SCALAR");
+  const int indices =
+      b.addAccessor(std::vector<std::uint16_t>{0, 1, 2, 3, 4, 5, 0, 4, 2, 0, 0, 0}, test::kUnsignedShort, "SCALAR");
   b.addMesh({{{"attributes", {{"POSITION", positions}}}, {"indices", indices}}});
   b.addNode({{"mesh", 0}});
   b.setScene({0});
@@ -159,9 +159,8 @@ TEST(StabilityScene, DuplicatedVerticesAndTrianglesImportWithUnitNormals) {
 // origin: bit for bit, since the node's own transform is left out.
 TEST(StabilityScene, FarAndScaledNodesHaveExactBoundsInTheirOwnFrame) {
   const Mesh box = test::tessellatedBox(2);
-  for (const auto& [offset, scale] :
-       {std::pair{glm::dvec3(1e7, -1e7, 1e6), 1.0}, std::pair{glm::dvec3(0.0), 1e-6},
-        std::pair{glm::dvec3(0.0), 1e6}}) {
+  for (const auto& [offset, scale] : {std::pair{glm::dvec3(1e7, -1e7, 1e6), 1.0}, std::pair{glm::dvec3(0.0), 1e-6},
+                                      std::pair{glm::dvec3(0.0), 1e6}}) {
     Scene scene = test::sceneOf(box, {glm::scale(glm::translate(glm::dmat4(1.0), offset), glm::dvec3(scale))});
     const Hierarchy world = analyzeHierarchy(scene);
     EXPECT_EQ(world.worldBounds[0].min, offset - glm::dvec3(scale));
@@ -208,8 +207,8 @@ struct CastView {
 
 CastView castView(const glm::dvec3& offset, double scale, const glm::dvec3& eye, double near, double far) {
   CastView v;
-  v.scene = test::sceneOf(test::tessellatedBox(4),
-                          {glm::scale(glm::translate(glm::dmat4(1.0), offset), glm::dvec3(scale))});
+  v.scene =
+      test::sceneOf(test::tessellatedBox(4), {glm::scale(glm::translate(glm::dmat4(1.0), offset), glm::dvec3(scale))});
   v.hierarchy = analyzeHierarchy(v.scene);
   const glm::dmat4 view = glm::lookAt(offset + scale * eye, offset, glm::dvec3(0.0, 1.0, 0.0));
   v.camera = perspectiveCamera(view, glm::radians(60.0), near * scale, far * scale, 64, 48);
@@ -218,8 +217,8 @@ CastView castView(const glm::dvec3& offset, double scale, const glm::dvec3& eye,
 
 Framebuffer cast(const CastView& v, const glm::dvec3& positionOrigin) {
   const EmbreeScene embree(v.scene, v.hierarchy);
-  Framebuffer framebuffer = makeFramebuffer(v.camera.width, v.camera.height,
-                                            kChannelPosition | kChannelNormal | kChannelIds, positionOrigin);
+  Framebuffer framebuffer =
+      makeFramebuffer(v.camera.width, v.camera.height, kChannelPosition | kChannelNormal | kChannelIds, positionOrigin);
   embree.render(v.camera, framebuffer);
   return framebuffer;
 }
@@ -233,18 +232,19 @@ TEST(StabilityScene, EmbreeFarOrScaledSceneMatchesTheUnitScene) {
   ASSERT_GT(test::coveredPixels(unit).size(), 500u);
   std::size_t mostDiffering = 0;
   double depthError = 0.0;
-  for (const auto& [offset, scale] : {std::pair{glm::dvec3(1e6, 1e6, -1e6), 1.0},
-                                      std::pair{glm::dvec3(1e7, -1e7, 0.0), 1.0},
-                                      std::pair{glm::dvec3(0.0), 1e-6}, std::pair{glm::dvec3(0.0), 1e6}}) {
+  for (const auto& [offset, scale] :
+       {std::pair{glm::dvec3(1e6, 1e6, -1e6), 1.0}, std::pair{glm::dvec3(1e7, -1e7, 0.0), 1.0},
+        std::pair{glm::dvec3(0.0), 1e-6}, std::pair{glm::dvec3(0.0), 1e6}}) {
     SCOPED_TRACE(testing::Message() << "offset " << offset.x << " scale " << scale);
     const CastView view = castView(offset, scale, eye, 0.5, 20.0);
-    const Framebuffer moved =
-        sameBytesForOneTwoAndFourThreads([&] { return cast(view, offset); }, framebufferBytes);
+    const Framebuffer moved = sameBytesForOneTwoAndFourThreads([&] { return cast(view, offset); }, framebufferBytes);
     expectFiniteFramebuffer(moved);
     std::size_t differ = 0;
     for (std::size_t p = 0; p < unit.pixelCount(); ++p) {
-      if (unit.covered(p) != moved.covered(p)) ++differ;
-      else if (unit.covered(p)) depthError = std::max(depthError, double(std::abs(unit.depth[p] - moved.depth[p])));
+      if (unit.covered(p) != moved.covered(p))
+        ++differ;
+      else if (unit.covered(p))
+        depthError = std::max(depthError, double(std::abs(unit.depth[p] - moved.depth[p])));
     }
     EXPECT_LE(differ, 2u);
     mostDiffering = std::max(mostDiffering, differ);

@@ -201,7 +201,7 @@ TEST(StabilitySurfels, NonFiniteArrayValuesAreNeverWrittenNorRead) {
   test::ScratchDir dir;
   const auto spoilers = std::vector<std::function<void(SurfelArray&)>>{
       [](SurfelArray& a) { a.box.min.x = kNaN; }, [](SurfelArray& a) { a.box.max.z = kInf; },
-      [](SurfelArray& a) { a.coverage = kNaN; },  [](SurfelArray& a) { a.packing = kInf; },
+      [](SurfelArray& a) { a.coverage = kNaN; }, [](SurfelArray& a) { a.packing = kInf; },
       [](SurfelArray& a) { a.area = -kInf; }};
   for (std::size_t s = 0; s < spoilers.size(); ++s) {
     SCOPED_TRACE(testing::Message() << "spoiler " << s);

@@ -210,14 +210,13 @@ bool LlvmpipePeer::useCaptureGBuffer() {
     missing_ = why;
     return false;
   };
-  const bool hasEntryPoints = gl.disableClientState && gl.genFramebuffers && gl.bindFramebuffer &&
-                              gl.genRenderbuffers && gl.bindRenderbuffer && gl.renderbufferStorage &&
-                              gl.framebufferRenderbuffer && gl.checkFramebufferStatus && gl.drawBuffers &&
-                              gl.readBuffer && gl.createShader && gl.shaderSource && gl.compileShader &&
-                              gl.getShaderiv && gl.createProgram && gl.attachShader && gl.linkProgram &&
-                              gl.getProgramiv && gl.useProgram && gl.getUniformLocation && gl.uniformMatrix4fv &&
-                              gl.uniformMatrix3fv && gl.uniform4fv && gl.enableVertexAttribArray &&
-                              gl.vertexAttribPointer;
+  const bool hasEntryPoints =
+      gl.disableClientState && gl.genFramebuffers && gl.bindFramebuffer && gl.genRenderbuffers && gl.bindRenderbuffer &&
+      gl.renderbufferStorage && gl.framebufferRenderbuffer && gl.checkFramebufferStatus && gl.drawBuffers &&
+      gl.readBuffer && gl.createShader && gl.shaderSource && gl.compileShader && gl.getShaderiv && gl.createProgram &&
+      gl.attachShader && gl.linkProgram && gl.getProgramiv && gl.useProgram && gl.getUniformLocation &&
+      gl.uniformMatrix4fv && gl.uniformMatrix3fv && gl.uniform4fv && gl.enableVertexAttribArray &&
+      gl.vertexAttribPointer;
   if (!hasEntryPoints) return fail("libOSMesa lacks the OpenGL 3.3 entry points the G-buffer needs");
   GLuint framebuffer = 0;
   gl.genFramebuffers(1, &framebuffer);

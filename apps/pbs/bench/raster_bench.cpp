@@ -291,7 +291,8 @@ nlohmann::json benchRaster(const Scene& scene, const Hierarchy& hierarchy, const
 
   const RandomPoints points = makeRandomPoints(options.points);
   nlohmann::json pointsReport;
-  for (const float size : {1.0f, 4.0f}) pointsReport[std::to_string(int(size)) + "px"] = benchPoints(points, options, size);
+  for (const float size : {1.0f, 4.0f})
+    pointsReport[std::to_string(int(size)) + "px"] = benchPoints(points, options, size);
   pointsReport["pbs_mpoints_per_s"] = pointsReport["1px"]["pbs"]["mpoints_per_s"];
   pointsReport["llvmpipe_mpoints_per_s"] = pointsReport["1px"]["llvmpipe"].value("mpoints_per_s", nlohmann::json());
   pointsReport["vs_llvmpipe"] = pointsReport["1px"]["vs_llvmpipe"];

@@ -32,8 +32,7 @@ double timedRun(Work&& work) {
 // every contender, not every run of one of them, and a ratio taken round by round cancels it.
 // Each run returns its own seconds (so that it can leave checks out of its time); the result holds
 // them per contender, in round order.
-inline std::vector<std::vector<double>> interleavedRounds(std::span<const std::function<double()>> runs,
-                                                          int repeats) {
+inline std::vector<std::vector<double>> interleavedRounds(std::span<const std::function<double()>> runs, int repeats) {
   for (const auto& run : runs) run();
   std::vector<std::vector<double>> seconds(runs.size());
   for (int r = 0; r < std::max(1, repeats); ++r)

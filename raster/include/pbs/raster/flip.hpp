@@ -18,9 +18,9 @@ inline constexpr double kDefaultPixelsPerDegree = 3840.0 * std::numbers::pi / 18
 inline constexpr double kMaxPixelsPerDegree = 10000.0;
 
 struct FlipResult {
-  double mean = 0.0;    // mean of the per-pixel values; 0 for an empty image
-  double median = 0.0;  // plain median (for an even count the mean of the two middle values); 0 if empty
-  double max = 0.0;     // 0 if empty
+  double mean = 0.0;       // mean of the per-pixel values; 0 for an empty image
+  double median = 0.0;     // plain median (for an even count the mean of the two middle values); 0 if empty
+  double max = 0.0;        // 0 if empty
   std::vector<float> map;  // per-pixel FLIP in [0, 1], row-major, only when asked for
 };
 

@@ -20,7 +20,8 @@ enum Channel : std::uint32_t {
   kChannelCoverage = 1u << 4,
 };
 using ChannelMask = std::uint32_t;
-inline constexpr ChannelMask kAllChannels = kChannelColor | kChannelPosition | kChannelNormal | kChannelIds | kChannelCoverage;
+inline constexpr ChannelMask kAllChannels =
+    kChannelColor | kChannelPosition | kChannelNormal | kChannelIds | kChannelCoverage;
 
 struct PixelIds {
   std::uint32_t node = 0xffffffffu;

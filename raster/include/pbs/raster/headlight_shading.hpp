@@ -15,8 +15,8 @@ namespace pbs {
 inline constexpr float kHeadlightAmbient = 0.3f;
 
 // One linear RGBA value in [0, 1] per pixel, rows top first: the shaded colour with alpha 1 where the
-// G-buffer is covered (its coverage where it has the coverage channel), (0, 0, 0, 0) elsewhere. |n · v| makes surfaces two-sided (capture and the ray
-// caster do not cull back faces either). Needs the colour and normal channels; throws
+// G-buffer is covered (its coverage where it has the coverage channel), (0, 0, 0, 0) elsewhere. |n · v| makes surfaces
+// two-sided (capture and the ray caster do not cull back faces either). Needs the colour and normal channels; throws
 // std::invalid_argument otherwise. A zero normal (a degenerate surface) shades as facing the camera.
 std::vector<glm::vec4> shadeHeadlight(const Framebuffer& gbuffer, const Camera& camera);
 

@@ -26,10 +26,10 @@ struct RgbaImage {
 
 // How the two pictures are seen: both composited over one background, by an observer at a distance.
 struct CompareOptions {
-  glm::vec3 background{1.0f};  // straight colour over it: rgb·α + background·(1 − α)
+  glm::vec3 background{1.0f};                        // straight colour over it: rgb·α + background·(1 − α)
   double pixelsPerDegree = kDefaultPixelsPerDegree;  // FLIP's observer (flip.hpp)
-  bool flip = true;               // FLIP is most of a comparison's time; off: its fields stay 0
-  bool keepFlipMap = false;       // keep FLIP's per-pixel values in ImageDifference::flipMap
+  bool flip = true;                                  // FLIP is most of a comparison's time; off: its fields stay 0
+  bool keepFlipMap = false;                          // keep FLIP's per-pixel values in ImageDifference::flipMap
 };
 
 // A compared with B (the reference). Coverage is alpha (clamped to [0, 1], NaN as 0): 0 or 1 at one
@@ -75,11 +75,11 @@ ImageDifference compareImages(const RgbaImage& a, const RgbaImage& b, const Comp
 
 // Pass/fail limits for image tests, in the manner of OpenImageIO's idiff: each one set is checked.
 struct ImageThresholds {
-  std::optional<double> maxFlip{};              // flipMean
-  std::optional<double> minPsnr{};              // psnr (whole image)
-  std::optional<double> minForegroundPsnr{};    // foregroundPsnr
-  std::optional<double> maxHoles{};             // holeFraction
-  std::optional<double> maxBloat{};             // bloatFraction
+  std::optional<double> maxFlip{};            // flipMean
+  std::optional<double> minPsnr{};            // psnr (whole image)
+  std::optional<double> minForegroundPsnr{};  // foregroundPsnr
+  std::optional<double> maxHoles{};           // holeFraction
+  std::optional<double> maxBloat{};           // bloatFraction
 };
 
 // One limit a comparison broke: the option's name ("--max-flip", …), the measured value and the limit.

@@ -12,10 +12,10 @@
 namespace pbs {
 
 struct PointSet {
-  std::span<const glm::vec3> positions{};   // object frame
-  std::span<const glm::vec3> normals{};     // needed only for the normal channel
-  std::span<const glm::u8vec4> colors{};    // needed only for the colour channel
-  std::span<const float> sizeFactors{};     // optional: per-point multiplier of pointSize
+  std::span<const glm::vec3> positions{};  // object frame
+  std::span<const glm::vec3> normals{};    // needed only for the normal channel
+  std::span<const glm::u8vec4> colors{};   // needed only for the colour channel
+  std::span<const float> sizeFactors{};    // optional: per-point multiplier of pointSize
   glm::dmat4 worldFromObject{1.0};
   float pointSize = 1.0f;  // pixels: side of the square, or diameter of the disc
   std::uint32_t nodeId = 0;

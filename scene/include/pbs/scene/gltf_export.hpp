@@ -15,8 +15,8 @@ namespace pbs {
 void writeGlb(const Scene& scene, const std::filesystem::path& file);
 
 // The same as a .gltf `file` with its binary data in files beside it, `<file's stem>.<k>.bin`, each at
-// most `maxBinBytes` unless one array is larger (no 4 GiB limit as in a .glb), written as the meshes come: mesh m is read by `meshAt(m)`,
-// in order, one at a time, so a scene larger than memory (its meshes described, not loaded) can be
+// most `maxBinBytes` unless one array is larger (no 4 GiB limit as in a .glb), written as the meshes come: mesh m is
+// read by `meshAt(m)`, in order, one at a time, so a scene larger than memory (its meshes described, not loaded) can be
 // written as it is made. The .bin files go into place before the .gltf that names them. Returns the files
 // written, the .gltf first.
 std::vector<std::filesystem::path> writeGltf(const Scene& scene, const MeshReader& meshAt,

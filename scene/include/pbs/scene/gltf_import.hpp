@@ -28,9 +28,9 @@ ImportResult importGltfFromMemory(std::span<const std::uint8_t> bytes, const std
 
 // A scene opened without its mesh arrays, and what reads them (for LazyMeshes).
 struct LazyGltf {
-  ImportResult imported;  // every mesh with its name and parts only (Mesh::loaded() false)
+  ImportResult imported;                           // every mesh with its name and parts only (Mesh::loaded() false)
   std::function<Mesh(std::uint32_t mesh)> decode;  // mesh `mesh`'s arrays, as importGltf gives them
-  std::uint64_t bufferBytes = 0;  // of the file's buffers: what reading every mesh at once maps
+  std::uint64_t bufferBytes = 0;                   // of the file's buffers: what reading every mesh at once maps
 };
 
 // importGltf's scene without reading any accessor's data (the counts that give each mesh's parts come

@@ -19,13 +19,13 @@ namespace pbs {
 void validateScene(const Scene& scene, std::string_view source);
 
 struct Hierarchy {
-  std::vector<std::int32_t> parent;          // -1 for roots
-  std::vector<std::uint32_t> depth;          // 0 for roots
-  std::vector<glm::dmat4> world;             // world-from-node
-  std::vector<Bounds> worldBounds;           // tight box of every world-space vertex in the subtree
-  std::vector<Bounds> instanceBounds;        // tight world box of the node's own mesh; empty without one
+  std::vector<std::int32_t> parent;             // -1 for roots
+  std::vector<std::uint32_t> depth;             // 0 for roots
+  std::vector<glm::dmat4> world;                // world-from-node
+  std::vector<Bounds> worldBounds;              // tight box of every world-space vertex in the subtree
+  std::vector<Bounds> instanceBounds;           // tight world box of the node's own mesh; empty without one
   std::vector<std::uint64_t> subtreeTriangles;  // counting every instance
-  std::vector<std::uint32_t> preorder;       // every reachable node, parents before children
+  std::vector<std::uint32_t> preorder;          // every reachable node, parents before children
 };
 
 // Requires a scene that passed validateScene. Runs in parallel over the nodes that carry meshes.

@@ -19,12 +19,12 @@
 namespace pbs {
 
 struct LazyMeshStats {
-  std::uint64_t decoded = 0;    // meshes decoded so far (one decoded again after unloading counts again)
-  std::uint64_t unloaded = 0;   // to keep within the budget
-  std::uint64_t loaded = 0;     // meshes loaded now
+  std::uint64_t decoded = 0;      // meshes decoded so far (one decoded again after unloading counts again)
+  std::uint64_t unloaded = 0;     // to keep within the budget
+  std::uint64_t loaded = 0;       // meshes loaded now
   std::uint64_t bytesLoaded = 0;  // meshBytes of those
   std::uint64_t peakBytesLoaded = 0;
-  double decodeSeconds = 0.0;   // summed over the require() calls that decoded
+  double decodeSeconds = 0.0;  // summed over the require() calls that decoded
 };
 
 class LazyMeshes {

@@ -16,15 +16,15 @@ namespace pbs {
 
 struct Material {
   std::string name;
-  glm::vec4 baseColorFactor{1.0f};  // linear RGBA
+  glm::vec4 baseColorFactor{1.0f};     // linear RGBA
   std::int32_t baseColorTexture = -1;  // index into Scene::textures, or -1
 };
 
 struct Mesh {
   std::string name;
   std::vector<glm::vec3> positions;
-  std::vector<glm::vec3> normals;  // one per position, unit length (computed when the file has none)
-  std::vector<glm::vec2> uvs;      // empty, or one per position
+  std::vector<glm::vec3> normals;      // one per position, unit length (computed when the file has none)
+  std::vector<glm::vec2> uvs;          // empty, or one per position
   std::vector<std::uint32_t> indices;  // three per triangle
   std::vector<MeshPart> parts;         // cover `indices` in order; materials index Scene::materials
   Bounds bounds;                       // of `positions`, in the mesh's own frame

@@ -39,8 +39,8 @@ bool outsideClipVolume(const Camera& camera, const Bounds& worldBox);
 
 // Draws every mesh instance (nodes in index order; PixelIds: node = node index, instance = mesh
 // index, primitive = triangle index in the mesh), skipping instances outside the clip volume.
-void drawSceneTriangles(const Scene& scene, const Hierarchy& hierarchy, const Camera& camera,
-                        Framebuffer& framebuffer, const TriangleOptions& options = {});
+void drawSceneTriangles(const Scene& scene, const Hierarchy& hierarchy, const Camera& camera, Framebuffer& framebuffer,
+                        const TriangleOptions& options = {});
 
 // The nodes of `root`'s subtree, parents before children (root first): what a node's capture draws.
 std::vector<std::uint32_t> subtreeNodes(const Scene& scene, std::uint32_t root);

@@ -24,9 +24,9 @@ using MeshReader = std::function<std::shared_ptr<const Mesh>(std::uint32_t mesh)
 MeshReader loadedMeshes(const Scene& scene);
 
 struct SceneScanRequest {
-  bool worldBounds = false;                   // fill SceneScan::instanceBounds
+  bool worldBounds = false;                      // fill SceneScan::instanceBounds
   std::span<const std::uint32_t> subtreeStarts;  // fill SceneScan::subtreeBounds for these nodes
-  bool ownFrameAreas = false;                 // fill SceneScan::ownFrameAreas
+  bool ownFrameAreas = false;                    // fill SceneScan::ownFrameAreas
 };
 
 struct SceneScan {
@@ -36,7 +36,7 @@ struct SceneScan {
   // Per subtree start, analyzeSubtree's instance boxes in subtreeInstances order (for analyzeSubtree with
   // boxes given).
   std::vector<std::vector<Bounds>> subtreeBounds;
-  std::vector<double> ownFrameAreas;            // ownFrameSurfaceAreas, one per node
+  std::vector<double> ownFrameAreas;  // ownFrameSurfaceAreas, one per node
 };
 
 // `structure` supplies world transforms and the preorder (analyzeStructure's, or analyzeHierarchy's).

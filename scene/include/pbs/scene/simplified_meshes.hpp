@@ -30,7 +30,7 @@ struct SimplifiedMesh {
 SimplifiedMesh simplifyMesh(const Mesh& mesh, const SimplifyOptions& options);
 
 struct SimplifiedScene {
-  Scene scene;  // the input's nodes, transforms, materials and textures; every mesh simplified
+  Scene scene;                        // the input's nodes, transforms, materials and textures; every mesh simplified
   std::uint64_t trianglesBefore = 0;  // over the meshes, each counted once (not per instance)
   std::uint64_t trianglesAfter = 0;
   float largestError = 0.0f;  // over the meshes

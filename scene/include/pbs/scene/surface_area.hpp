@@ -34,6 +34,7 @@ struct MeshAreaQuery {
   glm::dmat3 linear;
 };
 std::vector<MeshAreaQuery> ownFrameAreaQueries(const Scene& scene, const Hierarchy& hierarchy);
-std::vector<double> ownFrameSurfaceAreas(const Scene& scene, const Hierarchy& hierarchy, std::span<const double> answers);
+std::vector<double> ownFrameSurfaceAreas(const Scene& scene, const Hierarchy& hierarchy,
+                                         std::span<const double> answers);
 
 }  // namespace pbs

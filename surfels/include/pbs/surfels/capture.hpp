@@ -32,7 +32,7 @@ struct CaptureOptions {
 };
 
 struct CaptureResult {
-  glm::dvec3 origin{0.0};  // the centre of the node's world box
+  glm::dvec3 origin{0.0};       // the centre of the node's world box
   std::vector<Surfel> surfels;  // views in order, each view's pixels in row-major order
   // Covered pixels over the projected box area, both summed over the views. The projected box area
   // of a view is the area, in pixels, of the convex hull of the box's 8 projected corners (its

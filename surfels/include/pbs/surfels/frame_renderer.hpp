@@ -64,7 +64,7 @@ struct FrameSources {
   // budget. Exact mode: each pass draws the visible meshes a budget's worth at a time, each batch loaded
   // for its drawing alone, so a scene larger than memory is drawn node by node (the same image).
   LazyMeshes* meshes = nullptr;
-  const Scene* simplified = nullptr;      // Simplified mode: the scene's simplifyScene copy
+  const Scene* simplified = nullptr;  // Simplified mode: the scene's simplifyScene copy
   // Embree mode: a BVH built elsewhere and shared; null: built here. Surfels mode: mesh BVHs the geometry
   // nodes' rays reuse; null: each built the first time a frame needs it.
   const EmbreeScene* rays = nullptr;
@@ -108,7 +108,7 @@ class FrameRenderer {
   Framebuffer gbuffer_;
   std::optional<EmbreeScene> ownRays_;
   std::optional<EmbreeNodeCaster> geometryRays_;  // Surfels mode, unless LodOptions::geometry is Raster
-  LazyMeshes::Lease geometryLease_;  // the meshes the last pass drew as geometry (FrameSources::meshes)
+  LazyMeshes::Lease geometryLease_;               // the meshes the last pass drew as geometry (FrameSources::meshes)
   double buildSeconds_ = 0.0;
 };
 

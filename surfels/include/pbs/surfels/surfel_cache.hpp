@@ -17,8 +17,8 @@
 namespace pbs {
 
 struct SurfelCacheStats {
-  std::uint64_t bytesRead = 0;     // from the file: chunks and their checksums
-  std::uint64_t bytesLoaded = 0;   // decoded surfels held now (kSplatBytesPerSurfel each)
+  std::uint64_t bytesRead = 0;    // from the file: chunks and their checksums
+  std::uint64_t bytesLoaded = 0;  // decoded surfels held now (kSplatBytesPerSurfel each)
   std::uint64_t peakBytesLoaded = 0;
   std::uint64_t arraysDropped = 0;  // to keep within the budget
 };
@@ -56,7 +56,7 @@ class SurfelCache {
 
   const SurfelCacheStats& stats() const { return stats_; }
   const SurfelFileOptions& options() const { return reader_.options(); }  // what the arrays were made with
-  std::uint64_t tablesBytes() const { return reader_.tablesBytes(); }  // what opening the file read
+  std::uint64_t tablesBytes() const { return reader_.tablesBytes(); }     // what opening the file read
   // The file's bytes for `surfels` surfels of `array` from a chunk's start (storedSurfelBytes with the
   // array's colour encoding).
   std::uint64_t storedBytes(std::uint32_t array, std::uint64_t surfels) const {
@@ -71,9 +71,9 @@ class SurfelCache {
   SurfelFileReader reader_;
   SceneSurfels surfels_;
   std::uint64_t budget_;
-  std::uint64_t frame_ = 0;  // load() and keep() calls so far
-  std::vector<std::uint64_t> lastDrawn_;     // per array: the load() call that last drew it (0: never)
-  std::vector<std::size_t> lastCount_;       // per array: the prefix it drew then
+  std::uint64_t frame_ = 0;               // load() and keep() calls so far
+  std::vector<std::uint64_t> lastDrawn_;  // per array: the load() call that last drew it (0: never)
+  std::vector<std::size_t> lastCount_;    // per array: the prefix it drew then
   SurfelCacheStats stats_;
 };
 

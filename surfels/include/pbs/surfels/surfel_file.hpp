@@ -68,8 +68,7 @@ inline constexpr std::uint64_t surfelBytes(SurfelColorEncoding encoding) {
 // read when it starts a chunk and ends at a chunk's end or the array's.
 inline constexpr std::uint64_t storedSurfelBytes(std::uint64_t surfels, SurfelColorEncoding encoding) {
   constexpr std::uint64_t kChunkChecksumBytes = 8;
-  return surfels * surfelBytes(encoding) +
-         (surfels + kSurfelsPerChunk - 1) / kSurfelsPerChunk * kChunkChecksumBytes;
+  return surfels * surfelBytes(encoding) + (surfels + kSurfelsPerChunk - 1) / kSurfelsPerChunk * kChunkChecksumBytes;
 }
 
 // SurfelArray::packing is measured on the first min(kPackingSample, N) surfels.
@@ -77,12 +76,12 @@ inline constexpr std::size_t kPackingSample = 1000;
 
 // The options an array set was made with: part of the file so that a reader knows what it holds.
 struct SurfelFileOptions {
-  std::uint64_t threshold = 10000;   // nodes above this many subtree triangles have arrays
-  std::uint32_t maxSurfels = 10000;  // array length limit
+  std::uint64_t threshold = 10000;                       // nodes above this many subtree triangles have arrays
+  std::uint32_t maxSurfels = 10000;                      // array length limit
   std::uint32_t resolution = kDefaultCaptureResolution;  // capture resolution
   std::uint32_t directions = kDefaultCaptureDirections;  // capture view count
-  SurfelOrdering ordering = SurfelOrdering::Farthest;  // which ordering made the arrays
-  SurfelColors colors = SurfelColors::Pixel;           // how the surfels' colours were chosen
+  SurfelOrdering ordering = SurfelOrdering::Farthest;    // which ordering made the arrays
+  SurfelColors colors = SurfelColors::Pixel;             // how the surfels' colours were chosen
   std::uint64_t seed = 1;
 };
 
@@ -95,7 +94,7 @@ struct SurfelArray {
   // The same of all N surfels. Where a subtree's parts lie far apart (a city), its first surfels spread
   // over the gaps and the two differ: the renderer interpolates between them (SplatArray::spacing).
   double packingEnd = 0.0;
-  double area = 0.0;      // surface area of the node's subtree in the node frame (ρ(k) needs it)
+  double area = 0.0;            // surface area of the node's subtree in the node frame (ρ(k) needs it)
   std::vector<Surfel> surfels;  // in order: every prefix is a usable, evenly spread subset
 };
 
@@ -177,8 +176,8 @@ class SurfelFileWriter {
   SurfelSceneTable sceneTable_;
   std::vector<SurfelArrayInfo> infos_;
   std::vector<std::optional<std::vector<std::uint8_t>>> waiting_;  // encoded data by index, until written
-  std::uint32_t written_ = 0;  // arrays [0, written_) are in the file
-  std::uint64_t dataEnd_ = 0;  // where the next array's data goes
+  std::uint32_t written_ = 0;                                      // arrays [0, written_) are in the file
+  std::uint64_t dataEnd_ = 0;                                      // where the next array's data goes
   std::uint64_t bytesWaiting_ = 0;
   bool finished_ = false;
 };

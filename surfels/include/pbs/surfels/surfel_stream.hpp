@@ -45,10 +45,10 @@ struct StreamOptions {
 };
 
 struct StreamStats {
-  double seconds = 0.0;             // on the simulated clock
-  std::uint64_t bytes = 0;          // arrived: tables, surfel chunks and meshes
-  std::uint64_t surfelBytes = 0;    // of those, surfel chunks with their checksums
-  std::uint64_t meshBytes = 0;      // of those, meshes (their arrays: pbs::meshBytes)
+  double seconds = 0.0;           // on the simulated clock
+  std::uint64_t bytes = 0;        // arrived: tables, surfel chunks and meshes
+  std::uint64_t surfelBytes = 0;  // of those, surfel chunks with their checksums
+  std::uint64_t meshBytes = 0;    // of those, meshes (their arrays: pbs::meshBytes)
   bool tablesArrived = false;
   // What the last advance's view still lacked after its transfers: bytes, and the pixels it would
   // cover (Σ missing surfels × their point area, and the box area of geometry nodes without a mesh).
@@ -86,7 +86,7 @@ class SurfelStream {
   double missingPixels(const Need& need, std::size_t upTo) const;
   std::size_t nextLength(const Need& need) const;  // an array's loaded length after its next transfer
   std::uint64_t nextTransferBytes(const Need& need) const;
-  double gainPerByte(const Need& need) const;  // missing pixels the next transfer fills, per byte
+  double gainPerByte(const Need& need) const;            // missing pixels the next transfer fills, per byte
   void transfer(const Need& need, std::uint64_t bytes);  // `bytes`: nextTransferBytes(need)
 
   SurfelCache& cache_;
