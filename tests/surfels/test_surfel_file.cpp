@@ -7,7 +7,7 @@
 #include <pbs/surfels/surfel_file.hpp>
 
 // The private layout, only to forge files whose checksums are right but whose counts are not.
-#include "../surfels/src/surfel_file_layout.hpp"
+#include "../../surfels/src/surfel_file_layout.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
