@@ -180,10 +180,9 @@ void printTable(const std::vector<EvalSummary>& summaries) {
 // not with Embree over the whole scene (its BVH holds every triangle), arrays of other orderings or
 // simplified meshes (both made from the whole scene).
 bool drawableOnDemand(const std::vector<EvalSetting>& settings, RenderMode reference, SurfelOrdering fileOrdering) {
-  if (reference == RenderMode::Embree) return false;
-  return std::none_of(settings.begin(), settings.end(), [&](const EvalSetting& s) {
-    return s.mode == RenderMode::Embree || s.simplify || (s.ordering && *s.ordering != fileOrdering);
-  });
+  return !castsRaysOverWholeScene(settings, reference) &&
+         std::none_of(settings.begin(), settings.end(),
+                      [&](const EvalSetting& s) { return s.simplify || (s.ordering && *s.ordering != fileOrdering); });
 }
 
 void run(const EvalOptions& options) {
@@ -204,16 +203,14 @@ void run(const EvalOptions& options) {
   const bool meshesOnDemand = options.scene != "default" && !reader.sceneTable().instanceBounds.empty() &&
                               drawableOnDemand(settings, referenceMode, fileOrdering);
   const std::uint64_t cacheBytes = options.cacheMb << 20;
-  const std::vector<std::uint64_t> meshFingerprints = reader.sceneTable().meshes;
   const auto loadStart = std::chrono::steady_clock::now();
-  const bool wholeRays =
-      referenceMode == RenderMode::Embree ||
-      std::any_of(settings.begin(), settings.end(), [](const EvalSetting& s) { return s.mode == RenderMode::Embree; });
+  const SceneFit fit{.rays = castsRaysOverWholeScene(settings, referenceMode)};
   LoadedScene loaded = meshesOnDemand ? openWithoutMeshes(options.scene, reader)
-                                      : loadAndAnalyze(options.scene, LoadOptions{}, reader, {.rays = wholeRays});
+                                      : loadAndAnalyze(options.scene, LoadOptions{}, reader, fit);
   const double loadSeconds = secondsSince(loadStart);
-  std::optional<LazyMeshes> meshes;
-  if (meshesOnDemand) meshes.emplace(loaded.scene, loaded.decodeMesh, meshFingerprints, loaded.name, cacheBytes);
+  std::optional<LazyMeshes> meshes;  // given the file's fingerprints before the cache takes the reader
+  if (meshesOnDemand)
+    meshes.emplace(loaded.scene, loaded.decodeMesh, reader.sceneTable().meshes, loaded.name, cacheBytes);
   const auto cacheStart = std::chrono::steady_clock::now();
   SurfelSources sources(loaded, std::move(reader), cacheBytes, options.captureFrom, options.quiet);
   surfelsLoadSeconds += secondsSince(cacheStart);

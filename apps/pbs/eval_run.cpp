@@ -41,6 +41,12 @@ void setSpeedups(const std::vector<EvalSetting>& settings, std::vector<EvalSetti
 
 }  // namespace
 
+bool castsRaysOverWholeScene(const std::vector<EvalSetting>& settings, RenderMode reference) {
+  return reference == RenderMode::Embree || std::any_of(settings.begin(), settings.end(), [](const EvalSetting& s) {
+           return s.mode == RenderMode::Embree;
+         });
+}
+
 EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::vector<Camera>& cameras,
                     const std::vector<EvalSetting>& settings, const EvalInputs& inputs,
                     const std::function<FrameSources(const EvalSetting&)>& surfelsOf,
@@ -58,9 +64,7 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
 
   EvalResults results;
   // One BVH over the whole scene, where the reference or a peer casts rays over it.
-  const bool wholeRays =
-      inputs.referenceMode == RenderMode::Embree ||
-      std::any_of(settings.begin(), settings.end(), [](const EvalSetting& s) { return s.mode == RenderMode::Embree; });
+  const bool wholeRays = castsRaysOverWholeScene(settings, inputs.referenceMode);
   if (wholeRays && inputs.meshes)
     throw std::invalid_argument("runEval: Embree over a scene whose meshes are read on demand");
   std::optional<EmbreeScene> rays;

@@ -69,6 +69,10 @@ struct EvalInputs {
   LodOptions kindLod;
 };
 
+// Whether the reference (`reference`) or a setting casts Embree rays over the whole scene: its BVH holds
+// every triangle, so the scene must be read whole.
+bool castsRaysOverWholeScene(const std::vector<EvalSetting>& settings, RenderMode reference);
+
 // Renders the reference and views × settings frames. `surfelsOf` gives the arrays a surfel setting
 // draws, as FrameSources::surfels (made in memory) or FrameSources::cache (the file, read as frames draw
 // it: every setting of the file's own arrays shares one cache) (called once per setting, never for peers;

@@ -13,8 +13,10 @@
 
 #include <algorithm>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace pbs {
 namespace {
@@ -103,38 +105,42 @@ Node makeInstance(SeededRandom& random, std::uint32_t prototypes, const glm::dma
   return Node{std::move(name), place * turnY(yaw) * scaled(scale.x, scale.y, scale.z), {}, mesh};
 }
 
-// The leaves of `city` (nodes with a mesh, here always an instance of a prototype), in node order: the
-// unique city gives leaf i mesh i.
-std::vector<std::uint32_t> leavesOf(const Scene& city) {
-  std::vector<std::uint32_t> leaves;
-  for (std::uint32_t n = 0; n < city.nodes.size(); ++n)
-    if (city.nodes[n].mesh >= 0) leaves.push_back(n);
-  return leaves;
-}
+// What the unique city's meshes are baked from: the flattened prototypes and, per mesh (leaf i, in node
+// order, gets mesh i), its prototype, the placement baked into it and its name.
+struct LeafBakes {
+  struct Leaf {
+    std::uint32_t prototype;
+    glm::dmat4 local;
+    std::string name;
+  };
+  std::vector<Mesh> prototypes;
+  std::vector<Leaf> leaves;
 
-// The copy of `prototype` with the placement `local` baked in, named after the leaf.
-Mesh bakeLeaf(const Mesh& prototype, const glm::dmat4& local, const std::string& leafName) {
-  const MeshPiece piece{&prototype, local, 0};
-  return mergeMeshes(std::span(&piece, 1), prototype.name + ", " + leafName);
-}
+  Mesh bake(std::uint32_t mesh) const {
+    const Leaf& leaf = leaves.at(mesh);
+    const MeshPiece piece{&prototypes[leaf.prototype], leaf.local, 0};
+    return mergeMeshes(std::span(&piece, 1), leaf.name);
+  }
+};
 
 // The instanced city made unique without baking: leaf i gets mesh i, described by its name and parts
 // (those of its prototype: baking one piece keeps a merged mesh's parts), and the identity transform.
-// Returns each leaf's prototype and placement, which bakeLeaf turns into its mesh.
-std::vector<std::pair<std::uint32_t, glm::dmat4>> describeLeaves(Scene& city, const std::vector<Mesh>& prototypes) {
-  const std::vector<std::uint32_t> leaves = leavesOf(city);
-  std::vector<std::pair<std::uint32_t, glm::dmat4>> placements(leaves.size());
-  city.meshes.resize(leaves.size());
-  for (std::size_t i = 0; i < leaves.size(); ++i) {
-    Node& node = city.nodes[leaves[i]];
+// Returns what LeafBakes::bake turns into each mesh.
+std::shared_ptr<const LeafBakes> describeLeaves(Scene& city, std::vector<Mesh> prototypes) {
+  auto bakes = std::make_shared<LeafBakes>();
+  for (std::uint32_t n = 0; n < city.nodes.size(); ++n) {
+    Node& node = city.nodes[n];
+    if (node.mesh < 0) continue;
     const Mesh& prototype = prototypes[std::size_t(node.mesh)];
-    placements[i] = {std::uint32_t(node.mesh), node.local};
-    city.meshes[i].name = prototype.name + ", " + node.name;
-    city.meshes[i].parts = prototype.parts;
-    node.mesh = std::int32_t(i);
+    Mesh& described = city.meshes.emplace_back();
+    described.name = prototype.name + ", " + node.name;
+    described.parts = prototype.parts;
+    bakes->leaves.push_back({std::uint32_t(node.mesh), node.local, described.name});
+    node.mesh = std::int32_t(city.meshes.size() - 1);
     node.local = glm::dmat4(1.0);
   }
-  return placements;
+  bakes->prototypes = std::move(prototypes);
+  return bakes;
 }
 
 // The city's nodes: a root block, `levels` levels of `fanout` children each on a grid, instances of
@@ -178,15 +184,27 @@ std::vector<Node> placeNodes(std::uint32_t prototypes, const CityOptions& option
   return nodes;
 }
 
+// The unique city, described, and what bakes its meshes (generateUniqueCity; generateCity bakes them all).
+std::pair<Scene, std::shared_ptr<const LeafBakes>> describeUniqueCity(const std::vector<Scene>& prototypes,
+                                                                      const CityOptions& options) {
+  Scene city;
+  std::vector<Mesh> flattened = flattenPrototypes(city, prototypes, options);
+  // placeNodes draws the same either way, so the unique city is the instanced one, baked.
+  city.nodes = placeNodes(std::uint32_t(flattened.size()), options);
+  city.roots = {0};
+  std::shared_ptr<const LeafBakes> bakes = describeLeaves(city, std::move(flattened));
+  return {std::move(city), std::move(bakes)};
+}
+
 }  // namespace
 
 Scene generateCity(const std::vector<Scene>& prototypes, const CityOptions& options) {
   if (options.unique) {
-    // The unbaked city, baked in parallel, each mesh into its own slot: the result does not depend on threads.
-    UnbakedCity city = generateUniqueCity(prototypes, options);
-    tbb::parallel_for(std::size_t(0), city.scene.meshes.size(),
-                      [&](std::size_t m) { city.scene.meshes[m] = *city.bake(std::uint32_t(m)); });
-    return std::move(city.scene);
+    // Baked in parallel, each mesh into its own slot: the result does not depend on threads.
+    auto [city, bakes] = describeUniqueCity(prototypes, options);
+    tbb::parallel_for(std::size_t(0), city.meshes.size(),
+                      [&, &bakes = bakes](std::size_t m) { city.meshes[m] = bakes->bake(std::uint32_t(m)); });
+    return std::move(city);
   }
   Scene city;
   std::vector<Mesh> flattened = flattenPrototypes(city, prototypes, options);
@@ -197,21 +215,9 @@ Scene generateCity(const std::vector<Scene>& prototypes, const CityOptions& opti
 }
 
 UnbakedCity generateUniqueCity(const std::vector<Scene>& prototypes, const CityOptions& options) {
-  auto flattened = std::make_shared<std::vector<Mesh>>();
-  UnbakedCity city;
-  *flattened = flattenPrototypes(city.scene, prototypes, options);
-  // placeNodes draws the same either way, so the unique city is the instanced one, baked.
-  city.scene.nodes = placeNodes(std::uint32_t(flattened->size()), options);
-  city.scene.roots = {0};
-  auto placements =
-      std::make_shared<const std::vector<std::pair<std::uint32_t, glm::dmat4>>>(describeLeaves(city.scene, *flattened));
-  auto names = std::make_shared<std::vector<std::string>>();
-  for (const std::uint32_t leaf : leavesOf(city.scene)) names->push_back(city.scene.nodes[leaf].name);
-  city.bake = [flattened, placements, names](std::uint32_t mesh) {
-    const auto& [prototype, local] = placements->at(mesh);
-    return std::make_shared<const Mesh>(bakeLeaf((*flattened)[prototype], local, (*names)[mesh]));
-  };
-  return city;
+  auto [city, bakes] = describeUniqueCity(prototypes, options);
+  return {std::move(city),
+          [bakes = bakes](std::uint32_t mesh) { return std::make_shared<const Mesh>(bakes->bake(mesh)); }};
 }
 
 }  // namespace pbs

@@ -272,14 +272,12 @@ std::vector<SubtreeInstance> subtreeInstances(const Scene& scene, std::uint32_t 
 Hierarchy analyzeSubtree(const Scene& scene, std::uint32_t node, std::span<const Bounds> instanceBounds) {
   const std::uint32_t start[] = {node};
   Hierarchy h = walkFrom(scene, start, true);
-  std::size_t next = 0;
+  std::size_t instances = 0;
   for (std::uint32_t n : h.preorder) {
     if (scene.nodes[n].mesh < 0) continue;
-    if (next == instanceBounds.size()) break;
-    h.instanceBounds[n] = instanceBounds[next++];
+    if (instances < instanceBounds.size()) h.instanceBounds[n] = instanceBounds[instances];
+    ++instances;
   }
-  std::size_t instances = 0;
-  for (std::uint32_t n : h.preorder) instances += scene.nodes[n].mesh >= 0 ? 1 : 0;
   if (instances != instanceBounds.size())
     throw std::invalid_argument("analyzeSubtree: " + std::to_string(instanceBounds.size()) + " instance boxes for " +
                                 std::to_string(instances) + " instances");

@@ -24,13 +24,6 @@ struct BoxQuestion {
 
 }  // namespace
 
-MeshReader loadedMeshes(const Scene& scene) {
-  return [&scene](std::uint32_t mesh) {
-    // Aliasing an empty owner: a view that frees nothing.
-    return std::shared_ptr<const Mesh>(std::shared_ptr<const Mesh>(), &scene.meshes[mesh]);
-  };
-}
-
 SceneScan scanScene(const Scene& scene, const Hierarchy& structure, const SceneScanRequest& request,
                     const MeshReader& read) {
   const std::size_t meshCount = scene.meshes.size();

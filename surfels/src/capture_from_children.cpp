@@ -24,6 +24,18 @@ double largestScale(const glm::dmat4& transform) {
 
 }  // namespace
 
+std::vector<std::uint32_t> childCaptureTriangleNodes(const Scene& scene, std::uint32_t node,
+                                                     std::span<const std::uint32_t> arrayOfNode) {
+  std::vector<std::uint32_t> nodes;
+  if (scene.nodes[node].mesh >= 0) nodes.push_back(node);
+  for (std::uint32_t child : scene.nodes[node].children) {
+    if (arrayOfNode[child] != kNoSurfels) continue;
+    const std::vector<std::uint32_t> below = subtreeNodes(scene, child);
+    nodes.insert(nodes.end(), below.begin(), below.end());
+  }
+  return nodes;
+}
+
 CaptureResult captureFromChildSurfels(const Scene& scene, const Hierarchy& frame, std::uint32_t node,
                                       std::span<const SurfelArray> arrays, std::span<const std::uint32_t> arrayOfNode,
                                       const CaptureOptions& options) {
@@ -31,17 +43,10 @@ CaptureResult captureFromChildSurfels(const Scene& scene, const Hierarchy& frame
   constexpr double kSplatOverlap = 1.25;
   constexpr float kMaxSplatPixels = 64.0f;
 
-  std::vector<std::uint32_t> triangleNodes;
-  if (scene.nodes[node].mesh >= 0) triangleNodes.push_back(node);
+  const std::vector<std::uint32_t> triangleNodes = childCaptureTriangleNodes(scene, node, arrayOfNode);
   std::vector<std::uint32_t> splatChildren;
-  for (std::uint32_t child : scene.nodes[node].children) {
-    if (arrayOfNode[child] != kNoSurfels) {
-      splatChildren.push_back(child);
-    } else {
-      const std::vector<std::uint32_t> below = subtreeNodes(scene, child);
-      triangleNodes.insert(triangleNodes.end(), below.begin(), below.end());
-    }
-  }
+  for (std::uint32_t child : scene.nodes[node].children)
+    if (arrayOfNode[child] != kNoSurfels) splatChildren.push_back(child);
   std::map<std::uint32_t, SplatArray> splats;  // one conversion per distinct array
   for (std::uint32_t child : splatChildren) {
     const std::uint32_t array = arrayOfNode[child];

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 namespace pbs::detail {
 
@@ -17,6 +18,11 @@ namespace pbs::detail {
 // (the node's own mesh, children below the threshold) as triangles. It costs the children's surfel
 // counts instead of the subtree's triangles; what it loses against the exact capture is measured by
 // the test Surfelize.ChildSurfelCaptureErrorOnSharedScene.
+// The nodes such a capture draws as triangles: `node` itself (if it has a mesh) and the whole subtrees of its
+// children without an array.
+std::vector<std::uint32_t> childCaptureTriangleNodes(const Scene& scene, std::uint32_t node,
+                                                     std::span<const std::uint32_t> arrayOfNode);
+
 CaptureResult captureFromChildSurfels(const Scene& scene, const Hierarchy& frame, std::uint32_t node,
                                       std::span<const SurfelArray> arrays, std::span<const std::uint32_t> arrayOfNode,
                                       const CaptureOptions& options);

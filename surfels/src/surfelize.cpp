@@ -8,14 +8,12 @@
 #include "pbs/scene/scene_draws.hpp"
 #include "pbs/scene/scene_fingerprint.hpp"
 #include "pbs/scene/scene_scan.hpp"
-#include "pbs/scene/surface_area.hpp"
 #include "pbs/surfels/blue_noise_metrics.hpp"
 #include "pbs/surfels/capture.hpp"
 #include "pbs/surfels/ordering.hpp"
 #include "pbs/surfels/prefilter_colors.hpp"
 #include "pbs/surfels/surfel_nodes.hpp"
 
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
@@ -57,38 +55,21 @@ struct MadeArray {
   std::uint64_t candidates = 0;
 };
 
-// The meshes a capture of `node` draws as triangles: its whole subtree's, or with `fromChildren` its own
-// and those of the children that have no array.
-std::vector<std::uint32_t> capturedMeshes(const Scene& scene, std::uint32_t node, bool fromChildren,
-                                          const detail::SurfelPlan& plan) {
-  std::vector<std::uint32_t> nodes;
-  if (!fromChildren) {
-    nodes = subtreeNodes(scene, node);
-  } else {
-    nodes.push_back(node);
-    for (std::uint32_t child : scene.nodes[node].children)
-      if (plan.arrayOfNode[child] == kNoSurfels) {
-        const std::vector<std::uint32_t> below = subtreeNodes(scene, child);
-        nodes.insert(nodes.end(), below.begin(), below.end());
-      }
-  }
-  std::vector<std::uint32_t> meshes;
-  for (std::uint32_t n : nodes)
-    if (scene.nodes[n].mesh >= 0) meshes.push_back(std::uint32_t(scene.nodes[n].mesh));
-  return meshes;
-}
-
-// The capture of `node`, whose subtree's instance boxes in its own frame are `boxes`. With `meshes` (a
-// scene opened without its mesh arrays), the meshes it draws are leased for the capture alone.
-CaptureResult captureArray(const Scene& scene, std::uint32_t node, std::span<const Bounds> boxes,
+// The capture of `node` in its subtree's frame `frame`. With `meshes` (a scene opened without its mesh
+// arrays), the meshes it draws as triangles are leased for the capture alone.
+CaptureResult captureArray(const Scene& scene, const Hierarchy& frame, std::uint32_t node,
                            const SurfelizeOptions& options, const detail::SurfelPlan& plan,
-                           std::span<const SurfelArray> arrays, LazyMeshes* meshes, Bounds& box) {
-  const Hierarchy frame = analyzeSubtree(scene, node, boxes);
-  box = frame.worldBounds[node];
+                           std::span<const SurfelArray> arrays, LazyMeshes* meshes) {
   const CaptureOptions capture{.resolution = options.file.resolution, .directions = options.file.directions};
   const bool fromChildren = captureFromChildren(scene, frame, node, options.source, plan, arrays);
   LazyMeshes::Lease lease;
-  if (meshes) lease = meshes->require(capturedMeshes(scene, node, fromChildren, plan));
+  if (meshes) {
+    std::vector<std::uint32_t> drawn;
+    for (std::uint32_t n :
+         fromChildren ? detail::childCaptureTriangleNodes(scene, node, plan.arrayOfNode) : subtreeNodes(scene, node))
+      if (scene.nodes[n].mesh >= 0) drawn.push_back(std::uint32_t(scene.nodes[n].mesh));
+    lease = meshes->require(drawn);
+  }
   return fromChildren ? detail::captureFromChildSurfels(scene, frame, node, arrays, plan.arrayOfNode, capture)
                       : captureNode(scene, frame, node, capture);
 }
@@ -97,8 +78,8 @@ CaptureResult captureArray(const Scene& scene, std::uint32_t node, std::span<con
 MadeArray makeArray(const Scene& scene, std::uint32_t node, std::span<const Bounds> boxes, const std::string& path,
                     double area, const SurfelizeOptions& options, const detail::SurfelPlan& plan,
                     std::span<const SurfelArray> arrays, LazyMeshes* meshes) {
-  Bounds box;
-  const CaptureResult captured = captureArray(scene, node, boxes, options, plan, arrays, meshes, box);
+  const Hierarchy frame = analyzeSubtree(scene, node, boxes);
+  const CaptureResult captured = captureArray(scene, frame, node, options, plan, arrays, meshes);
   if (meshes) meshes->unloadOverBudget();
 
   const std::vector<glm::vec3> positions = orderingPositions(captured.surfels);
@@ -110,7 +91,7 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, std::span<const Boun
   MadeArray made;
   made.candidates = captured.surfels.size();
   SurfelArray& array = made.array;
-  array.box = box;
+  array.box = frame.worldBounds[node];
   array.coverage = captured.coverage;
   array.area = area;
   array.surfels.reserve(order.size());

@@ -3,7 +3,6 @@
 #pragma once
 
 #include "pbs/scene/scene.hpp"
-#include "pbs/scene/scene_scan.hpp"
 
 #include <cstdint>
 #include <vector>

@@ -9,6 +9,8 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -64,6 +66,14 @@ void updateMeshBounds(Mesh& mesh);
 void dropUnreadUvs(Scene& scene);
 // The same for one mesh, with the scene's materials.
 void dropUnreadUvs(const Scene& scene, Mesh& mesh);
+
+// Mesh `mesh`'s arrays for one who reads a scene's meshes one at a time (a scan, a writer): a view of a
+// loaded mesh, or one made for the reader and freed with the pointer. Called from several threads at
+// once, for different meshes.
+using MeshReader = std::function<std::shared_ptr<const Mesh>(std::uint32_t mesh)>;
+
+// A reader of the scene's own meshes (all loaded), copying nothing.
+MeshReader loadedMeshes(const Scene& scene);
 
 // The bytes of a mesh's arrays: 12 per position and normal, 8 per texture coordinate pair, 4 per index.
 std::uint64_t meshBytes(const Mesh& mesh);

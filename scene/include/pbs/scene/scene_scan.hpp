@@ -9,19 +9,10 @@
 #include "pbs/scene/scene.hpp"
 
 #include <cstdint>
-#include <functional>
-#include <memory>
 #include <span>
 #include <vector>
 
 namespace pbs {
-
-// Mesh `mesh`'s arrays: a view of a loaded mesh, or one decoded for the scan and freed with the pointer.
-// Called from several threads at once, for different meshes.
-using MeshReader = std::function<std::shared_ptr<const Mesh>(std::uint32_t mesh)>;
-
-// A reader of the scene's own meshes (all loaded), copying nothing.
-MeshReader loadedMeshes(const Scene& scene);
 
 struct SceneScanRequest {
   bool worldBounds = false;                      // fill SceneScan::instanceBounds
