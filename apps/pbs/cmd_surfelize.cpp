@@ -24,7 +24,7 @@ namespace {
 // up to two meshes a worker in the scan.
 std::uint64_t lazyMeshMemory(const Scene& scene, std::uint64_t cacheBytes, int workers) {
   std::uint64_t largest = 0;
-  for (const Mesh& mesh : scene.meshes) largest = std::max(largest, meshBytesFromParts(mesh));
+  for (const Mesh& mesh : scene.meshes) largest = std::max(largest, foreseenMeshBytes(mesh));
   return cacheBytes + 2 * std::uint64_t(std::max(workers, 1)) * largest;
 }
 

@@ -9,6 +9,7 @@
 #include <pbs/scene/scene_fingerprint.hpp>
 #include <pbs/surfels/surfel_cache.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -83,13 +84,15 @@ LoadedScene openLazily(const std::string& spec, Analyze analyze) {
 void requireSceneFits(const std::string& spec, const SceneFit& fit) {
   if (spec == "default") return;
   const LazyGltf structure = loadSceneWithoutMeshes(spec);
-  std::uint64_t bytes = fit.alongside + structure.bufferBytes, triangles = 0;
+  std::uint64_t arrays = 0, triangles = 0;
   for (const Mesh& mesh : structure.imported.scene.meshes) {
-    bytes += meshBytesFromParts(mesh);
+    arrays += foreseenMeshBytes(mesh);
     triangles += mesh.triangleCount();
   }
-  if (fit.rays) bytes += embreeMemoryEstimate(structure.imported.scene, analyzeStructure(structure.imported.scene));
-  requireMemory(bytes,
+  // The file is mapped while it is read, and unmapped before a BVH is built: the peak is the larger.
+  const std::uint64_t bvh =
+      fit.rays ? embreeMemoryEstimate(structure.imported.scene, analyzeStructure(structure.imported.scene)) : 0;
+  requireMemory(fit.alongside + arrays + std::max(structure.bufferBytes, bvh),
                 std::string(fit.rays ? "ray casting " : "reading ") + spec + " (" + withThousands(triangles) +
                     (fit.rays ? " triangles in Embree's BVHs)" : " triangles)"),
                 fit.limit);

@@ -29,7 +29,7 @@ struct SceneFit {
   bool rays = false;            // Embree's BVH over the whole scene too
 };
 // Before a glTF scene is read whole: what it (and the rest) will take, foreseen from its structure alone
-// (each mesh's parts, a vertex per triangle, and the file's data, mapped while it is read), so that a
+// (each mesh's parts and vertex count, and the file's data, mapped while it is read), so that a
 // scene that would not fit is refused in one line instead of being killed half-way through reading it.
 // Nothing for `default`.
 void requireSceneFits(const std::string& spec, const SceneFit& fit);

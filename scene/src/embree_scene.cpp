@@ -67,9 +67,7 @@ std::uint64_t embreeMemoryEstimate(const Scene& scene, const Hierarchy& hierarch
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     if (!used[m]) continue;
     const Mesh& mesh = scene.meshes[m];
-    // A mesh not loaded yet counts a vertex per triangle (closed meshes have about half as many).
-    const std::uint64_t vertices = mesh.loaded() ? mesh.positions.size() : mesh.triangleCount();
-    bytes += mesh.triangleCount() * kEmbreeBytesPerTriangle + vertices * kEmbreeBytesPerVertex;
+    bytes += mesh.triangleCount() * kEmbreeBytesPerTriangle + mesh.vertexCount() * kEmbreeBytesPerVertex;
   }
   return kEmbreeFixedBytes + bytes + instances * kEmbreeBytesPerInstance;
 }

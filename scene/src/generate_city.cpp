@@ -135,6 +135,7 @@ std::shared_ptr<const LeafBakes> describeLeaves(Scene& city, std::vector<Mesh> p
     Mesh& described = city.meshes.emplace_back();
     described.name = prototype.name + ", " + node.name;
     described.parts = prototype.parts;
+    described.describedVertices = prototype.positions.size();
     bakes->leaves.push_back({std::uint32_t(node.mesh), node.local, described.name});
     node.mesh = std::int32_t(city.meshes.size() - 1);
     node.local = glm::dmat4(1.0);

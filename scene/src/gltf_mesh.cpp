@@ -229,11 +229,22 @@ Mesh describeMesh(const Document& model, int mesh, std::string_view file, const 
   Mesh result;
   result.name = model.meshes[static_cast<std::size_t>(mesh)].name;
   std::uint64_t indexCount = 0;
+  std::vector<VertexSource> sources;  // as importMesh reads them: primitives of the same accessors share vertices
   forTrianglePrimitives(model, mesh, file, skipped, [&](std::size_t p) {
     const tinygltf::Primitive& primitive = primitiveAt(model, mesh, p);
     const std::string element = primitiveName(mesh, p);
     const int* position = findAttribute(primitive, "POSITION");
     if (!position) throw InputError(file, element, "has no POSITION attribute");
+    if (!validIndex(*position, model.accessors.size()))
+      throw InputError(file, element, missingElement("accessor", *position, model.accessors.size()));
+    const int* normal = findAttribute(primitive, "NORMAL");
+    const int* texcoord = findAttribute(primitive, "TEXCOORD_0");
+    const VertexSource source{*position, normal ? *normal : -1, texcoord ? *texcoord : -1};
+    if (std::none_of(sources.begin(), sources.end(),
+                     [&](const VertexSource& seen) { return seen.sameAccessors(source); })) {
+      sources.push_back(source);
+      result.describedVertices += model.accessors[static_cast<std::size_t>(*position)].count;
+    }
     // The count appendTriangles converts: the index accessor's, else one index per vertex.
     const int counted = primitive.indices != -1 ? primitive.indices : *position;
     if (!validIndex(counted, model.accessors.size()))

@@ -161,6 +161,7 @@ std::vector<std::uint32_t> LazyMeshes::unloadOverBudget() {
     Mesh shell;
     shell.name = std::move(mesh.name);
     shell.parts = std::move(mesh.parts);
+    shell.describedVertices = mesh.positions.size();
     mesh = std::move(shell);
     state_[m] = State::Unloaded;
     unloaded.push_back(m);

@@ -18,9 +18,10 @@ MeshReader loadedMeshes(const Scene& scene) {
   };
 }
 
-std::uint64_t meshBytesFromParts(const Mesh& mesh) {
-  const std::uint64_t triangles = mesh.triangleCount();
-  return triangles * (3 * sizeof(std::uint32_t) + 2 * sizeof(glm::vec3) + sizeof(glm::vec2));
+std::uint64_t foreseenMeshBytes(const Mesh& mesh) {
+  if (mesh.loaded()) return meshBytes(mesh);
+  return 3 * mesh.triangleCount() * sizeof(std::uint32_t) +
+         mesh.vertexCount() * (2 * sizeof(glm::vec3) + sizeof(glm::vec2));
 }
 
 void dropUnreadUvs(const Scene& scene, Mesh& mesh) {

@@ -100,7 +100,7 @@ LodStats FrameRenderer::drawExactInBatches(const Camera& camera, double& loadSec
   };
   for (std::uint32_t node : draws.geometryNodes) {
     const auto mesh = std::uint32_t(scene_.nodes[node].mesh);
-    const std::uint64_t more = meshBytesFromParts(scene_.meshes[mesh]);
+    const std::uint64_t more = foreseenMeshBytes(scene_.meshes[mesh]);
     if (!nodes.empty() && bytes + more > sources_.meshes->budgetBytes()) drawBatch();
     nodes.push_back(node);
     meshes.push_back(mesh);

@@ -282,7 +282,7 @@ TEST(Cli, AGltfSceneTooLargeToReadIsRefusedBeforeReadingIt) {
   EXPECT_EQ(exact.status, 1);
   EXPECT_NE(exact.err.find("error: reading "), std::string::npos) << exact.err;
   EXPECT_NE(exact.err.find("(307,200 triangles) would need about"), std::string::npos) << exact.err;
-  const CommandResult rays = runPbs("render " + scene + " --mode embree --size 64x64 --max-memory 40MB -o '" +
+  const CommandResult rays = runPbs("render " + scene + " --mode embree --size 64x64 --max-memory 30MB -o '" +
                                     (scratch / "x.png").string() + "'");
   EXPECT_EQ(rays.status, 1);
   EXPECT_NE(rays.err.find("(307,200 triangles in Embree's BVHs) would need about"), std::string::npos) << rays.err;

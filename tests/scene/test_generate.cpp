@@ -455,6 +455,7 @@ TEST(UniqueCity, UnbakedCityBakesIntoTheSameCity) {
   for (std::uint32_t m = 0; m < baked.meshes.size(); ++m) {
     EXPECT_FALSE(unbaked.scene.meshes[m].loaded());
     EXPECT_EQ(unbaked.scene.meshes[m].name, baked.meshes[m].name);
+    EXPECT_EQ(unbaked.scene.meshes[m].vertexCount(), baked.meshes[m].positions.size());
     EXPECT_EQ(meshFingerprint(*unbaked.bake(m)), meshFingerprint(baked.meshes[m])) << "mesh " << m;
   }
 }

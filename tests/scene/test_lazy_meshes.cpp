@@ -88,8 +88,10 @@ void expectSameSceneOnceDecoded(const std::filesystem::path& file) {
   EXPECT_EQ(lazy.imported.warnings, whole.warnings);
   ASSERT_EQ(scene.meshes.size(), whole.scene.meshes.size());
   for (const Mesh& mesh : scene.meshes) EXPECT_FALSE(mesh.loaded());
-  for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     EXPECT_EQ(scene.meshes[m].triangleCount(), whole.scene.meshes[m].triangleCount()) << "mesh " << m;
+    EXPECT_EQ(scene.meshes[m].vertexCount(), whole.scene.meshes[m].positions.size()) << "mesh " << m;
+  }
   EXPECT_EQ(structureFingerprint(scene), structureFingerprint(whole.scene));
 
   LazyMeshes meshes(scene, lazy.decode, meshFingerprints(whole.scene), file.string(), std::uint64_t(1) << 30);
@@ -138,6 +140,7 @@ TEST(LazyMeshes, UnloadsTheLeastRecentlyDrawnAndRefusesAChangedMesh) {
   EXPECT_EQ(meshes.unloadOverBudget(), std::vector<std::uint32_t>{0});
   EXPECT_FALSE(scene.meshes[0].loaded());
   EXPECT_EQ(scene.meshes[0].triangleCount(), whole.scene.meshes[0].triangleCount()) << "the parts stay";
+  EXPECT_EQ(scene.meshes[0].vertexCount(), whole.scene.meshes[0].positions.size()) << "and the vertex count";
   EXPECT_TRUE(scene.meshes[1].loaded());
   drawing = meshes.require(first);
   EXPECT_EQ(meshes.stats().decoded, 3u);

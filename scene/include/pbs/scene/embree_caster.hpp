@@ -62,7 +62,7 @@ class EmbreeScene {
 // What EmbreeScene(scene, hierarchy) will allocate at most, from its meshes' triangles and vertices and
 // its instances, calibrated on Embree 3's robust triangle BVHs (docs/performance.md): lets a command
 // refuse a build that would not fit before starting it. Takes a scene opened without its mesh arrays too
-// (a vertex counted per triangle), so the refusal can come before the scene is read.
+// (Mesh::vertexCount), so the refusal can come before the scene is read.
 std::uint64_t embreeMemoryEstimate(const Scene& scene, const Hierarchy& hierarchy);
 
 }  // namespace pbs

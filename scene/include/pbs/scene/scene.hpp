@@ -38,8 +38,11 @@ struct Mesh {
     return indexCount / 3;
   }
   // False for a mesh of a scene opened without its arrays (LazyMeshes) until they are read: then it has
-  // its name and parts, and no positions, normals, uvs, indices or bounds.
+  // its name, parts and describedVertices, and no positions, normals, uvs, indices or bounds.
   bool loaded() const { return parts.empty() || !indices.empty(); }
+  // Of a mesh not loaded: how many vertices it has once read (what a reader foresees memory from).
+  std::uint64_t describedVertices = 0;
+  std::uint64_t vertexCount() const { return loaded() ? positions.size() : describedVertices; }
 };
 
 struct Node {
@@ -77,9 +80,9 @@ MeshReader loadedMeshes(const Scene& scene);
 
 // The bytes of a mesh's arrays: 12 per position and normal, 8 per texture coordinate pair, 4 per index.
 std::uint64_t meshBytes(const Mesh& mesh);
-// The same foreseen from the parts alone, for a mesh not loaded: its indices, and a vertex with every
-// attribute per triangle (closed meshes have about half as many; a strip one per triangle).
-std::uint64_t meshBytesFromParts(const Mesh& mesh);
+// The same for a mesh not loaded, foreseen from its parts and vertex count (texture coordinates counted
+// for every vertex); meshBytes for one that is.
+std::uint64_t foreseenMeshBytes(const Mesh& mesh);
 
 // Area-weighted vertex normals from the triangles (degenerate triangles contribute nothing;
 // a vertex touched by none gets +Z so no NaN ever leaves this function).
