@@ -202,9 +202,12 @@ std::pair<Scene, std::shared_ptr<const LeafBakes>> describeUniqueCity(const std:
 Scene generateCity(const std::vector<Scene>& prototypes, const CityOptions& options) {
   if (options.unique) {
     // Baked in parallel, each mesh into its own slot: the result does not depend on threads.
-    auto [city, bakes] = describeUniqueCity(prototypes, options);
+    // Not a structured binding: clang 14 cannot capture one in a lambda.
+    std::pair<Scene, std::shared_ptr<const LeafBakes>> described = describeUniqueCity(prototypes, options);
+    Scene& city = described.first;
+    const LeafBakes& bakes = *described.second;
     tbb::parallel_for(std::size_t(0), city.meshes.size(),
-                      [&, &bakes = bakes](std::size_t m) { city.meshes[m] = bakes->bake(std::uint32_t(m)); });
+                      [&](std::size_t m) { city.meshes[m] = bakes.bake(std::uint32_t(m)); });
     return std::move(city);
   }
   Scene city;
