@@ -1,15 +1,15 @@
-# `cmake --install`: the three libraries with their headers as pbs::raster, pbs::scene and pbs::surfels
-# for find_package(pbs), the `pbs` command and its image plug-in beside it, and the licence.
+# `cmake --install`: the four libraries with their headers as pbs::raster, pbs::scene, pbs::surfels and
+# pbs::evaluation for find_package(pbs), the `pbs` command and its image plug-in beside it, and the licence.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 set(PBS_CONFIG_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/pbs)
-foreach(module raster scene surfels)
+foreach(module raster scene surfels evaluation)
   set_target_properties(pbs_${module} PROPERTIES EXPORT_NAME ${module})
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${module}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endforeach()
 install(FILES ${PBS_GENERATED_INCLUDE_DIR}/pbs/version.hpp DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/pbs)
-install(TARGETS pbs_raster pbs_scene pbs_surfels EXPORT pbsTargets
+install(TARGETS pbs_raster pbs_scene pbs_surfels pbs_evaluation EXPORT pbsTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 # The command finds its plug-in beside its own binary.

@@ -3,9 +3,9 @@
 // in it, in its stored order. Per prefix k: d_min(k), ρ(k) and (at log-spaced k) the mean nearest-
 // neighbour distance; summaries rho_min / rho_mean; and the flat-patch spectrum of each ordering.
 #include "commands.hpp"
-#include "report_numbers.hpp"
+#include <pbs/evaluation/report_numbers.hpp>
 #include "scene_report.hpp"
-#include "svg_plot.hpp"
+#include <pbs/evaluation/svg_plot.hpp>
 
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/scene/input_error.hpp>

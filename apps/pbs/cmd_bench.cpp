@@ -4,6 +4,7 @@
 #include "commands.hpp"
 #include "scene_report.hpp"
 
+#include <pbs/evaluation/report_numbers.hpp>
 #include <pbs/raster/raster_limits.hpp>
 
 #include <cstdio>

@@ -4,6 +4,8 @@
 #include "image_files.hpp"
 #include "scene_report.hpp"
 
+#include <pbs/evaluation/report_numbers.hpp>
+#include <pbs/scene/find_node.hpp>
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/surfels/capture.hpp>
 
@@ -60,7 +62,7 @@ void addCaptureCommand(CLI::App& app) {
   command->callback([options] {
     runWithThreads(options->threads, [&] {
       const LoadedScene loaded = loadAndAnalyze(options->scene, LoadOptions{});
-      const std::uint32_t node = findNode(loaded, options->node);
+      const std::uint32_t node = findNode(loaded.scene, loaded.hierarchy, options->node, loaded.name);
       const std::filesystem::path folder(options->output);
       std::filesystem::create_directories(folder);
       const Bounds& box = loaded.hierarchy.worldBounds[node];

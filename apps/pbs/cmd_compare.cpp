@@ -2,7 +2,7 @@
 // whole image and its foreground, SSIM, FLIP, holes and bloat), and an image test's pass or fail.
 #include "commands.hpp"
 #include "image_files.hpp"
-#include "report_numbers.hpp"
+#include <pbs/evaluation/report_numbers.hpp>
 
 #include <pbs/raster/flip.hpp>
 #include <pbs/raster/image_metrics.hpp>

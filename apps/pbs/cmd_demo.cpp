@@ -4,7 +4,7 @@
 #include "commands.hpp"
 #include "image_files.hpp"
 #include "progress_meter.hpp"
-#include "report_numbers.hpp"
+#include <pbs/evaluation/report_numbers.hpp>
 #include "scene_report.hpp"
 
 #include <pbs/raster/headlight_shading.hpp>

@@ -4,16 +4,17 @@
 // it; written as DIR/eval.csv, DIR/summary.json, DIR/error_vs_time.svg and DIR/contact_sheet.png.
 // Simplified meshes (simplify=R) are measured the same way, as the alternative to surfels.
 #include "commands.hpp"
-#include "contact_sheet.hpp"
-#include "eval_outputs.hpp"
-#include "eval_run.hpp"
-#include "eval_settings.hpp"
+#include <pbs/evaluation/contact_sheet.hpp>
+#include <pbs/evaluation/eval_outputs.hpp>
+#include <pbs/evaluation/eval_run.hpp>
+#include <pbs/evaluation/eval_settings.hpp>
+#include <pbs/evaluation/eval_sources.hpp>
 #include "image_files.hpp"
 #include "orbit_views.hpp"
 #include "progress_meter.hpp"
-#include "report_numbers.hpp"
+#include <pbs/evaluation/report_numbers.hpp>
 #include "scene_report.hpp"
-#include "svg_plot.hpp"
+#include <pbs/evaluation/svg_plot.hpp>
 
 #include <pbs/raster/flip.hpp>
 #include <pbs/raster/thread_arena.hpp>
@@ -56,106 +57,6 @@ struct EvalOptions {
   int threads = 0;
 };
 
-// The file's own arrays, read as frames draw them (one cache for every setting that draws them), and those
-// of other orderings made on demand with the file's options.
-class SurfelSources {
- public:
-  // `reader` must have been required for the scene (loadAndAnalyze or openWithoutMeshes with it).
-  SurfelSources(const LoadedScene& loaded, SurfelFileReader reader, std::uint64_t cacheBytes, CaptureSource source,
-                bool quiet)
-      : loaded_(loaded),
-        source_(source),
-        quiet_(quiet),
-        cache_(std::move(reader), loaded.scene, loaded.hierarchy, cacheBytes) {}
-
-  SurfelOrdering fileOrdering() const { return cache_.options().ordering; }
-  // The arrays' lengths and packing, which decide the traversal (each view's kind among it).
-  const SceneSurfels& decisions() const { return cache_.surfels(); }
-  // What was read of the file: its tables, and the chunks the frames drew.
-  std::uint64_t bytesRead() const { return cache_.tablesBytes() + cache_.stats().bytesRead; }
-
-  FrameSources of(const EvalSetting& setting) {
-    const SurfelFileOptions& options = cache_.options();
-    if (!setting.ordering || *setting.ordering == options.ordering) return {.cache = &cache_};
-    auto found = made_.find(*setting.ordering);
-    if (found != made_.end()) return {.surfels = &found->second};
-    SurfelizeOptions settings;
-    settings.file = options;
-    settings.file.ordering = *setting.ordering;
-    settings.source = source_;
-    const std::string name(orderingName(*setting.ordering));
-    ProgressMeter meter("surfelize " + name, ProgressMeter::styleFor(quiet_));
-    settings.onProgress = [&](const SurfelizeProgress& p) {
-      meter.update(double(p.arraysDone) / double(std::max<std::uint32_t>(p.arraysTotal, 1)),
-                   std::to_string(p.arraysDone) + "/" + std::to_string(p.arraysTotal) + " arrays");
-    };
-    SurfelizeStats stats;
-    const SurfelFile file = surfelize(loaded_.scene, loaded_.hierarchy, settings, &stats);
-    if (stats.arrays > 0)
-      meter.finish(std::to_string(stats.arrays) + " arrays, " + withThousands(stats.surfels) + " surfels");
-    const SceneSurfels& made =
-        made_.emplace(*setting.ordering, sceneSurfelsOf(file, loaded_.scene, loaded_.hierarchy, "ordering=" + name))
-            .first->second;
-    return {.surfels = &made};
-  }
-
- private:
-  const LoadedScene& loaded_;
-  CaptureSource source_;
-  bool quiet_;
-  SurfelCache cache_;
-  std::map<SurfelOrdering, SceneSurfels> made_;
-};
-
-// Simplified copies of the scene, one per ratio a sweep names, made before timing starts; the time
-// each took is reported in summary.json apart from the frames'.
-class SimplifiedScenes {
- public:
-  SimplifiedScenes(const Scene& scene, bool quiet) : scene_(scene), quiet_(quiet) {}
-
-  const Scene& of(const EvalSetting& setting) {
-    const double ratio = *setting.simplify;
-    auto found = made_.find(ratio);
-    if (found != made_.end()) return found->second.simplified.scene;
-    ProgressMeter meter(setting.name, ProgressMeter::styleFor(quiet_));
-    SimplifyOptions options;
-    options.ratio = ratio;
-    const auto start = std::chrono::steady_clock::now();
-    Made made{simplifyScene(scene_, options), 0.0};
-    made.seconds = secondsSince(start);
-    meter.finish(withThousands(made.simplified.trianglesBefore) + " → " +
-                 withThousands(made.simplified.trianglesAfter) + " mesh triangles");
-    return made_.emplace(ratio, std::move(made)).first->second.simplified.scene;
-  }
-
-  // Per ratio: its time, the meshes' triangles (each mesh once) before and after, the largest relative
-  // deformation reached and the error bound simplification stopped at.
-  nlohmann::json json() const {
-    nlohmann::json list = nlohmann::json::array();
-    for (const auto& [ratio, made] : made_) {
-      const SimplifiedScene& s = made.simplified;
-      list.push_back(
-          {{"ratio", ratio},
-           {"seconds", made.seconds},
-           {"mesh_triangles_before", s.trianglesBefore},
-           {"mesh_triangles_after", s.trianglesAfter},
-           {"kept_fraction", s.trianglesBefore > 0 ? double(s.trianglesAfter) / double(s.trianglesBefore) : 1.0},
-           {"largest_error", s.largestError},
-           {"target_error", SimplifyOptions{}.targetError}});
-    }
-    return list;
-  }
-
- private:
-  struct Made {
-    SimplifiedScene simplified;
-    double seconds = 0.0;
-  };
-  const Scene& scene_;
-  bool quiet_;
-  std::map<double, Made> made_;
-};
-
 std::string dbText(double psnr) {
   if (!std::isfinite(psnr)) return "inf";
   char text[32];
@@ -176,15 +77,6 @@ void printTable(const std::vector<EvalSummary>& summaries) {
   }
 }
 
-// Whether every setting and the reference can draw a scene whose meshes are read as frames draw them:
-// not with Embree over the whole scene (its BVH holds every triangle), arrays of other orderings or
-// simplified meshes (both made from the whole scene).
-bool drawableOnDemand(const std::vector<EvalSetting>& settings, RenderMode reference, SurfelOrdering fileOrdering) {
-  return !castsRaysOverWholeScene(settings, reference) &&
-         std::none_of(settings.begin(), settings.end(),
-                      [&](const EvalSetting& s) { return s.simplify || (s.ordering && *s.ordering != fileOrdering); });
-}
-
 void run(const EvalOptions& options) {
   const Orbit orbit = parseOrbit(options.orbit);
   const auto [width, height] = parseSize(options.size);
@@ -194,14 +86,19 @@ void run(const EvalOptions& options) {
   double surfelsLoadSeconds = secondsSince(surfelsStart);
   const SurfelOrdering fileOrdering = reader.options().ordering;
   const LodOptions& baseline = options.baseline;
-  const std::vector<EvalSetting> settings =
-      evalSettings(options.peers, options.sweeps.empty() ? defaultSweep(fileOrdering) : options.sweeps, baseline);
+  std::vector<EvalSetting> settings;
+  try {
+    settings =
+        evalSettings(options.peers, options.sweeps.empty() ? defaultSweep(fileOrdering) : options.sweeps, baseline);
+  } catch (const SweepError& error) {
+    throw CLI::ValidationError(error.option(), error.what());
+  }
   const std::size_t baselineIndex = baselineSetting(settings);
 
   // A glTF scene with a version 4 file is opened without its mesh arrays where nothing needs them all: a
   // scene larger than memory is measured against the rasterizer's reference, drawn node by node.
   const bool meshesOnDemand = options.scene != "default" && !reader.sceneTable().instanceBounds.empty() &&
-                              drawableOnDemand(settings, referenceMode, fileOrdering);
+                              drawableWithMeshesOnDemand(settings, referenceMode, fileOrdering);
   const std::uint64_t cacheBytes = options.cacheMb << 20;
   const auto loadStart = std::chrono::steady_clock::now();
   const SceneFit fit{.rays = castsRaysOverWholeScene(settings, referenceMode)};
@@ -212,10 +109,12 @@ void run(const EvalOptions& options) {
   if (meshesOnDemand)
     meshes.emplace(loaded.scene, loaded.decodeMesh, reader.sceneTable().meshes, loaded.name, cacheBytes);
   const auto cacheStart = std::chrono::steady_clock::now();
-  SurfelSources sources(loaded, std::move(reader), cacheBytes, options.captureFrom, options.quiet);
+  const ProgressEvents progress = progressMeters(options.quiet);
+  EvalSurfelSources sources(loaded.scene, loaded.hierarchy, std::move(reader), cacheBytes, options.captureFrom,
+                            progress);
   surfelsLoadSeconds += secondsSince(cacheStart);
   // Arrays of other orderings and simplified meshes are made before timing starts, so no frame waits on them.
-  SimplifiedScenes simplifiedScenes(loaded.scene, options.quiet);
+  EvalSimplifiedScenes simplifiedScenes(loaded.scene, progress);
   for (const EvalSetting& setting : settings) {
     if (!setting.isPeer()) sources.of(setting);
     if (setting.simplify) simplifiedScenes.of(setting);
@@ -265,7 +164,7 @@ void run(const EvalOptions& options) {
                          .loadSeconds = loadSeconds,
                          .surfelsLoadSeconds = surfelsLoadSeconds,
                          .surfelBytesRead = sources.bytesRead()};
-  nlohmann::json summary = summaryJson(info, settings, results);
+  nlohmann::json summary = evalSummaryJson(info, settings, results);
   summary["simplification"] = simplifiedScenes.json();
   writeTextFile(folder / "error_vs_time.svg", renderSvg(errorTimePlot(settings, summaries, baselineIndex)));
 

@@ -4,6 +4,7 @@
 #include "memory_limit.hpp"
 #include "scene_report.hpp"
 
+#include <pbs/evaluation/report_numbers.hpp>
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/scene/generate.hpp>
 #include <pbs/scene/gltf_export.hpp>

@@ -4,6 +4,8 @@
 #include "image_files.hpp"
 #include "scene_report.hpp"
 
+#include <pbs/evaluation/report_numbers.hpp>
+#include <pbs/scene/find_node.hpp>
 #include <pbs/raster/camera.hpp>
 #include <pbs/raster/framebuffer.hpp>
 #include <pbs/raster/headlight_shading.hpp>
@@ -91,7 +93,7 @@ void addPrefixesCommand(CLI::App& app) {
   command->callback([options] {
     runWithThreads(options->threads, [&] {
       const LoadedScene loaded = loadAndAnalyze(options->scene, LoadOptions{});
-      const std::uint32_t node = findNode(loaded, options->node);
+      const std::uint32_t node = findNode(loaded.scene, loaded.hierarchy, options->node, loaded.name);
       CaptureOptions captureOptions;
       captureOptions.resolution = options->resolution;
       captureOptions.directions = options->directions;

@@ -4,7 +4,7 @@
 #include "commands.hpp"
 #include "image_files.hpp"
 #include "memory_limit.hpp"
-#include "report_numbers.hpp"
+#include <pbs/evaluation/report_numbers.hpp>
 #include "orbit_views.hpp"
 #include "scene_report.hpp"
 

@@ -3,7 +3,7 @@
 #include "commands.hpp"
 #include "memory_limit.hpp"
 #include "progress_meter.hpp"
-#include "report_numbers.hpp"
+#include <pbs/evaluation/report_numbers.hpp>
 #include "scene_report.hpp"
 
 #include <pbs/raster/thread_arena.hpp>

@@ -2,10 +2,10 @@
 // and directions as JSON.
 #include "figure_paths.hpp"
 
-#include "contact_sheet.hpp"
+#include <pbs/evaluation/contact_sheet.hpp>
 #include "image_files.hpp"
 #include "scene_report.hpp"
-#include "svg_plot.hpp"
+#include <pbs/evaluation/svg_plot.hpp>
 
 #include <pbs/raster/headlight_shading.hpp>
 #include <pbs/surfels/camera_paths.hpp>

@@ -2,12 +2,12 @@
 // written as CSV, JSON and a log-log plot.
 #include "figure_scaling.hpp"
 
-#include "figure_measure.hpp"
+#include <pbs/evaluation/mode_comparison.hpp>
 #include "orbit_views.hpp"
 #include "progress_meter.hpp"
-#include "report_numbers.hpp"
+#include <pbs/evaluation/report_numbers.hpp>
 #include "scene_report.hpp"
-#include "svg_plot.hpp"
+#include <pbs/evaluation/svg_plot.hpp>
 
 #include <pbs/scene/generate.hpp>
 #include <pbs/scene/load_scene.hpp>
@@ -38,7 +38,8 @@ constexpr const char* kCsvHeader =
 ScalingPoint measureCity(const Scene& city, const Hierarchy& hierarchy, const SceneSummary& summary,
                          std::uint32_t levels, const ScalingOptions& options) {
   const std::string name = withThousands(summary.triangles) + " triangles";
-  const MadeSurfels made = surfelizeInMemory(city, hierarchy, SurfelizeOptions{}, "surfelize " + name, options.quiet);
+  const MadeSurfels made =
+      surfelizeInMemory(city, hierarchy, SurfelizeOptions{}, "surfelize " + name, progressMeters(options.quiet));
   ModeComparison modes(city, hierarchy, made.surfels, options.lod, options.width, options.height);
   const std::vector<PathView> views =
       cameraPath(options.path, hierarchy, city.roots, Orbit{}, options.frames, options.width, options.height);

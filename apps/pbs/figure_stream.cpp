@@ -2,12 +2,12 @@
 // clock steps through the plotted time, each step's frame compared with the reference.
 #include "figure_stream.hpp"
 
-#include "contact_sheet.hpp"
+#include <pbs/evaluation/contact_sheet.hpp>
 #include "image_files.hpp"
 #include "progress_meter.hpp"
-#include "report_numbers.hpp"
+#include <pbs/evaluation/report_numbers.hpp>
 #include "scene_report.hpp"
-#include "svg_plot.hpp"
+#include <pbs/evaluation/svg_plot.hpp>
 
 #include <pbs/raster/headlight_shading.hpp>
 #include <pbs/raster/image_metrics.hpp>

@@ -2,13 +2,13 @@
 // sheet, CSV and JSON.
 #include "figure_views.hpp"
 
-#include "contact_sheet.hpp"
-#include "figure_measure.hpp"
+#include <pbs/evaluation/contact_sheet.hpp>
+#include <pbs/evaluation/mode_comparison.hpp>
 #include "image_files.hpp"
 #include "progress_meter.hpp"
-#include "report_numbers.hpp"
+#include <pbs/evaluation/report_numbers.hpp>
 #include "scene_report.hpp"
-#include "svg_plot.hpp"
+#include <pbs/evaluation/svg_plot.hpp>
 
 #include <pbs/raster/headlight_shading.hpp>
 #include <pbs/raster/orbit_camera.hpp>
@@ -79,7 +79,9 @@ nlohmann::json viewsJson(const ViewsOptions& options, const std::string& scene, 
 
 SceneSurfels surfelsFor(const ViewsOptions& options, const LoadedScene& loaded) {
   if (!options.surfels.empty()) return loadSceneSurfels(options.surfels, loaded.scene, loaded.hierarchy);
-  return surfelizeInMemory(loaded.scene, loaded.hierarchy, options.surfelize, "surfelize", options.quiet).surfels;
+  return surfelizeInMemory(loaded.scene, loaded.hierarchy, options.surfelize, "surfelize",
+                           progressMeters(options.quiet))
+      .surfels;
 }
 
 }  // namespace

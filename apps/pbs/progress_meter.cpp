@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <memory>
 
 namespace pbs::cli {
 namespace {
@@ -63,6 +65,25 @@ void ProgressMeter::show(double fraction, std::string_view detail, bool final) {
                  timing.c_str());
   }
   std::fflush(stderr);
+}
+
+ProgressEvents progressMeters(bool quiet) {
+  // Shared by the three callbacks (ProgressEvents is copied); a step's meter lives from begin to end.
+  auto meters = std::make_shared<std::map<std::string, ProgressMeter>>();
+  const ProgressMeter::Style style = ProgressMeter::styleFor(quiet);
+  return {
+      .begin = [meters, style](const std::string& step) { meters->insert_or_assign(step, ProgressMeter(step, style)); },
+      .update =
+          [meters](const std::string& step, double fraction, const std::string& detail) {
+            if (auto found = meters->find(step); found != meters->end()) found->second.update(fraction, detail);
+          },
+      .end =
+          [meters](const std::string& step, const std::string& detail) {
+            if (auto found = meters->find(step); found != meters->end()) {
+              found->second.finish(detail);
+              meters->erase(found);
+            }
+          }};
 }
 
 }  // namespace pbs::cli

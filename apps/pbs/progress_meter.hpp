@@ -2,6 +2,8 @@
 // seconds otherwise (logs, CI), nothing with --quiet.
 #pragma once
 
+#include <pbs/evaluation/progress_events.hpp>
+
 #include <chrono>
 #include <string>
 #include <string_view>
@@ -32,5 +34,8 @@ class ProgressMeter {
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point lastShown_;
 };
+
+// Library steps shown as progress meters, one per step, in the style styleFor(quiet) picks.
+ProgressEvents progressMeters(bool quiet);
 
 }  // namespace pbs::cli

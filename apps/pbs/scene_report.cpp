@@ -2,10 +2,9 @@
 #include "scene_report.hpp"
 
 #include "memory_limit.hpp"
-#include "report_numbers.hpp"
+#include <pbs/evaluation/report_numbers.hpp>
 
 #include <pbs/scene/embree_caster.hpp>
-#include <pbs/scene/input_error.hpp>
 #include <pbs/scene/scene_fingerprint.hpp>
 #include <pbs/surfels/surfel_cache.hpp>
 
@@ -20,30 +19,6 @@ namespace {
 nlohmann::json vectorJson(const glm::dvec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }
 
 }  // namespace
-
-std::string withThousands(std::uint64_t value) {
-  const std::string digits = std::to_string(value);
-  std::string grouped;
-  for (std::size_t i = 0; i < digits.size(); ++i) {
-    if (i > 0 && (digits.size() - i) % 3 == 0) grouped += ',';
-    grouped += digits[i];
-  }
-  return grouped;
-}
-
-std::uint32_t findNode(const LoadedScene& loaded, const std::string& wanted) {
-  if (wanted.empty()) {
-    if (loaded.scene.roots.empty()) throw InputError(loaded.name, "", "the scene has no root node");
-    return loaded.scene.roots.front();
-  }
-  for (std::uint32_t n : loaded.hierarchy.preorder)
-    if (loaded.scene.nodes[n].name == wanted) return n;
-  if (wanted.find_first_not_of("0123456789") == std::string::npos && wanted.size() < 10) {
-    const auto index = std::stoul(wanted);
-    if (index < loaded.scene.nodes.size()) return std::uint32_t(index);
-  }
-  throw InputError(loaded.name, "node " + wanted, "no node has this name or index");
-}
 
 namespace {
 

@@ -51,14 +51,7 @@ LoadedScene openWithoutMeshes(const std::string& spec, SurfelFileReader& surfels
 // (analyzeStructure), the meshes are read by decodeMesh.
 LoadedScene openWithoutMeshes(const std::string& spec);
 
-// The node named `wanted`, or with that index; the first root when `wanted` is empty. Throws
-// InputError when no node matches or the scene has no root.
-std::uint32_t findNode(const LoadedScene& loaded, const std::string& wanted);
-
 nlohmann::json summaryJson(const LoadedScene& loaded);
 void printSummary(const LoadedScene& loaded);
-
-// 1234567 → "1,234,567": triangle counts of billions must be readable at a glance.
-std::string withThousands(std::uint64_t value);
 
 }  // namespace pbs::cli

@@ -21,7 +21,7 @@ run(${CMAKE_COMMAND} -S ${PBS_SOURCE_DIR}/tests/install/consumer -B ${PBS_SCRATC
     -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${PBS_SCRATCH}/prefix)
 run(${CMAKE_COMMAND} --build ${PBS_SCRATCH}/build)
 run(${PBS_SCRATCH}/build/pbs_consumer)
-if(NOT output MATCHES "^pbs [0-9]+\\.[0-9]+\\.[0-9]+: [1-9][0-9]* nodes, [1-9][0-9]* of 3072 pixels covered")
+if(NOT output MATCHES "^pbs [0-9]+\\.[0-9]+\\.[0-9]+: [1-9][0-9]* nodes, [1-9][0-9]* of 3072 pixels covered, 4 settings")
   message(FATAL_ERROR "unexpected consumer output: ${output}")
 endif()
 run(${PBS_SCRATCH}/prefix/bin/pbs info default)  # and the installed command runs

@@ -1,4 +1,8 @@
-// Tests of the scene model: validation, world transforms, exact world bounds, subtree counts.
+// Tests of the scene model: validation, world transforms, exact world bounds, subtree counts, finding a
+// node by name or index.
+#include "test_fixtures.hpp"
+
+#include <pbs/scene/find_node.hpp>
 #include <pbs/scene/hierarchy.hpp>
 #include <pbs/scene/input_error.hpp>
 #include <pbs/surfels/surfel_nodes.hpp>
@@ -223,6 +227,35 @@ TEST(Normals, AreaWeightedAndNeverNaN) {
   EXPECT_NEAR(normals[0].y, expected.y, 1e-6);
   EXPECT_EQ(normals[5], glm::vec3(0, 0, 1));  // only in a degenerate triangle: the defined fallback
   for (const glm::vec3& n : normals) EXPECT_NEAR(glm::length(n), 1.0f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace pbs
+
+namespace pbs {
+namespace {
+
+// Names first (in preorder, so the first of two nodes named alike), then indices; nothing: the first root.
+TEST(FindNode, ByNameThenIndexElseAnErrorNamingTheFile) {
+  Scene scene = test::twoIdenticalGroups();
+  scene.nodes[4].name = "3";  // a name that reads as another node's index
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  EXPECT_EQ(findNode(scene, hierarchy, "", "f.glb"), 0u);
+  EXPECT_EQ(findNode(scene, hierarchy, "B", "f.glb"), 2u);
+  EXPECT_EQ(findNode(scene, hierarchy, "left", "f.glb"), 3u);
+  EXPECT_EQ(findNode(scene, hierarchy, "3", "f.glb"), 4u) << "the name wins over the index";
+  EXPECT_EQ(findNode(scene, hierarchy, "5", "f.glb"), 5u);
+  for (const char* missing : {"C", "7", "99999999999"}) {
+    try {
+      findNode(scene, hierarchy, missing, "f.glb");
+      ADD_FAILURE() << missing;
+    } catch (const InputError& error) {
+      EXPECT_NE(std::string(error.what()).find("f.glb"), std::string::npos) << error.what();
+      EXPECT_NE(std::string(error.what()).find(missing), std::string::npos) << error.what();
+    }
+  }
+  Scene empty;
+  EXPECT_THROW(findNode(empty, analyzeHierarchy(empty), "", "e.glb"), InputError);
 }
 
 }  // namespace

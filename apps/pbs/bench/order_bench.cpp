@@ -1,7 +1,7 @@
 // benchOrder: seeded sphere points, each ordering timed on one thread, then its blue-noise summary.
 #include "order_bench.hpp"
 
-#include "../report_numbers.hpp"
+#include <pbs/evaluation/report_numbers.hpp>
 
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/surfels/blue_noise_metrics.hpp>
@@ -23,7 +23,7 @@ nlohmann::json measure(const std::vector<glm::vec3>& points, const Ordering& ord
   std::vector<std::uint32_t> order;
   const auto start = std::chrono::steady_clock::now();
   runWithThreads(1, [&] { order = ordering(); });
-  const double seconds = cli::secondsSince(start);
+  const double seconds = secondsSince(start);
   const BlueNoiseSummary summary = summarizeBlueNoise(points, order, 4.0 * std::numbers::pi);
   return {{"seconds", seconds}, {"count", order.size()}, {"rho_min", summary.rhoMin}, {"rho_mean", summary.rhoMean}};
 }

@@ -2,7 +2,7 @@
 // same machine noise, medians, and ratios round by round.
 #pragma once
 
-#include "../report_numbers.hpp"
+#include <pbs/evaluation/report_numbers.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -24,7 +24,7 @@ template <typename Work>
 double timedRun(Work&& work) {
   const auto start = std::chrono::steady_clock::now();
   work();
-  return cli::secondsSince(start);
+  return secondsSince(start);
 }
 
 // Contenders timed against each other: each runs once to warm up, then `repeats` rounds in which

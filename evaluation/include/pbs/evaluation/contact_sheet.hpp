@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-namespace pbs::cli {
+namespace pbs {
 
 inline constexpr float kDifferenceGain = 4.0f;
 
@@ -23,4 +23,4 @@ std::vector<std::uint8_t> contactSheet(std::uint32_t width, std::uint32_t height
                                        const std::vector<std::span<const std::uint8_t>>& tiles,
                                        const std::uint8_t (&background)[3]);
 
-}  // namespace pbs::cli
+}  // namespace pbs

@@ -3,9 +3,9 @@
 // marker per setting, the Embree curve and the Pareto front drawn).
 #pragma once
 
-#include "eval_run.hpp"
-#include "eval_settings.hpp"
-#include "svg_plot.hpp"
+#include "pbs/evaluation/eval_run.hpp"
+#include "pbs/evaluation/eval_settings.hpp"
+#include "pbs/evaluation/svg_plot.hpp"
 
 #include <pbs/surfels/frame_kind.hpp>
 
@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-namespace pbs::cli {
+namespace pbs {
 
 // The CSV header, in column order. "flip" is FLIP's mean over the foreground (the pixels either image
 // covers), the error every summary and plot reads; flip_mean over the whole image as NVIDIA's tool
@@ -72,8 +72,8 @@ struct EvalRunInfo {
 
 // summary.json: the run's inputs, the reference's and the BVH's times, the frame kinds, and per setting
 // its summary over all frames and per kind; non-finite numbers as null.
-nlohmann::json summaryJson(const EvalRunInfo& info, const std::vector<EvalSetting>& settings,
-                           const EvalResults& results);
+nlohmann::json evalSummaryJson(const EvalRunInfo& info, const std::vector<EvalSetting>& settings,
+                               const EvalResults& results);
 
 // Median foreground FLIP against median milliseconds per frame (both log axes), a marker per setting
 // (peers black, the baseline red, other surfel settings blue, simplified meshes orange), Embree's
@@ -87,4 +87,4 @@ Plot errorTimePlot(const std::vector<EvalSetting>& settings, const std::vector<E
 std::vector<std::size_t> sheetSettings(const std::vector<EvalSetting>& settings,
                                        const std::vector<EvalSummary>& summaries, std::size_t baseline);
 
-}  // namespace pbs::cli
+}  // namespace pbs

@@ -1,13 +1,14 @@
-// What both `pbs figure` plots measure: surfels made in memory (progress on stderr), and a view drawn
-// exactly and with surfels, timed and compared.
+// What the figures and the evaluation's other orderings measure: surfels made in memory (with progress
+// reported as a step), and views drawn exactly and with surfels, timed and compared.
 #pragma once
 
-#include <pbs/surfels/frame_renderer.hpp>
+#include "pbs/evaluation/progress_events.hpp"
 
 #include <pbs/raster/camera.hpp>
 #include <pbs/raster/image_metrics.hpp>
 #include <pbs/scene/hierarchy.hpp>
 #include <pbs/scene/scene.hpp>
+#include <pbs/surfels/frame_renderer.hpp>
 #include <pbs/surfels/scene_surfels.hpp>
 #include <pbs/surfels/surfelize.hpp>
 
@@ -17,7 +18,7 @@
 #include <string>
 #include <vector>
 
-namespace pbs::cli {
+namespace pbs {
 
 struct MadeSurfels {
   SceneSurfels surfels;
@@ -25,9 +26,10 @@ struct MadeSurfels {
   double seconds = 0.0;  // surfelize alone, matching to the scene left out
 };
 
-// surfelize() with a progress meter labelled `label` (none when `quiet`), its arrays matched to the scene.
+// surfelize(), reported to `progress` as step `label` (arrays done of all), its arrays matched to the scene
+// (named `label` in their errors).
 MadeSurfels surfelizeInMemory(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
-                              const std::string& label, bool quiet);
+                              const std::string& label, const ProgressEvents& progress = {});
 
 struct ModeFrames {
   FrameResult exact;
@@ -54,4 +56,4 @@ class ModeComparison {
   FrameRenderer surfels_;
 };
 
-}  // namespace pbs::cli
+}  // namespace pbs

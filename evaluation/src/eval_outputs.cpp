@@ -1,6 +1,6 @@
 // Medians, worst frames, the Pareto front, and the CSV, JSON and SVG texts of `pbs eval`.
-#include "eval_outputs.hpp"
-#include "report_numbers.hpp"
+#include "pbs/evaluation/eval_outputs.hpp"
+#include "pbs/evaluation/report_numbers.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <limits>
 #include <tuple>
 
-namespace pbs::cli {
+namespace pbs {
 namespace {
 
 // The frames of `result` whose view is of `kind` (all when unset).
@@ -134,8 +134,8 @@ std::string evalCsv(const std::vector<EvalSetting>& settings, const EvalResults&
   return csv;
 }
 
-nlohmann::json summaryJson(const EvalRunInfo& info, const std::vector<EvalSetting>& settings,
-                           const EvalResults& results) {
+nlohmann::json evalSummaryJson(const EvalRunInfo& info, const std::vector<EvalSetting>& settings,
+                               const EvalResults& results) {
   std::vector<double> referenceSeconds;
   double surfelReadSeconds = 0.0;  // by the frames, as they drew prefixes not read before
   for (const EvalSettingResult& setting : results.settings)
@@ -234,4 +234,4 @@ std::vector<std::size_t> sheetSettings(const std::vector<EvalSetting>& settings,
   return rows;
 }
 
-}  // namespace pbs::cli
+}  // namespace pbs

@@ -11,10 +11,23 @@
 
 #include <cstdint>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
-namespace pbs::cli {
+namespace pbs {
+
+// A --peers or --sweep text that names no setting: `option` is the option it came from, what() the reason.
+class SweepError : public std::invalid_argument {
+ public:
+  SweepError(std::string option, const std::string& reason)
+      : std::invalid_argument(reason), option_(std::move(option)) {}
+  const std::string& option() const { return option_; }
+
+ private:
+  std::string option_;
+};
 
 struct EvalSetting {
   std::string name;  // as given, normalised for peers ("exact" → "exact=1"): the CSV's setting column
@@ -37,7 +50,7 @@ std::string sweepKeys();
 
 // "KEY=V1,V2,…" (one setting per value), "KEY=V+KEY=V…" (one setting with all those changes),
 // "surfels" (the baseline) or "exact", as settings over `baseline`, in the given order. Throws
-// CLI::ValidationError naming `option` for an unknown key, a value out of range or a list inside a
+// SweepError naming `option` for an unknown key, a value out of range or a list inside a
 // combined setting.
 std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& baseline,
                                     const std::string& option = "--sweep");
@@ -57,4 +70,4 @@ std::vector<EvalSetting> evalSettings(const std::vector<std::string>& peers, con
 // The index of "surfels", the baseline the contact sheet and the summary point at.
 std::size_t baselineSetting(const std::vector<EvalSetting>& settings);
 
-}  // namespace pbs::cli
+}  // namespace pbs

@@ -1,5 +1,5 @@
 // SVG line and scatter plots written by hand (no plotting dependency), and atomic text output.
-#include "svg_plot.hpp"
+#include "pbs/evaluation/svg_plot.hpp"
 
 #include <algorithm>
 #include <array>
@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <system_error>
 
-namespace pbs::cli {
+namespace pbs {
 namespace {
 
 constexpr std::array<const char*, 10> kPalette = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
@@ -214,4 +214,4 @@ void writeTextFile(const std::filesystem::path& file, const std::string& text) {
   }
 }
 
-}  // namespace pbs::cli
+}  // namespace pbs

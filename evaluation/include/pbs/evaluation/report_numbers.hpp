@@ -1,5 +1,5 @@
-// Small numeric helpers every command's report shares: elapsed time, medians, JSON for values that
-// may be infinite.
+// Small numeric helpers every report shares (the evaluation's files, the commands' output): counts with
+// thousands separators, elapsed time, medians, CSV numbers, JSON for values that may be infinite.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -7,13 +7,25 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <initializer_list>
 #include <string>
 #include <string_view>
 #include <vector>
 
-namespace pbs::cli {
+namespace pbs {
+
+// 1234567 → "1,234,567": triangle counts of billions must be readable at a glance.
+inline std::string withThousands(std::uint64_t value) {
+  const std::string digits = std::to_string(value);
+  std::string grouped;
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) grouped += ',';
+    grouped += digits[i];
+  }
+  return grouped;
+}
 
 inline double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -49,4 +61,4 @@ inline nlohmann::json finiteOrNull(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json();
 }
 
-}  // namespace pbs::cli
+}  // namespace pbs

@@ -1,11 +1,11 @@
 // contactSheet: alpha compositing of RGBA8 tiles into one RGB8 grid; differenceRgba8: what it shows of errors.
-#include "contact_sheet.hpp"
+#include "pbs/evaluation/contact_sheet.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-namespace pbs::cli {
+namespace pbs {
 
 std::vector<std::uint8_t> differenceRgba8(const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b,
                                           float gain) {
@@ -44,4 +44,4 @@ std::vector<std::uint8_t> contactSheet(std::uint32_t width, std::uint32_t height
   return sheet;
 }
 
-}  // namespace pbs::cli
+}  // namespace pbs

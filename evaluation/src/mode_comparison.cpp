@@ -1,31 +1,30 @@
-// surfelizeInMemory and ModeComparison: the measuring both figures share.
-#include "figure_measure.hpp"
+// surfelizeInMemory and ModeComparison: the measuring the figures and the evaluation share.
+#include "pbs/evaluation/mode_comparison.hpp"
 
-#include "progress_meter.hpp"
-#include "report_numbers.hpp"
-#include "scene_report.hpp"
+#include "pbs/evaluation/report_numbers.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 
-namespace pbs::cli {
+namespace pbs {
 
 MadeSurfels surfelizeInMemory(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
-                              const std::string& label, bool quiet) {
-  ProgressMeter meter(label, ProgressMeter::styleFor(quiet));
+                              const std::string& label, const ProgressEvents& progress) {
+  progress.begun(label);
   SurfelizeOptions settings = options;
   settings.onProgress = [&](const SurfelizeProgress& p) {
-    meter.update(double(p.arraysDone) / double(std::max(p.arraysTotal, 1u)),
-                 std::to_string(p.arraysDone) + "/" + std::to_string(p.arraysTotal) + " arrays");
+    progress.updated(label, double(p.arraysDone) / double(std::max(p.arraysTotal, 1u)),
+                     std::to_string(p.arraysDone) + "/" + std::to_string(p.arraysTotal) + " arrays");
   };
   MadeSurfels made;
   const auto start = std::chrono::steady_clock::now();
   const SurfelFile file = surfelize(scene, hierarchy, settings, &made.stats);
   made.seconds = secondsSince(start);
   if (made.stats.arrays > 0)
-    meter.finish(std::to_string(made.stats.arrays) + " arrays, " + withThousands(made.stats.surfels) + " surfels");
+    progress.ended(label,
+                   std::to_string(made.stats.arrays) + " arrays, " + withThousands(made.stats.surfels) + " surfels");
   made.surfels = sceneSurfelsOf(file, scene, hierarchy, label);
   return made;
 }
@@ -55,4 +54,4 @@ std::vector<ModeFrames> ModeComparison::render(std::span<const Camera> cameras,
   return frames;
 }
 
-}  // namespace pbs::cli
+}  // namespace pbs

@@ -1,9 +1,7 @@
 // Parsing `--peers` and `--sweep KEY=V1,V2,…` into named settings.
-#include "eval_settings.hpp"
+#include "pbs/evaluation/eval_settings.hpp"
 
 #include <pbs/raster/supersampling.hpp>
-
-#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace pbs::cli {
+namespace pbs {
 namespace {
 
 double parseNumber(const std::string& option, const std::string& key, const std::string& value, double lo, double hi) {
@@ -21,7 +19,7 @@ double parseNumber(const std::string& option, const std::string& key, const std:
   if (value.empty() || end != value.c_str() + value.size() || !std::isfinite(number) || number < lo || number > hi) {
     std::ostringstream message;
     message << key << " needs a number in [" << lo << ", " << hi << "], got '" << value << "'";
-    throw CLI::ValidationError(option, message.str());
+    throw SweepError(option, message.str());
   }
   return number;
 }
@@ -29,7 +27,7 @@ double parseNumber(const std::string& option, const std::string& key, const std:
 std::uint32_t parseSamples(const std::string& option, const std::string& key, const std::string& value) {
   const double samples = parseNumber(option, key, value, 1.0, 256.0);
   if (samples != std::floor(samples) || !isSupportedSampleCount(std::uint32_t(samples)))
-    throw CLI::ValidationError(option, key + " takes 1, 4, 16, 64 or 256 samples per pixel, got '" + value + "'");
+    throw SweepError(option, key + " takes 1, 4, 16, 64 or 256 samples per pixel, got '" + value + "'");
   return std::uint32_t(samples);
 }
 
@@ -46,7 +44,7 @@ void apply(const std::string& option, const std::string& key, const std::string&
     setting.lod.pointSize = float(parseNumber(option, key, value, 0.0, 64.0));
   } else if (key == "splat") {
     const std::optional<SplatMode> mode = splatModeFromName(value);
-    if (!mode) throw CLI::ValidationError(option, "splat is blend or nearest, got '" + value + "'");
+    if (!mode) throw SweepError(option, "splat is blend or nearest, got '" + value + "'");
     setting.lod.splat = *mode;
   } else if (key == "cull") {
     setting.lod.backFaceCosine = float(parseNumber(option, key, value, -1.0, 1.0));
@@ -54,27 +52,26 @@ void apply(const std::string& option, const std::string& key, const std::string&
     setting.lod.coverageGain = float(parseNumber(option, key, value, 0.1, 10.0));
   } else if (key == "exhausted") {
     if (value != "descend" && value != "grow")
-      throw CLI::ValidationError(option, "exhausted is descend or grow, got '" + value + "'");
+      throw SweepError(option, "exhausted is descend or grow, got '" + value + "'");
     setting.lod.descendExhausted = value == "descend";
   } else if (key == "band") {
     setting.lod.band = parseNumber(option, key, value, 0.0, 10.0);
   } else if (key == "rule") {
     if (value != "coverage" && value != "packing")
-      throw CLI::ValidationError(option, "rule is coverage or packing, got '" + value + "'");
+      throw SweepError(option, "rule is coverage or packing, got '" + value + "'");
     setting.lod.prefixRule = value == "packing" ? PrefixRule::Packing : PrefixRule::Coverage;
   } else if (key == "geometry") {
     const std::optional<GeometryDrawer> drawer = geometryDrawerFromName(value);
-    if (!drawer) throw CLI::ValidationError(option, "geometry is raster, rays or auto, got '" + value + "'");
+    if (!drawer) throw SweepError(option, "geometry is raster, rays or auto, got '" + value + "'");
     setting.lod.geometry = *drawer;
   } else if (key == "ordering") {
     setting.ordering = parseOrdering(value);
-    if (!setting.ordering)
-      throw CLI::ValidationError(option, "ordering is farthest, dart or random, got '" + value + "'");
+    if (!setting.ordering) throw SweepError(option, "ordering is farthest, dart or random, got '" + value + "'");
   } else if (key == "simplify") {
     setting.mode = RenderMode::Simplified;
     setting.simplify = parseNumber(option, key, value, 1e-6, 1.0);
   } else {
-    throw CLI::ValidationError(option, "unknown key '" + key + "' (one of " + sweepKeys() + ", or surfels)");
+    throw SweepError(option, "unknown key '" + key + "' (one of " + sweepKeys() + ", or surfels)");
   }
 }
 
@@ -83,7 +80,7 @@ std::pair<std::string, std::string> keyAndValue(const std::string& option, const
                                                 const std::string& whole) {
   const std::size_t equals = text.find('=');
   if (equals == std::string::npos || equals == 0 || equals + 1 == text.size())
-    throw CLI::ValidationError(option, "expected KEY=V1,V2,…, KEY=V+KEY=V, surfels or exact, got '" + whole + "'");
+    throw SweepError(option, "expected KEY=V1,V2,…, KEY=V+KEY=V, surfels or exact, got '" + whole + "'");
   return {text.substr(0, equals), text.substr(equals + 1)};
 }
 
@@ -99,10 +96,10 @@ EvalSetting combinedSetting(const std::string& option, const std::string& text, 
   for (std::string part; std::getline(parts, part, '+');) {
     const auto [key, value] = keyAndValue(option, part, text);
     if (value.find(',') != std::string::npos)
-      throw CLI::ValidationError(option, "a combined setting takes one value per key, got '" + text + "'");
+      throw SweepError(option, "a combined setting takes one value per key, got '" + text + "'");
     apply(option, key, value, setting);
   }
-  if (text.back() == '+') throw CLI::ValidationError(option, "an empty part in '" + text + "'");
+  if (text.back() == '+') throw SweepError(option, "an empty part in '" + text + "'");
   return setting;
 }
 
@@ -131,7 +128,7 @@ std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& b
     if (setting.isPeer()) setting.name = key + "=" + std::to_string(setting.samples);
     settings.push_back(std::move(setting));
   }
-  if (settings.empty() || text.back() == ',') throw CLI::ValidationError(option, "an empty value in '" + text + "'");
+  if (settings.empty() || text.back() == ',') throw SweepError(option, "an empty value in '" + text + "'");
   return settings;
 }
 
@@ -156,7 +153,7 @@ std::vector<EvalSetting> evalSettings(const std::vector<std::string>& peers, con
   const auto add = [&](const std::string& text, const std::string& option) {
     for (EvalSetting& setting : parseSweep(text, baseline, option)) {
       if (option == "--peers" && !setting.isPeer())
-        throw CLI::ValidationError("--peers", "takes embree=N,… and exact=N,… only, got '" + text + "'");
+        throw SweepError("--peers", "takes embree=N,… and exact=N,… only, got '" + text + "'");
       const bool seen = std::any_of(settings.begin(), settings.end(), [&](const EvalSetting& s) {
         return s.drawsLike(setting) || s.name == setting.name;
       });
@@ -175,4 +172,4 @@ std::size_t baselineSetting(const std::vector<EvalSetting>& settings) {
   throw std::logic_error("evalSettings always adds the baseline setting \"surfels\"");
 }
 
-}  // namespace pbs::cli
+}  // namespace pbs

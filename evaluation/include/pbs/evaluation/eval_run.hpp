@@ -3,7 +3,7 @@
 // and compared with the reference of its view.
 #pragma once
 
-#include "eval_settings.hpp"
+#include "pbs/evaluation/eval_settings.hpp"
 
 #include <pbs/raster/camera.hpp>
 #include <pbs/raster/image_metrics.hpp>
@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-namespace pbs::cli {
+namespace pbs {
 
 // One view of the path and what the reference found there.
 struct EvalView {
@@ -73,6 +73,12 @@ struct EvalInputs {
 // every triangle, so the scene must be read whole.
 bool castsRaysOverWholeScene(const std::vector<EvalSetting>& settings, RenderMode reference);
 
+// Whether every setting and the reference can draw a scene whose meshes are read as frames draw them:
+// not with Embree over the whole scene (its BVH holds every triangle), arrays of other orderings than
+// the file's or simplified meshes (both made from the whole scene).
+bool drawableWithMeshesOnDemand(const std::vector<EvalSetting>& settings, RenderMode reference,
+                                SurfelOrdering fileOrdering);
+
 // Renders the reference and views × settings frames. `surfelsOf` gives the arrays a surfel setting
 // draws, as FrameSources::surfels (made in memory) or FrameSources::cache (the file, read as frames draw
 // it: every setting of the file's own arrays shares one cache) (called once per setting, never for peers;
@@ -85,4 +91,4 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
                     const std::function<const Scene&(const EvalSetting&)>& simplifiedOf,
                     const std::function<void(std::size_t, std::size_t, const std::string&)>& onProgress);
 
-}  // namespace pbs::cli
+}  // namespace pbs

@@ -1,8 +1,8 @@
 // runEval: one Embree BVH for the reference and the Embree peers (where they cast rays), one FrameRenderer
 // per setting reused over the path so its timings match `pbs render`.
-#include "eval_run.hpp"
+#include "pbs/evaluation/eval_run.hpp"
 
-#include "report_numbers.hpp"
+#include "pbs/evaluation/report_numbers.hpp"
 
 #include <pbs/raster/flip.hpp>
 #include <pbs/raster/headlight_shading.hpp>
@@ -16,7 +16,7 @@
 #include <optional>
 #include <stdexcept>
 
-namespace pbs::cli {
+namespace pbs {
 namespace {
 
 double coveredPixels(const std::vector<glm::vec4>& image) {
@@ -45,6 +45,13 @@ bool castsRaysOverWholeScene(const std::vector<EvalSetting>& settings, RenderMod
   return reference == RenderMode::Embree || std::any_of(settings.begin(), settings.end(), [](const EvalSetting& s) {
            return s.mode == RenderMode::Embree;
          });
+}
+
+bool drawableWithMeshesOnDemand(const std::vector<EvalSetting>& settings, RenderMode reference,
+                                SurfelOrdering fileOrdering) {
+  return !castsRaysOverWholeScene(settings, reference) &&
+         std::none_of(settings.begin(), settings.end(),
+                      [&](const EvalSetting& s) { return s.simplify || (s.ordering && *s.ordering != fileOrdering); });
 }
 
 EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::vector<Camera>& cameras,
@@ -129,4 +136,4 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
   return results;
 }
 
-}  // namespace pbs::cli
+}  // namespace pbs

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-namespace pbs::cli {
+namespace pbs {
 
 struct PlotSeries {
   std::string name;                               // legend entry
@@ -51,4 +51,4 @@ std::string renderSvg(const Plot& plot);
 // std::runtime_error naming the file on failure (the temporary is removed).
 void writeTextFile(const std::filesystem::path& file, const std::string& text);
 
-}  // namespace pbs::cli
+}  // namespace pbs
