@@ -4,7 +4,6 @@
 // it; written as DIR/eval.csv, DIR/summary.json, DIR/error_vs_time.svg and DIR/contact_sheet.png.
 // Simplified meshes (simplify=R) are measured the same way, as the alternative to surfels.
 #include "commands.hpp"
-#include <pbs/evaluation/contact_sheet.hpp>
 #include <pbs/evaluation/eval_outputs.hpp>
 #include <pbs/evaluation/eval_run.hpp>
 #include <pbs/evaluation/eval_settings.hpp>
@@ -144,13 +143,6 @@ void run(const EvalOptions& options) {
       });
   meter.finish(std::to_string(settings.size()) + " settings × " + std::to_string(cameras.size()) + " frames");
 
-  std::vector<EvalSummary> summaries;
-  for (std::size_t s = 0; s < settings.size(); ++s)
-    summaries.push_back(summarize(settings[s].name, results.settings[s], results.views));
-
-  const std::filesystem::path folder(options.output);
-  std::filesystem::create_directories(folder);
-  writeTextFile(folder / "eval.csv", evalCsv(settings, results));
   const EvalRunInfo info{.scene = loaded.name,
                          .surfels = options.surfels,
                          .path = options.path,
@@ -164,32 +156,19 @@ void run(const EvalOptions& options) {
                          .loadSeconds = loadSeconds,
                          .surfelsLoadSeconds = surfelsLoadSeconds,
                          .surfelBytesRead = sources.bytesRead()};
-  nlohmann::json summary = evalSummaryJson(info, settings, results);
-  summary["simplification"] = simplifiedScenes.json();
-  writeTextFile(folder / "error_vs_time.svg", renderSvg(errorTimePlot(settings, summaries, baselineIndex)));
-
-  // Contact sheet of the middle frame: reference | setting | FLIP map, one row per setting shown.
-  const std::vector<std::size_t> rows = sheetSettings(settings, summaries, baselineIndex);
-  std::vector<std::span<const std::uint8_t>> tiles;
-  for (std::size_t s : rows) {
-    tiles.emplace_back(results.referenceSheet);
-    tiles.emplace_back(results.settings[s].sheetImage);
-    tiles.emplace_back(results.settings[s].sheetFlip);
-    summary["contact_sheet"]["rows"].push_back(settings[s].name);
-  }
-  summary["contact_sheet"]["file"] = "contact_sheet.png";
-  summary["contact_sheet"]["frame"] = inputs.sheetFrame;
-  const std::uint8_t background[3] = {std::uint8_t(std::lround(options.background.r * 255.0f)),
-                                      std::uint8_t(std::lround(options.background.g * 255.0f)),
-                                      std::uint8_t(std::lround(options.background.b * 255.0f))};
-  writeImage8(folder / "contact_sheet.png", 3 * width, std::uint32_t(rows.size()) * height, 3,
-              contactSheet(width, height, 3, tiles, background));
-  writeTextFile(folder / "summary.json", summary.dump(2) + "\n");
+  EvalFiles files = evalFiles(info, settings, results, inputs.sheetFrame, options.background);
+  files.summary["simplification"] = simplifiedScenes.json();
+  const std::filesystem::path folder(options.output);
+  std::filesystem::create_directories(folder);
+  writeTextFile(folder / "eval.csv", files.csv);
+  writeTextFile(folder / "error_vs_time.svg", files.plot);
+  writeImage8(folder / "contact_sheet.png", files.sheetWidth, files.sheetHeight, 3, files.sheet);
+  writeTextFile(folder / "summary.json", files.summary.dump(2) + "\n");
 
   std::printf("%s, %s path: %ux%u, %zu frames; reference %s at %u samples, median %.1f ms; BVH %.2f s, load %.2f s%s\n",
               loaded.name.c_str(), options.path.c_str(), width, height, cameras.size(),
               options.referenceRenderer.c_str(), options.referenceSamples,
-              summary["reference"]["median_seconds"].get<double>() * 1e3, results.buildSeconds, loadSeconds,
+              files.summary["reference"]["median_seconds"].get<double>() * 1e3, results.buildSeconds, loadSeconds,
               meshesOnDemand ? "; meshes read as frames draw them" : "");
   std::string kinds;
   for (FrameKind kind : {FrameKind::Near, FrameKind::Mid, FrameKind::Far}) {
@@ -198,7 +177,7 @@ void run(const EvalOptions& options) {
     kinds += std::string(kinds.empty() ? "" : ", ") + std::to_string(n) + " " + frameKindName(kind);
   }
   std::printf("frames: %s\n", kinds.c_str());
-  printTable(summaries);
+  printTable(files.summaries);
   std::printf("wrote %s/{eval.csv, summary.json, error_vs_time.svg, contact_sheet.png}\n", folder.string().c_str());
 }
 

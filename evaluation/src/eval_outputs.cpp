@@ -1,5 +1,7 @@
 // Medians, worst frames, the Pareto front, and the CSV, JSON and SVG texts of `pbs eval`.
 #include "pbs/evaluation/eval_outputs.hpp"
+
+#include "pbs/evaluation/contact_sheet.hpp"
 #include "pbs/evaluation/report_numbers.hpp"
 
 #include <algorithm>
@@ -232,6 +234,34 @@ std::vector<std::size_t> sheetSettings(const std::vector<EvalSetting>& settings,
   for (const auto& candidate : {worst, std::optional(baseline), best, rays})
     if (candidate && std::find(rows.begin(), rows.end(), *candidate) == rows.end()) rows.push_back(*candidate);
   return rows;
+}
+
+EvalFiles evalFiles(const EvalRunInfo& info, const std::vector<EvalSetting>& settings, const EvalResults& results,
+                    std::uint32_t sheetFrame, const glm::vec3& background) {
+  EvalFiles files;
+  for (std::size_t s = 0; s < settings.size(); ++s)
+    files.summaries.push_back(summarize(settings[s].name, results.settings[s], results.views));
+  files.csv = evalCsv(settings, results);
+  files.summary = evalSummaryJson(info, settings, results);
+  files.plot = renderSvg(errorTimePlot(settings, files.summaries, info.baseline));
+
+  const std::vector<std::size_t> rows = sheetSettings(settings, files.summaries, info.baseline);
+  std::vector<std::span<const std::uint8_t>> tiles;
+  for (std::size_t s : rows) {
+    tiles.emplace_back(results.referenceSheet);
+    tiles.emplace_back(results.settings[s].sheetImage);
+    tiles.emplace_back(results.settings[s].sheetFlip);
+    files.summary["contact_sheet"]["rows"].push_back(settings[s].name);
+  }
+  files.summary["contact_sheet"]["file"] = "contact_sheet.png";
+  files.summary["contact_sheet"]["frame"] = sheetFrame;
+  const std::uint8_t rgb[3] = {std::uint8_t(std::lround(background.r * 255.0f)),
+                               std::uint8_t(std::lround(background.g * 255.0f)),
+                               std::uint8_t(std::lround(background.b * 255.0f))};
+  files.sheetWidth = 3 * info.width;
+  files.sheetHeight = std::uint32_t(rows.size()) * info.height;
+  files.sheet = contactSheet(info.width, info.height, 3, tiles, rgb);
+  return files;
 }
 
 }  // namespace pbs

@@ -46,8 +46,7 @@ class Evaluation {
     inputs.kindSurfels = &sources_.decisions();
     inputs.kindLod = kindLod;
     return runEval(
-        surfeled_.scene, hierarchy_, cameras, settings, inputs,
-        [&](const EvalSetting& s) { return sources_.of(s); },
+        surfeled_.scene, hierarchy_, cameras, settings, inputs, [&](const EvalSetting& s) { return sources_.of(s); },
         [&](const EvalSetting& s) -> const Scene& { return simplified_.of(s); },
         [](std::size_t, std::size_t, const std::string&) {});
   }
@@ -72,7 +71,8 @@ LodOptions grown() {
 }
 
 std::size_t indexOf(const std::vector<EvalSetting>& settings, const std::string& name) {
-  const auto found = std::find_if(settings.begin(), settings.end(), [&](const EvalSetting& s) { return s.name == name; });
+  const auto found =
+      std::find_if(settings.begin(), settings.end(), [&](const EvalSetting& s) { return s.name == name; });
   EXPECT_NE(found, settings.end()) << name;
   return std::size_t(found - settings.begin());
 }
@@ -104,8 +104,8 @@ TEST(EvalSettings, BadTextsAreRefusedNamingTheirOption) {
   };
   EXPECT_EQ(refusal({}, {"colour=1"}).rfind("--sweep: unknown key 'colour'", 0), 0u) << refusal({}, {"colour=1"});
   EXPECT_EQ(refusal({"overdraw=2"}, {}).rfind("--peers:", 0), 0u) << "peers are exact renderers";
-  for (const char* bad : {"overdraw=", "overdraw=1,x", "ordering=best", "embree=3", "point=1,2+threshold=3",
-                          "point=1+", "simplify=0", "simplify=1.5", "exhausted=sometimes"})
+  for (const char* bad : {"overdraw=", "overdraw=1,x", "ordering=best", "embree=3", "point=1,2+threshold=3", "point=1+",
+                          "simplify=0", "simplify=1.5", "exhausted=sometimes"})
     EXPECT_EQ(refusal({}, {bad}).rfind("--sweep:", 0), 0u) << bad;
 }
 
@@ -153,6 +153,20 @@ TEST(EvalRun, PeersConvergeAndTheApproachGoesFromFarToNear) {
   EXPECT_EQ(summary["baseline"], "surfels");
   EXPECT_EQ(summary["settings"].size(), settings.size());
   EXPECT_TRUE(summary["settings"][indexOf(settings, "surfels")].contains("near"));
+
+  // All files at once: the contact sheet holds the baseline and one ray per pixel, three tiles a row.
+  info.width = cameras[0].width;
+  info.height = cameras[0].height;
+  const EvalFiles files = evalFiles(info, settings, results, 2, glm::vec3(1.0f));
+  EXPECT_EQ(files.csv, csv);
+  EXPECT_EQ(files.summaries.size(), settings.size());
+  const nlohmann::json& rows = files.summary["contact_sheet"]["rows"];
+  EXPECT_NE(std::find(rows.begin(), rows.end(), "surfels"), rows.end());
+  EXPECT_NE(std::find(rows.begin(), rows.end(), "embree=1"), rows.end());
+  EXPECT_EQ(files.sheetWidth, 3 * info.width);
+  EXPECT_EQ(files.sheetHeight, rows.size() * info.height);
+  EXPECT_EQ(files.sheet.size(), std::size_t(files.sheetWidth) * files.sheetHeight * 3);
+  EXPECT_EQ(files.plot.rfind("<svg", 0), 0u);
 }
 
 // With points of a fixed size (prefix-sized discs close a sparse prefix by growing instead).

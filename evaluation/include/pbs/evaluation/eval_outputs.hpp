@@ -9,6 +9,7 @@
 
 #include <pbs/surfels/frame_kind.hpp>
 
+#include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
@@ -86,5 +87,19 @@ Plot errorTimePlot(const std::vector<EvalSetting>& settings, const std::vector<E
 // lowest median FLIP, then the 1-sample Embree peer (distinct settings only).
 std::vector<std::size_t> sheetSettings(const std::vector<EvalSetting>& settings,
                                        const std::vector<EvalSummary>& summaries, std::size_t baseline);
+
+// Every file of an evaluation, made in memory: what `pbs eval` writes into its folder.
+struct EvalFiles {
+  std::vector<EvalSummary> summaries;  // per setting, over all its frames
+  std::string csv;                     // eval.csv
+  nlohmann::json summary;              // summary.json, with the contact sheet's rows, file and frame
+  std::string plot;                    // error_vs_time.svg
+  // contact_sheet.png as RGB8, reference | setting | FLIP map for each setting sheetSettings picks, of the
+  // frame `sheetFrame` (EvalInputs::sheetFrame), composited over `background`.
+  std::vector<std::uint8_t> sheet;
+  std::uint32_t sheetWidth = 0, sheetHeight = 0;
+};
+EvalFiles evalFiles(const EvalRunInfo& info, const std::vector<EvalSetting>& settings, const EvalResults& results,
+                    std::uint32_t sheetFrame, const glm::vec3& background);
 
 }  // namespace pbs

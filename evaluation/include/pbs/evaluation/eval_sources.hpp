@@ -25,8 +25,8 @@ namespace pbs {
 class EvalSurfelSources {
  public:
   // `reader` must have been required for the scene (hierarchyWithSurfels or requireStructure).
-  EvalSurfelSources(const Scene& scene, const Hierarchy& hierarchy, SurfelFileReader reader,
-                    std::uint64_t cacheBytes, CaptureSource source, ProgressEvents progress = {});
+  EvalSurfelSources(const Scene& scene, const Hierarchy& hierarchy, SurfelFileReader reader, std::uint64_t cacheBytes,
+                    CaptureSource source, ProgressEvents progress = {});
 
   SurfelOrdering fileOrdering() const { return cache_.options().ordering; }
   // The arrays' lengths and packing, which decide the traversal (each view's kind among it).
