@@ -21,11 +21,12 @@
 namespace pbs::cli {
 namespace {
 
-// bunny.glb of the shared scenes ($PBS_SCENES, else ../shared/scenes beside the repository).
+// bunny.glb of the shared scenes: $PBS_SCENES, else ../shared/scenes from the current folder (the
+// repository's root beside them). Read at run time, so an installed pbs names no build folder.
 std::string defaultMesh() {
   const char* env = std::getenv("PBS_SCENES");
   const std::filesystem::path folder =
-      env && *env ? std::filesystem::path(env) : std::filesystem::path(PBS_DEFAULT_SCENES);
+      env && *env ? std::filesystem::path(env) : std::filesystem::path("../shared/scenes");
   const std::filesystem::path mesh = folder / "bunny.glb";
   if (!std::filesystem::is_regular_file(mesh))
     throw std::runtime_error(mesh.string() +

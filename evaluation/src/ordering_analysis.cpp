@@ -102,7 +102,6 @@ PlotSeries rhoSeries(const MeasuredOrdering& m, std::string name) {
   return series;
 }
 
-
 std::vector<SpectrumResult> measureSpectra(const FlatSpectrumOptions& options) {
   std::vector<SpectrumResult> results;
   for (SurfelOrdering ordering : kAnalyzedOrderings) {
