@@ -67,6 +67,14 @@ struct CommandResult {
   std::string err;  // stderr
 };
 
+// `path` in single quotes, for a command line. Appended rather than "'" + … + "'": GCC 12 warns about
+// that concatenation where it inlines it (-Wrestrict, a false positive).
+inline std::string quoted(const std::filesystem::path& path) {
+  std::string text = "'";
+  text.append(path.string()).append("'");
+  return text;
+}
+
 // Runs the built `pbs` with `args` (already shell-quoted), capturing stdout and stderr.
 inline CommandResult runPbs(const std::string& args) {
   ScratchDir scratch;

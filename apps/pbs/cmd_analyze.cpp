@@ -53,7 +53,9 @@ AnalyzedOrderings analyzeScene(const Options& options) {
 // File mode: every distinct array once, in its stored order.
 AnalyzedOrderings analyzeFile(const Options& options) {
   SurfelFileReader reader(options.input);
-  if (!options.scene.empty()) reader.requireScene(sceneFingerprint(loadAndAnalyze(options.scene, LoadOptions{}).scene));
+  if (!options.scene.empty())
+    reader.requireScene(
+        sceneFingerprint(loadAndAnalyze(options.scene, LoadOptions{reader.options().octreeLeafTriangles}).scene));
   return analyzeSurfelFile(reader, options.maxGiven ? std::optional(options.max) : std::nullopt);
 }
 

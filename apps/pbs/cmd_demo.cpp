@@ -30,6 +30,7 @@ struct DemoOptions {
   std::string scene = "default";
   std::string output = "pbs-demo";
   SurfelizeOptions surfelize;
+  OctreeChoice octree;
   std::uint32_t width = 1920, height = 1080;
   bool json = false;
   int threads = 0;
@@ -44,12 +45,16 @@ struct DemoFrame {
 };
 
 void run(const DemoOptions& options) {
-  const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
+  LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
+  SurfelizeOptions settings = options.surfelize;
+  // A flat scene is rebuilt as a loose octree, as surfelize would (read again: its meshes are split).
+  settings.file.octreeLeafTriangles = options.octree.leavesFor(loaded.scene);
+  if (settings.file.octreeLeafTriangles > 0)
+    loaded = loadAndAnalyze(options.scene, LoadOptions{settings.file.octreeLeafTriangles});
   const std::filesystem::path folder(options.output);
   std::filesystem::create_directories(folder);
 
   ProgressMeter meter("surfelize", ProgressMeter::styleFor(options.json));
-  SurfelizeOptions settings = options.surfelize;
   settings.onProgress = [&](const SurfelizeProgress& p) {
     meter.update(double(p.arraysDone) / double(std::max(p.arraysTotal, 1u)),
                  std::to_string(p.arraysDone) + "/" + std::to_string(p.arraysTotal) + " arrays");
@@ -146,6 +151,7 @@ void addDemoCommand(CLI::App& app) {
   command->add_option("-o,--output", options->output, "folder for the .surfels file and the three images")
       ->capture_default_str();
   addMinTrianglesOption(*command, file.threshold);
+  addOctreeOptions(*command, options->octree);
   command->add_option("--max-surfels", file.maxSurfels, "surfels per array at most")
       ->check(CLI::Range(1u, 1u << 26))
       ->capture_default_str();

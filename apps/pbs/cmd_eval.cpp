@@ -96,8 +96,8 @@ void run(const EvalOptions& options) {
 
   // A glTF scene with a version 4 file is opened without its mesh arrays where nothing needs them all: a
   // scene larger than memory is measured against the rasterizer's reference, drawn node by node.
-  const bool meshesOnDemand = options.scene != "default" && !reader.sceneTable().instanceBounds.empty() &&
-                              drawableWithMeshesOnDemand(settings, referenceMode, fileOrdering);
+  const bool meshesOnDemand =
+      drawableWithoutMeshes(options.scene, reader) && drawableWithMeshesOnDemand(settings, referenceMode, fileOrdering);
   const std::uint64_t cacheBytes = options.cacheMb << 20;
   const auto loadStart = std::chrono::steady_clock::now();
   const SceneFit fit{.rays = castsRaysOverWholeScene(settings, referenceMode)};

@@ -1,5 +1,5 @@
-// `pbs generate default|city -o F.glb|F.gltf`: writes the procedural scenes as glTF, a binary .glb or a
-// .gltf with .bin files.
+// `pbs generate default|city|terrain -o F.glb|F.gltf`: writes the procedural scenes as glTF, a binary .glb
+// or a .gltf with .bin files.
 #include "commands.hpp"
 #include "memory_limit.hpp"
 #include "scene_report.hpp"
@@ -85,6 +85,26 @@ void addGenerateCommand(CLI::App& app) {
   addThreadsOption(*plant, options->threads);
   plant->callback([options] {
     runWithThreads(options->threads, [&] { writeAndReport(generateDefaultScene(), options->output); });
+  });
+
+  CLI::App* terrain =
+      generate->add_subcommand("terrain", "one flat mesh under one node: a displaced grid, no hierarchy of its own");
+  auto terrainOptions = std::make_shared<TerrainOptions>();
+  terrain->add_option("--triangles", terrainOptions->triangles, "triangles at least (a square grid)")
+      ->check(CLI::Range(std::uint64_t(2), std::uint64_t(2'000'000'000)))
+      ->capture_default_str();
+  terrain->add_option("--size", terrainOptions->size, "the grid's side in scene units")
+      ->check(positiveNumber())
+      ->capture_default_str();
+  terrain->add_option("--seed", terrainOptions->seed, "seed of the height field")->capture_default_str();
+  auto terrainOutput = std::make_shared<std::string>();
+  terrain->add_option("-o,--output", *terrainOutput, "output .glb, or .gltf with its data in a .bin file")->required();
+  terrain->callback([terrainOptions, terrainOutput] {
+    // Vertices and indices in memory, then the exporter's buffer and tinygltf's copy of it.
+    const double cells = std::ceil(std::sqrt(double(terrainOptions->triangles) / 2.0));
+    const auto sceneBytes = std::uint64_t((cells + 1) * (cells + 1) * 24.0 + cells * cells * 24.0);
+    requireMemory(3 * sceneBytes, "a terrain of " + withThousands(terrainOptions->triangles) + " triangles", 0);
+    writeAndReport(generateTerrain(*terrainOptions), *terrainOutput);
   });
 
   CLI::App* city = generate->add_subcommand("city", "instances of given meshes in a deep hierarchy");

@@ -118,8 +118,8 @@ void run(const RenderOptions& options) {
   // first draws it as geometry (a stream simulates its own link for meshes, so it reads them whole).
   std::optional<SurfelFileReader> surfelFile;
   if (mode == RenderMode::Surfels) surfelFile.emplace(options.surfels);
-  const bool meshesOnDemand = surfelFile && options.scene != "default" && options.streamMBps <= 0.0 &&
-                              !surfelFile->sceneTable().instanceBounds.empty();
+  const bool meshesOnDemand =
+      surfelFile && options.streamMBps <= 0.0 && drawableWithoutMeshes(options.scene, *surfelFile);
   // Per pixel: the G-buffer (depth, colour, normal), the shaded image and its 8-bit copy, the sums of
   // a supersampled frame; the surfels and the meshes read on demand, each up to the cache's budget.
   std::uint64_t estimate = std::uint64_t(width) * height * (4 + 4 + 12 + 16 + 4 + (options.samples > 1 ? 16 : 0));

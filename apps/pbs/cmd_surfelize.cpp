@@ -44,6 +44,7 @@ void addSurfelizeCommand(CLI::App& app) {
     bool quiet = false;
     std::uint64_t maxMemory = 0;
     std::uint64_t cacheMb = 1024;
+    OctreeChoice octree;
     int threads = 0;
   };
   auto options = std::make_shared<Options>();
@@ -52,6 +53,7 @@ void addSurfelizeCommand(CLI::App& app) {
   command->add_option("scene", options->scene, "a .gltf/.glb file, or 'default' for the embedded scene")->required();
   command->add_option("-o,--output", options->output, "the .surfels file to write")->required();
   addMinTrianglesOption(*command, file.threshold);
+  addOctreeOptions(*command, options->octree);
   command->add_option("--max-surfels", file.maxSurfels, "surfels per array at most")
       ->check(CLI::Range(1u, 1u << 26))
       ->capture_default_str();
@@ -82,10 +84,16 @@ void addSurfelizeCommand(CLI::App& app) {
       const auto start = std::chrono::steady_clock::now();
       // A glTF file is opened without its mesh arrays, which are read as the captures draw them (the
       // embedded scene is made whole in memory).
-      const bool meshesOnDemand = options->scene != "default";
+      bool meshesOnDemand = options->scene != "default";
       LoadedScene loaded =
           meshesOnDemand ? openWithoutMeshes(options->scene) : loadAndAnalyze(options->scene, LoadOptions{});
       SurfelizeOptions settings = options->surfelize;
+      // A flat scene is rebuilt as a loose octree, read whole (its meshes are split), and the file says so.
+      settings.file.octreeLeafTriangles = options->octree.leavesFor(loaded.scene);
+      if (settings.file.octreeLeafTriangles > 0) {
+        meshesOnDemand = false;
+        loaded = loadAndAnalyze(options->scene, LoadOptions{settings.file.octreeLeafTriangles});
+      }
       const int workers = resolveThreadCount(options->threads);
       const std::uint64_t cacheBytes = options->cacheMb << 20;
       requireMemory(surfelizeMemoryEstimate(loaded.scene, loaded.hierarchy, settings, workers) +
@@ -141,6 +149,7 @@ void addSurfelizeCommand(CLI::App& app) {
             {"colors", surfelColorsName(settings.file.colors)},
             {"capture_from", captureSourceName(settings.source)},
             {"seed", settings.file.seed},
+            {"octree_leaf_triangles", settings.file.octreeLeafTriangles},
         };
         std::cout << report.dump(2) << "\n";
         return;
@@ -150,6 +159,10 @@ void addSurfelizeCommand(CLI::App& app) {
                     loaded.name.c_str(), withThousands(settings.file.threshold).c_str(), options->output.c_str());
         return;
       }
+      if (settings.file.octreeLeafTriangles > 0)
+        std::printf("%s: rebuilt as a loose octree of %s nodes, leaves of at most %s triangles\n", loaded.name.c_str(),
+                    withThousands(loaded.scene.nodes.size()).c_str(),
+                    withThousands(settings.file.octreeLeafTriangles).c_str());
       std::printf("%s: %s nodes above %s triangles share %s arrays (%s captures): %s surfels from %s candidates\n",
                   loaded.name.c_str(), withThousands(stats.nodesWithSurfels).c_str(),
                   withThousands(settings.file.threshold).c_str(), withThousands(stats.arrays).c_str(),

@@ -1,6 +1,7 @@
 // The subcommands of `pbs`: each file registers one on the application.
 #pragma once
 
+#include <pbs/scene/loose_octree.hpp>
 #include <pbs/surfels/lod_render.hpp>
 #include <pbs/surfels/ordering.hpp>
 #include <pbs/surfels/surfelize.hpp>
@@ -46,6 +47,19 @@ void addCaptureOptions(CLI::App& command, std::uint32_t& resolution, std::uint32
 // `--min-triangles` of the commands that make surfels: nodes with more subtree triangles get an array.
 // Its old spelling, `--threshold` (a unit shared with render's pixels), still works with a warning.
 void addMinTrianglesOption(CLI::App& command, std::uint64_t& minTriangles);
+
+// When a scene is rebuilt as a loose octree before its surfels are made: asked for (`--octree`), or
+// because a node draws a mesh of more than `above` triangles (`--octree-above`, 0: never); its leaves
+// hold at most `leaf` triangles (`--octree-leaf`).
+struct OctreeChoice {
+  bool always = false;
+  std::uint64_t above = kDefaultOctreeAboveTriangles;
+  std::uint32_t leaf = kDefaultOctreeLeafTriangles;
+
+  // The octree's leaf size for `scene` (which may be opened without its mesh arrays), or 0 for none.
+  std::uint32_t leavesFor(const Scene& scene) const { return always || needsLooseOctree(scene, above) ? leaf : 0; }
+};
+void addOctreeOptions(CLI::App& command, OctreeChoice& octree);
 
 // The LOD options of `pbs render` (and the baseline `pbs eval` sweeps from): --threshold-pixels (old
 // spelling --threshold, still working with a warning), --band, --overdraw, --point-size, --prefix-rule,

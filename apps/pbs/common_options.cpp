@@ -60,6 +60,18 @@ void addMinTrianglesOption(CLI::App& command, std::uint64_t& minTriangles) {
   addOldSpelling(command, "--threshold", option, minTriangles, CLI::Range(std::uint64_t(0), ~std::uint64_t(0)));
 }
 
+void addOctreeOptions(CLI::App& command, OctreeChoice& octree) {
+  command.add_flag("--octree", octree.always,
+                   "rebuild the scene as a loose octree first, so a flat scene gets levels of detail");
+  command
+      .add_option("--octree-above", octree.above,
+                  "rebuild as a loose octree when a node draws a mesh of more triangles than this (0: never)")
+      ->capture_default_str();
+  command.add_option("--octree-leaf", octree.leaf, "triangles per loose-octree leaf at most")
+      ->check(CLI::Range(1u, ~0u))
+      ->capture_default_str();
+}
+
 void addLodOptions(CLI::App& command, LodOptions& lod) {
   CLI::Option* threshold =
       command

@@ -144,7 +144,8 @@ std::string streamSvg(const StreamFigureOptions& options, const std::string& sce
 
 void writeStreamFigure(const StreamFigureOptions& options, const std::filesystem::path& folder) {
   if (options.bandwidths.empty()) throw std::invalid_argument("the stream figure needs a bandwidth");
-  const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
+  SurfelFileReader file(options.surfels);  // the hierarchy it was made of: the scene's own, or its loose octree
+  const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{}, file);
   const Bounds& bounds = loaded.summary.bounds;
   const Camera camera =
       orbitCamera(bounds.center(), 0.5 * glm::length(bounds.size()), options.orbit, options.width, options.height);

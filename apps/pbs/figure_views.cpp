@@ -14,6 +14,7 @@
 #include <pbs/raster/orbit_camera.hpp>
 
 #include <cstdio>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -87,7 +88,11 @@ SceneSurfels surfelsFor(const ViewsOptions& options, const LoadedScene& loaded) 
 }  // namespace
 
 void writeViewsFigure(const ViewsOptions& options, const std::filesystem::path& folder) {
-  const LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
+  // With a .surfels file, the hierarchy it was made of (the scene's own, or its loose octree).
+  std::optional<SurfelFileReader> file;
+  if (!options.surfels.empty()) file.emplace(options.surfels);
+  const LoadedScene loaded =
+      file ? loadAndAnalyze(options.scene, LoadOptions{}, *file) : loadAndAnalyze(options.scene, LoadOptions{});
   const SceneSurfels surfels = surfelsFor(options, loaded);
   std::filesystem::create_directories(folder);
   ModeComparison modes(loaded.scene, loaded.hierarchy, surfels, options.lod, options.width, options.height);

@@ -83,9 +83,18 @@ LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, 
 LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, SurfelFileReader& surfels,
                            const SceneFit& fit) {
   requireSceneFits(spec, fit);
+  // The arrays belong to the hierarchy they were made of: the scene's own, or the loose octree it was
+  // rebuilt as.
+  LoadOptions asMade = options;
+  asMade.octreeLeafTriangles = surfels.options().octreeLeafTriangles;
   return loadTimed(
-      spec, [&](LoadedScene&) { return loadScene(spec, options); },
+      spec, [&](LoadedScene&) { return loadScene(spec, asMade); },
       [&](const Scene& scene) { return hierarchyWithSurfels(scene, surfels); });
+}
+
+bool drawableWithoutMeshes(const std::string& spec, const SurfelFileReader& surfels) {
+  return spec != "default" && !surfels.sceneTable().instanceBounds.empty() &&
+         surfels.options().octreeLeafTriangles == 0;
 }
 
 LoadedScene openWithoutMeshes(const std::string& spec, SurfelFileReader& surfels) {

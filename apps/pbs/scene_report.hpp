@@ -37,7 +37,8 @@ void requireSceneFits(const std::string& spec, const SceneFit& fit);
 // Loads and analyses; prints the importer's warnings to stderr as "warning: …" lines. A glTF file that
 // would not fit in memory with `fit` is refused first (requireSceneFits).
 LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, const SceneFit& fit = {});
-// The same for a scene with its .surfels file: requires the file to be the scene's and takes the exact
+// The same for a scene with its .surfels file: rebuilds the scene as the loose octree the file was made
+// for, if any (`options`' octree is ignored), requires the file to be the scene's and takes the exact
 // instance boxes from it where it stores them (hierarchyWithSurfels), so no vertex is read for them.
 LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, SurfelFileReader& surfels,
                            const SceneFit& fit = {});
@@ -45,8 +46,11 @@ LoadedScene loadAndAnalyze(const std::string& spec, const LoadOptions& options, 
 // A glTF scene opened without its mesh arrays for drawing with its .surfels file: the structure is required
 // to be the file's (SurfelFileReader::requireStructure) and the hierarchy comes from the file's instance
 // boxes; the meshes are read by decodeMesh (for LazyMeshes, which checks each against the file's
-// fingerprints). Needs a file with a scene table (version 4).
+// fingerprints). Needs a file with a scene table (version 4) of the scene's own hierarchy (no octree: it
+// splits the meshes; drawableWithoutMeshes says which files can).
 LoadedScene openWithoutMeshes(const std::string& spec, SurfelFileReader& surfels);
+// Whether a glTF scene can be drawn with the file `surfels` without its mesh arrays (openWithoutMeshes).
+bool drawableWithoutMeshes(const std::string& spec, const SurfelFileReader& surfels);
 // A glTF scene opened without its mesh arrays and without a .surfels file: the hierarchy has no boxes
 // (analyzeStructure), the meshes are read by decodeMesh.
 LoadedScene openWithoutMeshes(const std::string& spec);

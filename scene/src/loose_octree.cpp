@@ -156,4 +156,11 @@ Scene buildLooseOctree(const Scene& scene, std::uint32_t maxLeafTriangles) {
   return result;
 }
 
+bool needsLooseOctree(const Scene& scene, std::uint64_t aboveTriangles) {
+  if (aboveTriangles == 0) return false;
+  for (const Node& node : scene.nodes)
+    if (node.mesh >= 0 && scene.meshes[std::size_t(node.mesh)].triangleCount() > aboveTriangles) return true;
+  return false;
+}
+
 }  // namespace pbs

@@ -1,7 +1,7 @@
 // The byte layout of a .surfels file, shared by the writer and the reader: each record's fields are
 // listed once, in a layout function that a byte sink (writing) and a byte source (reading) both walk.
 //
-// Version 4, all integers little-endian, doubles as their IEEE-754 bits:
+// Version 5, all integers little-endian, doubles as their IEEE-754 bits:
 //   header (112 bytes at offset 0)
 //     0  magic "PBSURFEL"          8 bytes
 //     8  version                   u32
@@ -13,7 +13,7 @@
 //    40  options.directions        u32
 //    44  options.ordering          u32
 //    48  options.colors            u32
-//    52  reserved (0)              u32
+//    52  options.octreeLeafTriangles u32 (version 5; reserved, 0, before)
 //    56  options.seed              u64
 //    64  array count               u32
 //    68  node count                u32
@@ -35,9 +35,9 @@
 //   data, per array at its data offset: count × surfelBytes(encoding) surfels (chunks of kSurfelsPerChunk), then
 //     one u64 checksum per chunk (Hash64 of the chunk's bytes, seeded by the chunk's index); a surfel is
 //     position u64, normal 2 × i16, then its colour: RGBA u8×4, RGB u8×3 or nothing
-// Version 3 has no scene table. Version 2 differs in its 96-byte array records (the colour encoding's place is
-// reserved, 0 so RGBA, and the record ends after the data offset) and in its node records (path length u32, the whole
-// path, array index u32).
+// Version 4 has 0 in place of the octree. Version 3 has no scene table. Version 2 differs in its 96-byte array records
+// (the colour encoding's place is reserved, 0 so RGBA, and the record ends after the data offset) and in its node
+// records (path length u32, the whole path, array index u32).
 #pragma once
 
 #include "pbs/raster/hash64.hpp"
@@ -89,7 +89,7 @@ struct Header {
   std::uint32_t directions = 0;
   std::uint32_t ordering = 0;
   std::uint32_t colors = 0;
-  std::uint32_t reservedAfterColors = 0;  // keeps the seed 8-byte aligned
+  std::uint32_t octreeLeafTriangles = 0;  // version 5 (0 before: a reserved field); keeps the seed 8-byte aligned
   std::uint64_t seed = 0;
   std::uint32_t arrayCount = 0;
   std::uint32_t nodeCount = 0;
@@ -112,7 +112,7 @@ void layoutHeader(Io& io, Header& h) {
   io.u32(h.directions);
   io.u32(h.ordering);
   io.u32(h.colors);
-  io.u32(h.reservedAfterColors);
+  io.u32(h.octreeLeafTriangles);
   io.u64(h.seed);
   io.u32(h.arrayCount);
   io.u32(h.nodeCount);

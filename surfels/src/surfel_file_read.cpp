@@ -91,7 +91,8 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
               .directions = header.directions,
               .ordering = static_cast<SurfelOrdering>(header.ordering),
               .colors = static_cast<SurfelColors>(header.colors),
-              .seed = header.seed};
+              .seed = header.seed,
+              .octreeLeafTriangles = header.version >= 5 ? header.octreeLeafTriangles : 0};
 
   // Array table: the count is bounded by the file size before the table is read.
   const std::uint64_t recordBytes = arrayRecordBytes(header.version);
@@ -204,10 +205,17 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
 void SurfelFileReader::requireScene(std::uint64_t fingerprint) {
   sceneRequired_ = fingerprint == fingerprint_;
   if (sceneRequired_) return;
-  char text[160];
+  char text[224];
+  // A file of a loose octree is checked against the scene rebuilt as that octree: say so, since the
+  // scene a user named is then not the one compared.
+  const std::string octree =
+      options_.octreeLeafTriangles > 0
+          ? " as a loose octree of leaves of at most " + std::to_string(options_.octreeLeafTriangles) + " triangles"
+          : std::string();
   std::snprintf(text, sizeof text,
-                "made for another scene (fingerprint %016llx, this scene's is %016llx): run pbs surfelize again",
-                static_cast<unsigned long long>(fingerprint_), static_cast<unsigned long long>(fingerprint));
+                "made for another scene (fingerprint %016llx, this scene's%s is %016llx): run pbs surfelize again",
+                static_cast<unsigned long long>(fingerprint_), octree.c_str(),
+                static_cast<unsigned long long>(fingerprint));
   throw InputError(path_.string(), "header", text);
 }
 

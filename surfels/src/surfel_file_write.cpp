@@ -183,6 +183,7 @@ void SurfelFileWriter::finish() {
   header.ordering = static_cast<std::uint32_t>(options_.ordering);
   header.colors = static_cast<std::uint32_t>(options_.colors);
   header.seed = options_.seed;
+  header.octreeLeafTriangles = options_.octreeLeafTriangles;
   header.arrayCount = static_cast<std::uint32_t>(infos_.size());
   header.nodeCount = static_cast<std::uint32_t>(nodes_.size());
   header.arrayTableOffset = kHeaderBytes;

@@ -31,10 +31,7 @@ nlohmann::json parseJson(const test::CommandResult& result) {
 std::string smallScene() {
   const auto dir = test::sharedScenesDir();
   if (!dir || !std::filesystem::exists(*dir / "spot.glb")) return "default";
-  // Appended, not "'" + path + "'": GCC 12 warns about that concatenation (-Wrestrict, a false positive).
-  std::string quoted = "'";
-  quoted.append((*dir / "spot.glb").string()).append("'");
-  return quoted;
+  return test::quoted(*dir / "spot.glb");
 }
 
 std::vector<std::string> lines(const std::string& text) {

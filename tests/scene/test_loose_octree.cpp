@@ -1,9 +1,12 @@
 // Tests of buildLooseOctree: leaves within the triangle budget, the same world-space triangles and
-// bounds, shared pieces for instances, degenerate inputs and determinism.
+// bounds, shared pieces for instances, degenerate inputs and determinism; when a scene needs one, and the
+// generated terrain that does.
 #include "pbs/raster/thread_arena.hpp"
+#include "pbs/scene/generate.hpp"
 #include "pbs/scene/gltf_import.hpp"
 #include "pbs/scene/hierarchy.hpp"
 #include "pbs/scene/loose_octree.hpp"
+#include "test_fixtures.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -405,6 +408,41 @@ TEST(LooseOctree, Bunny) {
   const OctreeShape shape = checkOctree(input, result, 1000);
   EXPECT_GT(shape.depth, 1u);
   EXPECT_GE(shape.leaves, 70u);
+}
+
+}  // namespace
+}  // namespace pbs
+
+namespace pbs {
+namespace {
+
+// A generated terrain is one mesh under one node, as large as asked, the same for any seed's repeat.
+TEST(Terrain, OneFlatMeshOfAtLeastTheTrianglesAskedAndDeterministic) {
+  const Scene terrain = generateTerrain({.triangles = 5000, .size = 100.0, .seed = 3});
+  validateScene(terrain, "terrain");
+  ASSERT_EQ(terrain.nodes.size(), 1u);
+  ASSERT_EQ(terrain.meshes.size(), 1u);
+  EXPECT_EQ(terrain.meshes[0].triangleCount(), 2u * 50u * 50u);  // the least square grid of ≥ 5000
+  const Bounds& box = terrain.meshes[0].bounds;
+  EXPECT_FLOAT_EQ(float(box.max.x - box.min.x), 100.0f);
+  EXPECT_GT(box.max.y - box.min.y, 1.0) << "hills, not a plane";
+  const Scene again = generateTerrain({.triangles = 5000, .size = 100.0, .seed = 3});
+  EXPECT_EQ(again.meshes[0].positions, terrain.meshes[0].positions);
+  EXPECT_NE(generateTerrain({.triangles = 5000, .size = 100.0, .seed = 4}).meshes[0].positions,
+            terrain.meshes[0].positions);
+  EXPECT_THROW(generateTerrain({.triangles = 0}), std::invalid_argument);
+}
+
+// A scene needs the octree when one node draws a mesh above the limit; instancing small meshes does not
+// count, nor does a limit of 0.
+TEST(LooseOctree, NeededWhenANodeDrawsAMeshAboveTheLimit) {
+  const Scene terrain = generateTerrain({.triangles = 5000});
+  EXPECT_TRUE(needsLooseOctree(terrain, 4999));
+  EXPECT_FALSE(needsLooseOctree(terrain, 5000));
+  EXPECT_FALSE(needsLooseOctree(terrain, 0));
+  const Scene groups = test::twoIdenticalGroups();  // four instances of one 1,200-triangle box
+  EXPECT_FALSE(needsLooseOctree(groups, 1200));
+  EXPECT_TRUE(needsLooseOctree(groups, 1199));
 }
 
 }  // namespace

@@ -357,6 +357,25 @@ TEST(SurfelFile, VersionTwoFilesStillRead) {
       << errorOf(dir / "v2.surfels");
 }
 
+// The loose octree a file's arrays were made for is in its header (version 5); a version 4 file, whose
+// field was reserved, has none whatever the field holds.
+TEST(SurfelFile, OctreeLeafTrianglesRoundTripAndVersionFourHasNone) {
+  using namespace surfel_file;
+  ScratchDir dir;
+  SurfelFile file = sampleFile();
+  file.options.octreeLeafTriangles = 5000;
+  writeSurfelFile(dir / "v5.surfels", file);
+  EXPECT_EQ(SurfelFileReader(dir / "v5.surfels").options().octreeLeafTriangles, 5000u);
+  EXPECT_EQ(readSurfelFile(dir / "v5.surfels").options.octreeLeafTriangles, 5000u);
+
+  std::string v4 = readFile(dir / "v5.surfels");
+  ASSERT_EQ(u64At(v4, 52) & 0xFFFFFFFFu, 5000u);
+  putU32(v4, 8, 4);
+  reseal(v4, 0, kHeaderChecksumOffset, kHeaderSeed);
+  writeFile(dir / "v4.surfels", v4);
+  EXPECT_EQ(SurfelFileReader(dir / "v4.surfels").options().octreeLeafTriangles, 0u);
+}
+
 // A version 3 file (no scene table) still reads, with an empty table: made here from a version 4 file by
 // leaving the table out. A damaged table is named; a box that is NaN is refused even when resealed.
 TEST(SurfelFile, SceneTableIsCheckedAndVersionThreeFilesHaveNone) {
@@ -679,9 +698,9 @@ TEST(SurfelFile, BadMagicFutureVersionAndMissingFiles) {
     std::string other = bytes;
     putU32(other, 8, version);
     writeFile(path, other);
-    EXPECT_NE(
-        errorOf(path).find("unsupported version " + std::to_string(version) + " (this build reads versions 2 to 4)"),
-        std::string::npos)
+    EXPECT_NE(errorOf(path).find("unsupported version " + std::to_string(version) +
+                                 " (this build reads versions 2 to " + std::to_string(kSurfelFileVersion) + ")"),
+              std::string::npos)
         << errorOf(path);
   }
 

@@ -1,5 +1,6 @@
 // Procedural scenes: the embedded default (an industrial plant of pipes, tanks, gears, lattices
-// and tori) and a city of instances of given meshes, deep enough to reach billions of triangles.
+// and tori), a city of instances of given meshes, deep enough to reach billions of triangles, and a
+// terrain: one flat mesh of any size under one node, the case with no hierarchy of its own.
 #pragma once
 
 #include "pbs/scene/scene.hpp"
@@ -39,5 +40,16 @@ struct UnbakedCity {
   MeshReader bake;
 };
 UnbakedCity generateUniqueCity(const std::vector<Scene>& prototypes, const CityOptions& options);
+
+struct TerrainOptions {
+  std::uint64_t triangles = 1000000;  // at least this many (a square grid: 2·n² for the least such n)
+  double size = 1000.0;               // the grid's side, in scene units
+  std::uint64_t seed = 1;
+};
+
+// A displaced grid: one mesh of one material under one node, heights a sum of a few seeded sine waves
+// of falling amplitude (hills with ridges), normals from the triangles. Deterministic for any thread
+// count. Throws std::invalid_argument for 0 triangles or more than a 32-bit index can address.
+Scene generateTerrain(const TerrainOptions& options);
 
 }  // namespace pbs

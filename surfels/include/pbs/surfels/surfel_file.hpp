@@ -40,10 +40,11 @@
 namespace pbs {
 
 // Version 2 added the colour filter to the header (and made normals face their capture view); version 3
-// stores colours by what varies per array (SurfelColorEncoding); version 4 adds the scene table.
-// Version 2 and 3 files are still read (version 2: every surfel RGBA; both: the boxes are computed from
+// stores colours by what varies per array (SurfelColorEncoding); version 4 adds the scene table; version 5
+// the loose octree the scene was organised as (SurfelFileOptions::octreeLeafTriangles). Version 2 to 4
+// files are still read (no octree) (version 2: every surfel RGBA; both: the boxes are computed from
 // the scene's vertices); a version 1 file is refused: run pbs surfelize again.
-inline constexpr std::uint32_t kSurfelFileVersion = 4;
+inline constexpr std::uint32_t kSurfelFileVersion = 5;
 inline constexpr std::uint32_t kOldestReadSurfelFileVersion = 2;
 inline constexpr std::size_t kSurfelBytes = 16;  // a surfel with every field (PackedSurfel)
 inline constexpr std::uint32_t kSurfelsPerChunk = 1024;
@@ -83,6 +84,9 @@ struct SurfelFileOptions {
   SurfelOrdering ordering = SurfelOrdering::Farthest;    // which ordering made the arrays
   SurfelColors colors = SurfelColors::Pixel;             // how the surfels' colours were chosen
   std::uint64_t seed = 1;
+  // 0: the arrays are of the scene's own hierarchy; N: of the scene rebuilt as a loose octree of leaves of
+  // at most N triangles (buildLooseOctree), which every reader must rebuild the same to use the file.
+  std::uint32_t octreeLeafTriangles = 0;
 };
 
 // One array: surfels in the frame of the node(s) using it (world = node's world transform × point).
