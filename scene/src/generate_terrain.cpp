@@ -17,17 +17,18 @@ struct Wave {
   double amplitude, frequency, cosine, sine, phase;
 };
 
-// Six octaves from the grid's scale down to about a hundredth of it, each half the amplitude of the last.
+// Six octaves from the grid's scale down to a fortieth of it, each of half the wavelength and 0.4 times the
+// amplitude of the last: the steepest slopes stay below about 55°, rolling hills with small ridges on them.
 std::array<Wave, 6> waves(double size, std::uint64_t seed) {
   SeededRandom random(seed);
   std::array<Wave, 6> out{};
-  double amplitude = 0.08 * size, wavelength = 0.7 * size;
+  double amplitude = 0.05 * size, wavelength = 0.8 * size;
   for (Wave& w : out) {
     const double angle = random.range(0.0, 2.0 * std::numbers::pi);
     w = {amplitude, 2.0 * std::numbers::pi / wavelength, std::cos(angle), std::sin(angle),
          random.range(0.0, 2.0 * std::numbers::pi)};
-    amplitude *= 0.5;
-    wavelength *= 0.42;
+    amplitude *= 0.4;
+    wavelength *= 0.5;
   }
   return out;
 }

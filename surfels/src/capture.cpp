@@ -21,16 +21,23 @@ constexpr std::uint8_t kMinCoveredAlpha = 26;
 // `direction` is the one the view looks along. Normals are turned to face it: a one-sided surface seen
 // from behind must not keep a normal pointing away from every view that can see it, else a renderer
 // could not tell front-facing surfels from back-facing ones. A zero normal stays zero.
-void appendSurfels(const Framebuffer& framebuffer, const glm::vec3& direction, std::vector<Surfel>& surfels) {
+void appendSurfels(const Framebuffer& framebuffer, const glm::vec3& direction, CaptureResult& result) {
   for (std::size_t pixel = 0; pixel < framebuffer.pixelCount(); ++pixel) {
     if (!framebuffer.covered(pixel) || framebuffer.color[pixel].a < kMinCoveredAlpha) continue;
     const glm::vec3 normal = framebuffer.normal[pixel];
-    surfels.push_back(
-        {framebuffer.position[pixel], glm::dot(normal, direction) > 0.0f ? -normal : normal, framebuffer.color[pixel]});
+    const bool behind = glm::dot(normal, direction) > 0.0f;
+    result.seenFromBehind += behind;
+    result.surfels.push_back({framebuffer.position[pixel], behind ? -normal : normal, framebuffer.color[pixel]});
   }
 }
 
 }  // namespace
+
+double CaptureResult::sidesSeen() const {
+  const std::uint64_t front = surfels.size() - seenFromBehind;
+  const std::uint64_t larger = std::max(front, seenFromBehind), smaller = std::min(front, seenFromBehind);
+  return larger > 0 ? 1.0 + double(smaller) / double(larger) : 1.0;
+}
 
 CaptureResult captureBox(const Bounds& box, const CaptureOptions& options, const DrawCaptureView& draw) {
   if (options.resolution == 0) throw std::invalid_argument("capture: resolution must be at least 1");
@@ -49,7 +56,7 @@ CaptureResult captureBox(const Bounds& box, const CaptureOptions& options, const
     draw(camera, framebuffer);
     if (options.onView) options.onView(result.views, camera, framebuffer);
     const std::size_t before = result.surfels.size();
-    appendSurfels(framebuffer, glm::vec3(direction), result.surfels);
+    appendSurfels(framebuffer, glm::vec3(direction), result);
     result.coveredPixels += result.surfels.size() - before;
     boxArea += projectedBoxPixels(camera, box);
     ++result.views;

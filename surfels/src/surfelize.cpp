@@ -93,7 +93,9 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, std::span<const Boun
   SurfelArray& array = made.array;
   array.box = frame.worldBounds[node];
   array.coverage = captured.coverage;
-  array.area = area;
+  // The surface the surfels stand for, per side seen: an open sheet captured from both sides has half its
+  // surfels on each, and each side must be closed by its own half (the renderer culls the other).
+  array.area = area * captured.sidesSeen();
   array.surfels.reserve(order.size());
   for (std::uint32_t i : order) array.surfels.push_back(captured.surfels[i]);
   if (options.file.colors == SurfelColors::Prefiltered) {

@@ -47,10 +47,9 @@ TEST(OctreeCli, AFlatMeshGetsArraysAtEveryLevelAndRendersFromTheFile) {
   ASSERT_EQ(far.status, 0) << far.err;
   const nlohmann::json frame = nlohmann::json::parse(far.out);
   EXPECT_GT(frame["surfels"].get<int>(), 0);
-  const test::CommandResult eval =
-      runPbs("eval " + flat.terrain + " --surfels " + flat.file("octree.surfels") +
-             " --size 96x64 --frames 1 --peers exact=1 --reference-samples 4 --sweep surfels --quiet -o " +
-             flat.file("eval"));
+  const test::CommandResult eval = runPbs(
+      "eval " + flat.terrain + " --surfels " + flat.file("octree.surfels") +
+      " --size 96x64 --frames 1 --peers exact=1 --reference-samples 4 --sweep surfels --quiet -o " + flat.file("eval"));
   EXPECT_EQ(eval.status, 0) << eval.err;
 }
 
@@ -59,8 +58,8 @@ TEST(OctreeCli, AnotherSceneIsRefusedNamingTheOctree) {
   flat.surfelize("octree.surfels", "--octree --octree-leaf 1000");
   const std::string other = flat.file("other.glb");
   ASSERT_EQ(runPbs("generate terrain --triangles 20000 --seed 2 -o " + other).status, 0);
-  const test::CommandResult run =
-      runPbs("render " + other + " --surfels " + flat.file("octree.surfels") + " --size 64x48 -o " + flat.file("x.png"));
+  const test::CommandResult run = runPbs("render " + other + " --surfels " + flat.file("octree.surfels") +
+                                         " --size 64x48 -o " + flat.file("x.png"));
   EXPECT_EQ(run.status, 1);
   EXPECT_EQ(run.err.rfind("error: ", 0), 0u) << run.err;
   EXPECT_NE(run.err.find("as a loose octree of leaves of at most 1000 triangles"), std::string::npos) << run.err;

@@ -210,6 +210,24 @@ TEST(Capture, NormalsFaceTheViewThatSawThem) {
   }
 }
 
+// How many sides of its surface the captures saw: an open quad, seen from above and below, two; a closed
+// cube with outward normals, one; the same cube with its normals turned inward (wound inside out), one.
+TEST(Capture, SidesSeenAreTwoForAnOpenSheetAndOneForAClosedMesh) {
+  const Scene quad = sceneOf(trianglesMesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}),
+                             {glm::dmat4(1.0)});
+  Scene cube = sceneOf(cubeMesh(), {glm::dmat4(1.0)});
+  Scene inward = cube;
+  for (glm::vec3& n : inward.meshes[0].normals) n = -n;
+  const CaptureOptions options{.resolution = 32};
+  const CaptureResult sheet = captureNode(quad, analyzeHierarchy(quad), 0, options);
+  EXPECT_GT(sheet.seenFromBehind, 0u);
+  EXPECT_NEAR(sheet.sidesSeen(), 2.0, 0.05);
+  EXPECT_NEAR(captureNode(cube, analyzeHierarchy(cube), 0, options).sidesSeen(), 1.0, 0.02);
+  const CaptureResult inside = captureNode(inward, analyzeHierarchy(inward), 0, options);
+  EXPECT_EQ(inside.seenFromBehind, inside.surfels.size());
+  EXPECT_EQ(inside.sidesSeen(), 1.0);
+}
+
 // A zero normal (a degenerate surface) stays zero whatever the view; others are turned to face it.
 TEST(Capture, ZeroNormalStaysZero) {
   const Bounds box{glm::dvec3(-1.0), glm::dvec3(1.0)};

@@ -48,8 +48,8 @@ struct TerrainOptions {
 };
 
 // A displaced grid: one mesh of one material under one node, heights a sum of a few seeded sine waves
-// of falling amplitude (hills with ridges), normals from the triangles. Deterministic for any thread
-// count. Throws std::invalid_argument for 0 triangles or more than a 32-bit index can address.
+// of falling wavelength and amplitude (rolling hills with small ridges), normals from the triangles. Deterministic for
+// any thread count. Throws std::invalid_argument for 0 triangles or more than a 32-bit index can address.
 Scene generateTerrain(const TerrainOptions& options);
 
 }  // namespace pbs

@@ -43,6 +43,13 @@ struct CaptureResult {
   std::uint64_t coveredPixels = 0;
   std::uint64_t boxPixels = 0;  // the summed projected box area, rounded to whole pixels
   std::uint32_t views = 0;      // 0 for a node whose subtree draws nothing (an empty box)
+  // Of the surfels, those seen from behind their normal (turned to face their view): about none for a
+  // closed mesh, about half for an open sheet seen from both sides (a terrain, a wall).
+  std::uint64_t seenFromBehind = 0;
+
+  // How many sides of its surface the captures saw, 1 to 2: 1 + the smaller share of surfels seen from
+  // one side over the larger (so a mesh wound inside out counts once, as one wound outward does).
+  double sidesSeen() const;
 };
 
 // The view directions (unit vectors the cameras look along) for `count` views; see

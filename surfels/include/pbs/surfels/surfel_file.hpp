@@ -98,7 +98,10 @@ struct SurfelArray {
   // The same of all N surfels. Where a subtree's parts lie far apart (a city), its first surfels spread
   // over the gaps and the two differ: the renderer interpolates between them (SplatArray::spacing).
   double packingEnd = 0.0;
-  double area = 0.0;            // surface area of the node's subtree in the node frame (ρ(k) needs it)
+  // Surface area of the node's subtree in the node frame, times the sides the captures saw of it
+  // (CaptureResult::sidesSeen: 1 for a closed mesh, 2 for an open sheet seen from both sides): the area
+  // the surfels stand for (the renderer's splat coverage, ρ(k)).
+  double area = 0.0;
   std::vector<Surfel> surfels;  // in order: every prefix is a usable, evenly spread subset
 };
 
