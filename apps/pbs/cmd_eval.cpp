@@ -94,8 +94,9 @@ void run(const EvalOptions& options) {
   }
   const std::size_t baselineIndex = baselineSetting(settings);
 
-  // A glTF scene with a version 4 file is opened without its mesh arrays where nothing needs them all: a
-  // scene larger than memory is measured against the rasterizer's reference, drawn node by node.
+  // A glTF scene whose file can check it without its meshes (drawableWithoutMeshes) is opened so where
+  // nothing needs them all: a scene larger than memory is measured against the rasterizer's reference,
+  // drawn node by node.
   const bool meshesOnDemand =
       drawableWithoutMeshes(options.scene, reader) && drawableWithMeshesOnDemand(settings, referenceMode, fileOrdering);
   const std::uint64_t cacheBytes = options.cacheMb << 20;
@@ -214,10 +215,11 @@ void addEvalCommand(CLI::App& app) {
   addSamplesOption(*command, "--reference-samples", options->referenceSamples,
                    "samples per pixel of the reference every frame is compared with");
   command
-      ->add_option("--reference", options->referenceRenderer,
-                   "what draws the reference: embree (rays) or exact (the rasterizer; for a glTF scene with a "
-                   "version 4 .surfels file and no Embree peer, its meshes are read as frames draw them, node by "
-                   "node, so a scene larger than memory, or than rays can hold, can be measured)")
+      ->add_option(
+          "--reference", options->referenceRenderer,
+          "what draws the reference: embree (rays) or exact (the rasterizer; for a glTF scene with a "
+          ".surfels file of version 4 or later and no Embree peer, its meshes are read as frames draw them, node by "
+          "node, so a scene larger than memory, or than rays can hold, can be measured)")
       ->check(CLI::IsMember({"embree", "exact"}))
       ->capture_default_str();
   command->add_option("--frames", options->frames, "views on the path")

@@ -115,7 +115,8 @@ void run(const RenderOptions& options) {
     throw CLI::ValidationError("--mode surfels", "needs --surfels FILE (make one with pbs surfelize)");
   // With surfels, the file is opened first: it holds the exact box of every instance and, from version 4,
   // the fingerprints that let a glTF scene be opened without its mesh arrays, each read when a frame
-  // first draws it as geometry (a stream simulates its own link for meshes, so it reads them whole).
+  // first draws it as geometry (a stream simulates its own link for meshes, so it reads them whole; a
+  // scene rebuilt as a loose octree is read whole, its meshes split).
   std::optional<SurfelFileReader> surfelFile;
   if (mode == RenderMode::Surfels) surfelFile.emplace(options.surfels);
   const bool meshesOnDemand =
@@ -263,9 +264,10 @@ void addRenderCommand(CLI::App& app) {
   command->add_option("--frames", options->frames, "render N frames along the --path (default: one view, its first)")
       ->check(CLI::Range(1u, 100000u));
   command->add_flag("--json", options->json, "print JSON (per-frame figures with --frames)");
-  addCacheOption(*command, options->cacheMb,
-                 "surfels (and, for a glTF scene with a version 4 .surfels file, meshes) are read as frames draw "
-                 "them; the least recently drawn arrays and meshes are dropped beyond this many MB each");
+  addCacheOption(
+      *command, options->cacheMb,
+      "surfels (and, for a glTF scene with a .surfels file of version 4 or later, meshes) are read as frames draw "
+      "them; the least recently drawn arrays and meshes are dropped beyond this many MB each");
   command
       ->add_option("--stream", options->streamMBps,
                    "MB/s: as if the .surfels file and the meshes came over a link of this many megabytes (10^6 "
