@@ -73,6 +73,12 @@ void addOctreeOptions(CLI::App& command, OctreeChoice& octree) {
 }
 
 void addLodOptions(CLI::App& command, LodOptions& lod) {
+  command
+      .add_option_function<double>(
+          "--budget-primitives", [&lod](double limit) { lod.budget = LodBudget::primitives(limit); },
+          "choose the cut by a budget instead of --threshold-pixels: refine the nodes largest on screen while "
+          "the triangles plus surfels drawn stay within this many")
+      ->check(positiveNumber());
   CLI::Option* threshold =
       command
           .add_option("--threshold-pixels", lod.threshold, "projected size (pixels) above which nodes are descended")

@@ -40,6 +40,8 @@ void apply(const std::string& option, const std::string& key, const std::string&
     setting.lod.overdraw = parseNumber(option, key, value, 1e-3, 1e4);
   } else if (key == "threshold") {
     setting.lod.threshold = parseNumber(option, key, value, 1e-3, 1e6);
+  } else if (key == "primitives") {
+    setting.lod.budget = LodBudget::primitives(parseNumber(option, key, value, 1.0, 1e12));
   } else if (key == "point") {
     setting.lod.pointSize = float(parseNumber(option, key, value, 0.0, 64.0));
   } else if (key == "splat") {
@@ -111,8 +113,8 @@ bool EvalSetting::drawsLike(const EvalSetting& o) const {
 }
 
 std::string sweepKeys() {
-  return "embree, exact, overdraw, threshold, exhausted, point, splat, cull, gain, band, rule, geometry, ordering, "
-         "simplify";
+  return "embree, exact, overdraw, threshold, primitives, exhausted, point, splat, cull, gain, band, rule, geometry, "
+         "ordering, simplify";
 }
 
 std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& baseline, const std::string& option) {

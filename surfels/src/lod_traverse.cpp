@@ -1,6 +1,9 @@
 // traverseLod: the runtime decisions of the paper's Sec. 3, one node at a time from the roots.
 #include "pbs/surfels/lod_render.hpp"
 
+#include "lod_budget.hpp"
+#include "lod_scale.hpp"
+
 #include "pbs/raster/projected_box.hpp"
 #include "pbs/scene/scene_draws.hpp"
 
@@ -10,17 +13,8 @@
 namespace pbs {
 namespace {
 
-// World size of one pixel at `point`: constant for orthographic cameras, growing with the eye-space
-// depth for perspective ones (row 1 of the projection scales eye y to clip y).
-double worldPixelAt(const Camera& camera, const glm::dvec3& point) {
-  const double perUnitDepth = 2.0 / (camera.projection[1][1] * camera.height);
-  if (camera.isOrthographic()) return perUnitDepth;
-  const double depth = -(camera.view * glm::dvec4(point, 1.0)).z;
-  return perUnitDepth * std::max(depth, 0.0);
-}
-
-// The node frame's scale as the cube root of the volume change (mirroring ignored).
-double frameScale(const glm::dmat4& world) { return std::cbrt(std::abs(glm::determinant(glm::dmat3(world)))); }
+using lod::frameScale;
+using lod::worldPixelAt;
 
 class Traversal {
  public:
@@ -140,6 +134,7 @@ std::uint32_t prefixLength(const SplatArray& array, double projectedSize, double
 
 LodDraws traverseLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
                      const LodOptions& options) {
+  if (options.budget.limit > 0.0) return traverseWithBudget(scene, hierarchy, surfels, camera, options);
   Traversal traversal(scene, hierarchy, surfels, camera, options);
   for (std::uint32_t root : scene.roots) traversal.visit(root, 1.0);
   return std::move(traversal.draws);

@@ -268,3 +268,32 @@ TEST(EvalCli, SimplifyRatiosOutsideZeroToOneAreUsageErrors) {
 
 }  // namespace
 }  // namespace pbs
+
+namespace pbs {
+namespace {
+
+// A budget of triangles plus surfels (`--budget-primitives`, the sweep key `primitives`) bounds what a
+// frame draws, in render and in eval alike.
+TEST(EvalCli, BudgetsBoundWhatFramesDraw) {
+  const EvalRun eval;
+  const test::CommandResult run =
+      eval.run("--size 96x64 --frames 2 --peers exact=1 --reference-samples 4 --sweep primitives=6000 --quiet");
+  ASSERT_EQ(run.status, 0) << run.err;
+  std::size_t budgeted = 0;
+  for (const test::CsvRow& row : eval.rows()) {
+    if (row.fields.at("setting") != "primitives=6000") continue;
+    ++budgeted;
+    EXPECT_LE(row.number("triangles") + row.number("surfels"), 6000.0);
+    EXPECT_GT(row.number("triangles") + row.number("surfels"), 0.0);
+  }
+  EXPECT_EQ(budgeted, 2u);
+  const test::CommandResult frame = test::runPbs("render " + eval.scene + " --surfels " + eval.surfels +
+                                                 " --size 96x64 --budget-primitives 6000 --json");
+  ASSERT_EQ(frame.status, 0) << frame.err;
+  const nlohmann::json drawn = nlohmann::json::parse(frame.out);
+  EXPECT_LE(drawn["triangles"].get<double>() + drawn["surfels"].get<double>(), 6000.0);
+  EXPECT_EQ(eval.run("--sweep primitives=0").status, 2);
+}
+
+}  // namespace
+}  // namespace pbs

@@ -39,6 +39,17 @@ enum class SplatMode : std::uint32_t { Nearest = 0, Blend = 1 };
 std::optional<SplatMode> splatModeFromName(std::string_view name);
 const char* splatModeName(SplatMode mode);
 
+// A frame's cost, estimated from what it draws: a greedy refinement spends it (LodOptions::budget).
+struct LodBudget {
+  double limit = 0.0;        // 0: no budget, the thresholds decide
+  double perTriangle = 1.0;  // cost of each triangle drawn as geometry
+  double perSurfel = 1.0;    // of each surfel drawn
+
+  // Triangles plus surfels drawn, at most `limit` (`--budget-primitives`): the same cut on every machine.
+  static LodBudget primitives(double limit) { return {limit, 1.0, 1.0}; }
+  bool operator==(const LodBudget&) const = default;
+};
+
 struct LodOptions {
   // Projected size (square root of the box's projected area, pixels) above which a node is descended.
   double threshold = 128.0;
@@ -75,6 +86,12 @@ struct LodOptions {
   // a white tank turn pink) and opens holes. false keeps the one threshold for every node and draws an
   // exhausted array whole with larger points (the paper's cap).
   bool descendExhausted = true;
+  // With a limit: the cut is chosen by cost instead of by the threshold. From the coarsest cut (every
+  // visible node with an array drawn as surfels, the rest descended), the node largest on screen is
+  // refined (drawn as its own mesh and its children) while the cost stays within the limit; nodes whose
+  // refinement does not fit are passed over for smaller ones. A limit below the coarsest cut's cost draws
+  // the coarsest cut. No transition bands. Deterministic.
+  LodBudget budget;
 
   bool operator==(const LodOptions&) const = default;
 };

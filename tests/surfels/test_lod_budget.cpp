@@ -1,0 +1,80 @@
+// The cut chosen by a budget (LodOptions::budget): within the limit, the coarsest cut when the limit is
+// below it, every visible triangle when it is ample, closer to the exact picture as the budget grows, and
+// the same draws every time.
+#include "surfeled_scene.hpp"
+
+#include <pbs/raster/image_metrics.hpp>
+#include <pbs/scene/generate.hpp>
+#include <pbs/surfels/frame_renderer.hpp>
+#include <pbs/surfels/lod_render.hpp>
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace pbs {
+namespace {
+
+LodOptions budgeted(double limit) {
+  LodOptions options;
+  options.budget = LodBudget::primitives(limit);
+  return options;
+}
+
+std::uint64_t primitives(const LodDraws& draws) { return draws.triangles + draws.surfelCount; }
+
+TEST(LodBudget, StaysWithinTheLimitAndIsDeterministic) {
+  const test::SurfeledScene s = test::surfeled(test::twoIdenticalGroups());
+  for (const Camera& camera : test::approachCameras(s, 4)) {
+    const LodDraws coarsest = traverseLod(s.scene, s.hierarchy, s.surfels, camera, budgeted(1.0));
+    ASSERT_FALSE(coarsest.surfels.empty()) << "the coarsest cut draws the root's prefix";
+    EXPECT_TRUE(coarsest.geometryNodes.empty());
+    const LodDraws ample = traverseLod(s.scene, s.hierarchy, s.surfels, camera, budgeted(1e9));
+    EXPECT_TRUE(ample.surfels.empty()) << "an ample budget refines down to every visible triangle";
+    EXPECT_GT(ample.triangles, 0u);
+    for (double limit : {2000.0, 4000.0, 8000.0, 16000.0}) {
+      // Not more primitives for more budget, necessarily: a node's triangles may cost less than its prefix.
+      const LodDraws draws = traverseLod(s.scene, s.hierarchy, s.surfels, camera, budgeted(limit));
+      if (limit >= double(primitives(coarsest))) {
+        EXPECT_LE(double(primitives(draws)), limit) << limit;
+      }
+      const LodDraws again = traverseLod(s.scene, s.hierarchy, s.surfels, camera, budgeted(limit));
+      EXPECT_EQ(again.geometryNodes, draws.geometryNodes);
+      ASSERT_EQ(again.surfels.size(), draws.surfels.size());
+      for (std::size_t i = 0; i < draws.surfels.size(); ++i) {
+        EXPECT_EQ(again.surfels[i].node, draws.surfels[i].node);
+        EXPECT_EQ(again.surfels[i].count, draws.surfels[i].count);
+      }
+    }
+  }
+}
+
+// A city of 64 boxes in three levels, seen from the start of its approach: the least budget draws the
+// coarsest cut, an ample one every triangle (the exact picture), and one half-way between their costs
+// lies between them in error.
+TEST(LodBudget, ErrorFallsAsTheBudgetGrows) {
+  const Scene box = test::sceneOf(test::tessellatedBox(20), {glm::dmat4(1.0)});
+  const test::SurfeledScene s = test::surfeled(generateCity({box}, {.levels = 3, .fanout = 4}));
+  const Camera camera = test::approachCameras(s, 4, 2.0)[1];
+  FrameRenderer exact(s.scene, s.hierarchy, {.mode = RenderMode::Exact}, camera.width, camera.height);
+  const RgbaImage reference{camera.width, camera.height, exact.render(camera).image};
+  const double coarsest = double(primitives(traverseLod(s.scene, s.hierarchy, s.surfels, camera, budgeted(1.0))));
+  const double ample = double(primitives(traverseLod(s.scene, s.hierarchy, s.surfels, camera, budgeted(1e9))));
+  ASSERT_LT(coarsest, ample) << "the view must leave the budget something to choose";
+  const double halfway = (coarsest + ample) / 2.0;
+  EXPECT_LE(double(primitives(traverseLod(s.scene, s.hierarchy, s.surfels, camera, budgeted(halfway)))), halfway);
+  std::vector<double> errors;
+  for (double limit : {1.0, halfway, 1e9}) {
+    FrameRenderer renderer(s.scene, s.hierarchy, {.mode = RenderMode::Surfels, .lod = budgeted(limit)}, camera.width,
+                           camera.height, {.surfels = &s.surfels});
+    errors.push_back(compareImages(RgbaImage{camera.width, camera.height, renderer.render(camera).image}, reference)
+                         .flipForegroundMean);
+  }
+  EXPECT_GE(errors[0], errors[1]);
+  EXPECT_GE(errors[1], errors[2]);
+  EXPECT_GT(errors[0], errors[2]);
+  EXPECT_EQ(errors[2], 0.0) << "an ample budget draws every triangle, as the exact renderer does";
+}
+
+}  // namespace
+}  // namespace pbs
