@@ -47,10 +47,13 @@ struct DemoFrame {
 void run(const DemoOptions& options) {
   LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{});
   SurfelizeOptions settings = options.surfelize;
-  // A flat scene is rebuilt as a loose octree, as surfelize would (read again: its meshes are split).
+  // A flat scene is rebuilt as a loose octree, as surfelize would.
   settings.file.octreeLeafTriangles = options.octree.leavesFor(loaded.scene);
-  if (settings.file.octreeLeafTriangles > 0)
-    loaded = loadAndAnalyze(options.scene, LoadOptions{settings.file.octreeLeafTriangles});
+  if (settings.file.octreeLeafTriangles > 0) {
+    loaded.scene = asLooseOctree(loaded.scene, settings.file.octreeLeafTriangles, loaded.name);
+    loaded.hierarchy = analyzeHierarchy(loaded.scene);
+    loaded.summary = summarizeScene(loaded.scene, loaded.hierarchy);
+  }
   const std::filesystem::path folder(options.output);
   std::filesystem::create_directories(folder);
 

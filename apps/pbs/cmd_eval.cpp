@@ -124,17 +124,13 @@ void run(const EvalOptions& options) {
   for (const PathView& view : pathViews(loaded, options.path, orbit, options.frames, width, height))
     cameras.push_back(view.camera);
   const auto surfelsOf = [&](const EvalSetting& s) { return sources.of(s); };
-  // A frame's kind says how near the view is under the one threshold: an option that descends sooner
-  // (descendExhausted) must not move its own frames to the near kind's laxer targets.
-  LodOptions kindLod = baseline;
-  kindLod.descendExhausted = false;
   const EvalInputs inputs{.referenceMode = referenceMode,
                           .referenceSamples = options.referenceSamples,
                           .meshes = meshes ? &*meshes : nullptr,
                           .compare = {.background = options.background, .pixelsPerDegree = options.pixelsPerDegree},
                           .sheetFrame = std::uint32_t(cameras.size() / 2),
                           .kindSurfels = &sources.decisions(),
-                          .kindLod = kindLod};
+                          .kindLod = baseline};
   ProgressMeter meter("eval", ProgressMeter::styleFor(options.quiet));
   const EvalResults results = runEval(
       loaded.scene, loaded.hierarchy, cameras, settings, inputs, surfelsOf,

@@ -82,6 +82,10 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
   }
   const EmbreeScene* sharedRays = rays ? &*rays : nullptr;
 
+  // A frame's kind says how near the view is under the one threshold: an option that descends sooner
+  // (descendExhausted) must not move its own frames to the near kind's laxer targets.
+  LodOptions kindLod = inputs.kindLod;
+  kindLod.descendExhausted = false;
   std::vector<RgbaImage> reference;
   {
     FrameRenderer renderer(
@@ -92,7 +96,7 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
       EvalView view{.camera = cameras[f], .referenceSeconds = frame.seconds};
       if (inputs.kindSurfels) {
         const double covered = coveredPixels(frame.image);
-        const auto geometry = double(geometryPixels(scene, hierarchy, *inputs.kindSurfels, cameras[f], inputs.kindLod));
+        const auto geometry = double(geometryPixels(scene, hierarchy, *inputs.kindSurfels, cameras[f], kindLod));
         view.geometryShare = covered > 0.0 ? std::min(1.0, geometry / covered) : 0.0;
         view.kind = frameKindOf(view.geometryShare);
       }

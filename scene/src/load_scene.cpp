@@ -30,11 +30,14 @@ ImportResult loadScene(const std::string& spec, const LoadOptions& options) {
     result = importGltf(spec);
   }
   requireDrawable(result.scene, spec);
-  if (options.octreeLeafTriangles > 0) {
-    result.scene = buildLooseOctree(result.scene, options.octreeLeafTriangles);
-    validateScene(result.scene, spec);
-  }
+  if (options.octreeLeafTriangles > 0) result.scene = asLooseOctree(result.scene, options.octreeLeafTriangles, spec);
   return result;
+}
+
+Scene asLooseOctree(const Scene& scene, std::uint32_t leafTriangles, const std::string& source) {
+  Scene octree = buildLooseOctree(scene, leafTriangles);
+  validateScene(octree, source);
+  return octree;
 }
 
 LazyGltf loadSceneWithoutMeshes(const std::string& spec) {

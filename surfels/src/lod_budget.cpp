@@ -80,14 +80,10 @@ class BudgetTraversal {
  private:
   SurfelEntry surfelEntry(std::uint32_t node, std::uint32_t array, double pixels) const {
     const SplatArray& splats = surfels_.arrays[array];
-    const glm::dmat4& world = hierarchy_.world[node];
-    const double worldPixel = lod::worldPixelAt(camera_, glm::dvec3(world * glm::dvec4(splats.box.center(), 1.0)));
-    const double scale = lod::frameScale(world), size = std::sqrt(pixels);
-    const std::uint32_t count = prefixLength(splats, size, worldPixel, scale, options_);
-    // An array of one surfel has no spacing to measure: its disc spans the box.
-    const double radius = splats.packing > 0.0 ? splats.spacing(count) : glm::length(splats.box.size()) / 2.0;
-    const double pointSize = worldPixel > 0.0 ? 2.0 * radius * scale / worldPixel : 0.0;
-    return {size, options_.budget.perSurfel * double(count), {node, array, count, radius, pointSize}};
+    const lod::NodeScale at = lod::nodeScale(camera_, hierarchy_.world[node], splats);
+    const double size = std::sqrt(pixels);
+    const std::uint32_t count = prefixLength(splats, size, at.worldPixel, at.scale, options_);
+    return {size, options_.budget.perSurfel * double(count), lod::prefixDraw(node, array, splats, at, count, count)};
   }
 
   const Scene& scene_;

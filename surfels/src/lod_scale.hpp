@@ -1,7 +1,10 @@
-// How large a node's frame and a pixel are at a node, for the LOD traversals (threshold and budget).
+// How large a node's frame and a pixel are at a node, and the prefix draw they give, for the LOD
+// traversals (threshold and budget).
 #pragma once
 
 #include "pbs/raster/camera.hpp"
+#include "pbs/surfels/lod_render.hpp"
+#include "pbs/surfels/scene_surfels.hpp"
 
 #include <glm/glm.hpp>
 
@@ -21,5 +24,25 @@ inline double worldPixelAt(const Camera& camera, const glm::dvec3& point) {
 
 // The node frame's scale as the cube root of the volume change (mirroring ignored).
 inline double frameScale(const glm::dmat4& world) { return std::cbrt(std::abs(glm::determinant(glm::dmat3(world)))); }
+
+struct NodeScale {
+  double worldPixel = 0.0;  // world size of one pixel at the array's centre
+  double scale = 1.0;       // node frame to world
+};
+
+// The scale at which a node of world transform `world` draws its array `splats`.
+inline NodeScale nodeScale(const Camera& camera, const glm::dmat4& world, const SplatArray& splats) {
+  return {worldPixelAt(camera, glm::dvec3(world * glm::dvec4(splats.box.center(), 1.0))), frameScale(world)};
+}
+
+// The draw of `count` surfels of a prefix sized for `full` (count ≤ full while a transition thins it):
+// discs that close the surface with the whole prefix, and their size in pixels at the node.
+inline LodDraws::Surfels prefixDraw(std::uint32_t node, std::uint32_t array, const SplatArray& splats,
+                                    const NodeScale& at, std::uint32_t full, std::uint32_t count) {
+  // An array of one surfel has no spacing to measure: its disc spans the box.
+  const double radius = splats.packing > 0.0 ? splats.spacing(full) : glm::length(splats.box.size()) / 2.0;
+  const double pointSize = at.worldPixel > 0.0 ? 2.0 * radius * at.scale / at.worldPixel : 0.0;
+  return {node, array, count, radius, pointSize};
+}
 
 }  // namespace pbs::lod

@@ -13,8 +13,7 @@
 namespace pbs {
 namespace {
 
-using lod::frameScale;
-using lod::worldPixelAt;
+using lod::NodeScale;
 
 class Traversal {
  public:
@@ -29,7 +28,8 @@ class Traversal {
     if (box.empty() || outsideClipVolume(camera_, box)) return;
     const std::uint32_t array = node < surfels_.arrayOfNode.size() ? surfels_.arrayOfNode[node] : kNoSurfels;
     const double size = std::sqrt(projectedBoxPixels(camera_, box));
-    const NodeScale at = array != kNoSurfels ? scaleOf(node, surfels_.arrays[array]) : NodeScale{};
+    const NodeScale at =
+        array != kNoSurfels ? lod::nodeScale(camera_, hierarchy_.world[node], surfels_.arrays[array]) : NodeScale{};
     const double threshold = array != kNoSurfels ? thresholdOf(array, at, size) : options_.threshold;
     const double upper = threshold * (1.0 + options_.band);
     if (array != kNoSurfels && size < upper) {
@@ -49,7 +49,7 @@ class Traversal {
   void drawWhole(std::uint32_t node) {
     const std::uint32_t array = surfels_.arrayOfNode[node];
     const double size = std::sqrt(projectedBoxPixels(camera_, hierarchy_.worldBounds[node]));
-    drawSurfels(node, array, scaleOf(node, surfels_.arrays[array]), size, 1.0);
+    drawSurfels(node, array, lod::nodeScale(camera_, hierarchy_.world[node], surfels_.arrays[array]), size, 1.0);
   }
 
   LodDraws draws;
@@ -62,16 +62,6 @@ class Traversal {
       draws.triangles += scene_.meshes[std::size_t(mesh)].triangleCount();
     }
     for (std::uint32_t child : scene_.nodes[node].children) visit(child, growth);
-  }
-
-  struct NodeScale {
-    double worldPixel = 0.0;  // world size of one pixel at the array's centre
-    double scale = 1.0;       // node frame to world
-  };
-  NodeScale scaleOf(std::uint32_t node, const SplatArray& splats) const {
-    const glm::dmat4& world = hierarchy_.world[node];
-    const glm::dvec3 center(world * glm::dvec4(splats.box.center(), 1.0));
-    return {worldPixelAt(camera_, center), frameScale(world)};
   }
 
   // The node's threshold: options_.threshold, or lower where the array cannot meet the demand at the
@@ -88,14 +78,10 @@ class Traversal {
 
   void drawSurfels(std::uint32_t node, std::uint32_t array, const NodeScale& at, double size, double factor) {
     const SplatArray& splats = surfels_.arrays[array];
-    const double worldPixel = at.worldPixel, scale = at.scale;
-    const std::uint32_t full = prefixLength(splats, size, worldPixel, scale, options_);
+    const std::uint32_t full = prefixLength(splats, size, at.worldPixel, at.scale, options_);
     const auto count = std::uint32_t(std::lround(double(full) * factor));
     if (count == 0) return;
-    // An array of one surfel has no spacing to measure: its disc spans the box.
-    const double radius = splats.packing > 0.0 ? splats.spacing(full) : glm::length(splats.box.size()) / 2.0;
-    const double pointSize = worldPixel > 0.0 ? 2.0 * radius * scale / worldPixel : 0.0;
-    draws.surfels.push_back({node, array, count, radius, pointSize});
+    draws.surfels.push_back(lod::prefixDraw(node, array, splats, at, full, count));
     draws.surfelCount += count;
   }
 

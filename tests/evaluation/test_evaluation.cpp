@@ -39,12 +39,10 @@ class Evaluation {
   // Runs `settings` (peers, then sweeps over `baseline`) on `cameras` against Embree at 4 samples per pixel.
   EvalResults run(const std::vector<EvalSetting>& settings, const std::vector<Camera>& cameras,
                   const LodOptions& baseline = {}) {
-    LodOptions kindLod = baseline;
-    kindLod.descendExhausted = false;
     EvalInputs inputs;
     inputs.referenceSamples = 4;
     inputs.kindSurfels = &sources_.decisions();
-    inputs.kindLod = kindLod;
+    inputs.kindLod = baseline;
     return runEval(
         surfeled_.scene, hierarchy_, cameras, settings, inputs, [&](const EvalSetting& s) { return sources_.of(s); },
         [&](const EvalSetting& s) -> const Scene& { return simplified_.of(s); },

@@ -476,27 +476,9 @@ TEST(UniqueCity, CommandLineWritesAGltfMeshByMesh) {
 }
 
 TEST(UniqueCity, CommandLineRefusesWhatAGlbCannotHold) {
-  // 22,500 copies of a 1.3 M-triangle mesh: far beyond the 4 GiB of one .glb, refused before any baking.
+  // 22,500 copies of a 1.28 M-triangle mesh: far beyond the 4 GiB of one .glb, refused before any baking.
   test::ScratchDir scratch;
-  Scene big;
-  big.materials.push_back(Material{"plain", glm::vec4(0.7f), -1});
-  Mesh grid;
-  grid.name = "grid";
-  constexpr std::uint32_t kSide = 800;
-  for (std::uint32_t j = 0; j <= kSide; ++j)
-    for (std::uint32_t i = 0; i <= kSide; ++i)
-      grid.positions.push_back({float(i), std::sin(0.1f * float(i + j)), float(j)});
-  for (std::uint32_t j = 0; j < kSide; ++j)
-    for (std::uint32_t i = 0; i < kSide; ++i) {
-      const std::uint32_t a = j * (kSide + 1) + i, b = a + 1, c = a + kSide + 1, d = c + 1;
-      grid.indices.insert(grid.indices.end(), {a, c, b, b, c, d});
-    }
-  grid.normals = computeVertexNormals(grid.positions, grid.indices);
-  grid.parts.push_back(MeshPart{0, std::uint32_t(grid.indices.size()), 0});
-  updateMeshBounds(grid);
-  big.meshes.push_back(std::move(grid));
-  big.nodes.push_back(Node{"grid", glm::dmat4(1.0), {}, 0});
-  big.roots = {0};
+  const Scene big = generateTerrain({.triangles = 2 * 800 * 800});
   writeGlb(big, scratch / "grid.glb");
   const test::CommandResult refused =
       test::runPbs("generate city --mesh '" + (scratch / "grid.glb").string() +

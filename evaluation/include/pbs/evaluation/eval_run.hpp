@@ -64,7 +64,8 @@ struct EvalInputs {
   LazyMeshes* meshes = nullptr;
   CompareOptions compare;        // background and observer; the FLIP map is taken for the sheet's frame only
   std::uint32_t sheetFrame = 0;  // the frame the contact sheet shows
-  // The surfels and LOD options that decide each view's kind (the file's own arrays, the baseline).
+  // The surfels and LOD options that decide each view's kind (the file's own arrays, the baseline), read
+  // with one threshold for every node (descendExhausted off, whatever kindLod says).
   const SceneSurfels* kindSurfels = nullptr;
   LodOptions kindLod;
 };

@@ -16,6 +16,10 @@ struct LoadOptions {
 // optionally rebuilds as a loose octree.
 ImportResult loadScene(const std::string& spec, const LoadOptions& options = {});
 
+// A loaded scene rebuilt as loadScene does with octreeLeafTriangles = `leafTriangles`: the same scene,
+// bit for bit, without reading the file again. `source` names it in errors.
+Scene asLooseOctree(const Scene& scene, std::uint32_t leafTriangles, const std::string& source);
+
 // The same for a glTF file opened without its mesh arrays (openGltfWithoutMeshes; `default` is not a
 // file), validated as far as its structure goes. No octree: it would split the meshes.
 LazyGltf loadSceneWithoutMeshes(const std::string& spec);
