@@ -11,6 +11,7 @@
 #include <pbs/raster/headlight_shading.hpp>
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/scene/input_error.hpp>
+#include <pbs/surfels/frame_cost.hpp>
 #include <pbs/surfels/frame_renderer.hpp>
 
 #include <cstdio>
@@ -33,6 +34,7 @@ struct RenderOptions {
   LodOptions lod;
   std::string output;
   std::uint32_t frames = 0;
+  bool budgetFeedback = false;
   std::uint32_t samples = 1;
   bool json = false;
   std::uint64_t maxMemory = 0;
@@ -185,12 +187,27 @@ void run(const RenderOptions& options) {
   }
   report["used"]["meshes"] = meshes ? "read as frames draw them" : "read whole";
   std::vector<double> seconds;
+  const bool timeBudget =
+      mode == RenderMode::Surfels && options.lod.budget.unit == BudgetUnit::Seconds && options.lod.budget.limit > 0.0;
+  if (options.budgetFeedback && !timeBudget)
+    throw CLI::ValidationError("--budget-feedback", "corrects --budget-ms: give it, in surfels mode");
+  BudgetFeedback feedback(options.lod.budget.limit);
   for (std::uint32_t f = 0; f < frames; ++f) {
     // Frame f shows what the link delivered by (f + 1) / fps.
     if (stream) stream->advance(views[f].camera, 1.0 / options.streamFps);
+    const double limit = feedback.limit();
+    if (options.budgetFeedback) renderer.setBudget(LodBudget::seconds(limit));
     const FrameResult frame = renderer.render(views[f].camera);
     seconds.push_back(frame.seconds);
     nlohmann::json entry = frameJson(mode, frame);
+    if (timeBudget) {
+      // The model's scope: reading surfels and building a mesh's BVH are paid once, not per frame.
+      const double predicted = predictFrameCost(
+          options.lod.frameCosts, frameWork(frame.stats, std::uint64_t(width) * height), frame.stats.geometryDrawer);
+      feedback.observe(predicted, frame.seconds - frame.surfelLoadSeconds - frame.stats.bvhBuildSeconds);
+      entry["budget_limit_seconds"] = options.budgetFeedback ? limit : options.lod.budget.limit;
+      entry["predicted_seconds"] = predicted;
+    }
     if (stream) entry.update(streamJson(stream->stats()));
     if (!output.empty()) {
       const std::filesystem::path file = frameFile(options, f);
@@ -264,6 +281,9 @@ void addRenderCommand(CLI::App& app) {
   command->add_option("--frames", options->frames, "render N frames along the --path (default: one view, its first)")
       ->check(CLI::Range(1u, 100000u));
   command->add_flag("--json", options->json, "print JSON (per-frame figures with --frames)");
+  command->add_flag("--budget-feedback", options->budgetFeedback,
+                    "with --budget-ms and --frames: correct the cost model by the last frames' measured times (frames "
+                    "then depend on timing)");
   addCacheOption(
       *command, options->cacheMb,
       "surfels (and, for a glTF scene with a .surfels file of version 4 or later, meshes) are read as frames draw "

@@ -1,10 +1,15 @@
 // The options several commands share, defined once so their names, checks and help agree.
 #include "commands.hpp"
 
+#include <pbs/evaluation/frame_calibration.hpp>
 #include <pbs/raster/raster_limits.hpp>
 #include <pbs/raster/supersampling.hpp>
+#include <pbs/scene/input_error.hpp>
+
+#include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -72,13 +77,45 @@ void addOctreeOptions(CLI::App& command, OctreeChoice& octree) {
       ->capture_default_str();
 }
 
+namespace {
+
+// The frame costs of a `pbs calibrate` file; InputError naming the file otherwise.
+FrameCosts readCalibration(const std::string& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file, "", "cannot be read");
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file, "", std::string("not JSON: ") + e.what());
+  }
+  return frameCostsFromJson(json, file);
+}
+
+}  // namespace
+
 void addLodOptions(CLI::App& command, LodOptions& lod) {
+  // Defined before the budgets, so that CLI11 (which runs callbacks in definition order) has read the
+  // costs whatever the order on the command line.
+  command
+      .add_option_function<std::string>(
+          "--calibration", [&lod](const std::string& file) { lod.frameCosts = readCalibration(file); },
+          "a pbs calibrate file: what --budget-ms prices frames with (default: costs measured on a 2-core machine)")
+      ->check(CLI::ExistingFile);
+  CLI::Option* primitives =
+      command
+          .add_option_function<double>(
+              "--budget-primitives", [&lod](double limit) { lod.budget = LodBudget::primitives(limit); },
+              "choose the cut by a budget instead of --threshold-pixels: refine the nodes largest on screen while "
+              "the triangles plus surfels drawn stay within this many")
+          ->check(positiveNumber());
   command
       .add_option_function<double>(
-          "--budget-primitives", [&lod](double limit) { lod.budget = LodBudget::primitives(limit); },
-          "choose the cut by a budget instead of --threshold-pixels: refine the nodes largest on screen while "
-          "the triangles plus surfels drawn stay within this many")
-      ->check(positiveNumber());
+          "--budget-ms", [&lod](double ms) { lod.budget = LodBudget::seconds(ms / 1e3); },
+          "choose the cut by a frame time instead of --threshold-pixels: refine the nodes largest on screen while "
+          "the frame's predicted time (--calibration) stays within this many milliseconds")
+      ->check(positiveNumber())
+      ->excludes(primitives);
   CLI::Option* threshold =
       command
           .add_option("--threshold-pixels", lod.threshold, "projected size (pixels) above which nodes are descended")

@@ -42,6 +42,8 @@ void apply(const std::string& option, const std::string& key, const std::string&
     setting.lod.threshold = parseNumber(option, key, value, 1e-3, 1e6);
   } else if (key == "primitives") {
     setting.lod.budget = LodBudget::primitives(parseNumber(option, key, value, 1.0, 1e12));
+  } else if (key == "ms") {
+    setting.lod.budget = LodBudget::seconds(parseNumber(option, key, value, 1e-3, 1e6) / 1e3);
   } else if (key == "point") {
     setting.lod.pointSize = float(parseNumber(option, key, value, 0.0, 64.0));
   } else if (key == "splat") {
@@ -113,7 +115,8 @@ bool EvalSetting::drawsLike(const EvalSetting& o) const {
 }
 
 std::string sweepKeys() {
-  return "embree, exact, overdraw, threshold, primitives, exhausted, point, splat, cull, gain, band, rule, geometry, "
+  return "embree, exact, overdraw, threshold, primitives, ms, exhausted, point, splat, cull, gain, band, rule, "
+         "geometry, "
          "ordering, simplify";
 }
 

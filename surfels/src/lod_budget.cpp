@@ -5,6 +5,7 @@
 #include "lod_scale.hpp"
 #include "pbs/raster/projected_box.hpp"
 #include "pbs/scene/scene_draws.hpp"
+#include "pbs/surfels/frame_cost.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -18,37 +19,52 @@ namespace {
 // A node of the cut drawn as its surfels.
 struct SurfelEntry {
   double size = 0.0;  // projected size, pixels: the refinement order
-  double cost = 0.0;
+  FrameWork work;
   LodDraws::Surfels draw;
 };
 
-// What a subtree's coarsest cut draws: surfel nodes, geometry nodes, their cost.
+// What a subtree's coarsest cut draws: surfel nodes, geometry nodes, their work.
 struct Cut {
   std::vector<SurfelEntry> surfels;
   std::vector<std::uint32_t> geometry;
   std::uint64_t triangles = 0;
-  double cost = 0.0;
+  FrameWork work;
 };
 
 class BudgetTraversal {
  public:
   BudgetTraversal(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
                   const LodOptions& options)
-      : scene_(scene), hierarchy_(hierarchy), surfels_(surfels), camera_(camera), options_(options) {}
+      : scene_(scene),
+        hierarchy_(hierarchy),
+        surfels_(surfels),
+        camera_(camera),
+        options_(options),
+        costs_(options.budgetCosts()),
+        // A budget of primitives counts triangles whoever draws them.
+        drawer_(options.budget.unit == BudgetUnit::Primitives ? GeometryDrawer::Raster : options.geometry),
+        imagePixels_(double(camera.width) * double(camera.height)) {}
 
-  // Visible nodes with an array as surfels; others drawn as their own mesh and descended into.
+  // Visible nodes with an array (and a finite size) as surfels; others drawn as their own mesh and descended
+  // into.
   void coarsest(std::uint32_t node, Cut& cut) const {
     const Bounds& box = hierarchy_.worldBounds[node];
     if (box.empty() || outsideClipVolume(camera_, box)) return;
     const double pixels = projectedBoxPixels(camera_, box);
     const std::uint32_t array = node < surfels_.arrayOfNode.size() ? surfels_.arrayOfNode[node] : kNoSurfels;
-    if (array != kNoSurfels) {
+    // A box that reaches the eye has no finite size: its surfels would be discs without bound near the eye,
+    // so it is always descended into, as the threshold's traversal does.
+    if (array != kNoSurfels && std::isfinite(pixels)) {
       const SurfelEntry entry = surfelEntry(node, array, pixels);
       // A subtree whose every triangle costs less than its prefix is drawn exactly: cheaper and better.
-      if (options_.budget.perTriangle * double(hierarchy_.subtreeTriangles[node]) <= entry.cost) {
+      const FrameWork exact{.imagePixels = imagePixels_,
+                            .triangles = double(hierarchy_.subtreeTriangles[node]),
+                            .geometryPixels = std::min(pixels, imagePixels_),
+                            .nodes = 1.0};
+      if (cost(exact) <= cost(entry.work)) {
         refine(node, cut, Descent::Geometry);
       } else if (entry.draw.count > 0) {
-        cut.cost += entry.cost;
+        cut.work += entry.work;
         cut.surfels.push_back(entry);
       }
       return;
@@ -63,7 +79,11 @@ class BudgetTraversal {
     const std::int32_t mesh = scene_.nodes[node].mesh;
     if (mesh >= 0) {
       const std::uint64_t triangles = scene_.meshes[std::size_t(mesh)].triangleCount();
-      cut.cost += options_.budget.perTriangle * double(triangles);
+      cut.work.triangles += double(triangles);
+      cut.work.nodes += 1.0;
+      // Only a budget in seconds prices pixels.
+      if (options_.budget.unit == BudgetUnit::Seconds)
+        cut.work.geometryPixels += clippedBoxPixels(camera_, instanceWorldBounds(scene_, hierarchy_, node));
       cut.triangles += triangles;
       cut.geometry.push_back(node);
     }
@@ -77,13 +97,24 @@ class BudgetTraversal {
     }
   }
 
+  // The frame's cost when it draws `work`, whatever every frame costs included.
+  double cost(FrameWork work) const {
+    work.imagePixels = imagePixels_;
+    return predictFrameCost(costs_, work, drawer_);
+  }
+
  private:
   SurfelEntry surfelEntry(std::uint32_t node, std::uint32_t array, double pixels) const {
     const SplatArray& splats = surfels_.arrays[array];
     const lod::NodeScale at = lod::nodeScale(camera_, hierarchy_.world[node], splats);
     const double size = std::sqrt(pixels);
     const std::uint32_t count = prefixLength(splats, size, at.worldPixel, at.scale, options_);
-    return {size, options_.budget.perSurfel * double(count), lod::prefixDraw(node, array, splats, at, count, count)};
+    const LodDraws::Surfels draw = lod::prefixDraw(node, array, splats, at, count, count);
+    const FrameWork work{.imagePixels = imagePixels_,
+                         .surfels = double(count),
+                         .surfelPixels = splatPixels(camera_, hierarchy_.world[node], splats, draw),
+                         .nodes = 1.0};
+    return {size, work, draw};
   }
 
   const Scene& scene_;
@@ -91,6 +122,9 @@ class BudgetTraversal {
   const SceneSurfels& surfels_;
   const Camera& camera_;
   const LodOptions& options_;
+  const FrameCosts costs_;
+  const GeometryDrawer drawer_;
+  const double imagePixels_;
 };
 
 }  // namespace
@@ -100,7 +134,7 @@ LodDraws traverseWithBudget(const Scene& scene, const Hierarchy& hierarchy, cons
   const BudgetTraversal traversal(scene, hierarchy, surfels, camera, options);
   Cut cut;
   for (std::uint32_t root : scene.roots) traversal.coarsest(root, cut);
-  double total = cut.cost;
+  FrameWork total = cut.work;
 
   // Largest on screen first; ties by node index, so the cut does not depend on the order of the queue.
   const auto later = [](const SurfelEntry& a, const SurfelEntry& b) {
@@ -116,11 +150,14 @@ LodDraws traverseWithBudget(const Scene& scene, const Hierarchy& hierarchy, cons
     open.pop();
     Cut finer;
     traversal.refine(entry.draw.node, finer);
-    if (total - entry.cost + finer.cost > options.budget.limit) {
+    FrameWork refined = total;
+    refined -= entry.work;
+    refined += finer.work;
+    if (traversal.cost(refined) > options.budget.limit) {
       kept.push_back(entry);
       continue;
     }
-    total += finer.cost - entry.cost;
+    total = refined;
     draws.geometryNodes.insert(draws.geometryNodes.end(), finer.geometry.begin(), finer.geometry.end());
     draws.triangles += finer.triangles;
     for (const SurfelEntry& child : finer.surfels) open.push(child);

@@ -19,10 +19,10 @@ using detail::secondsSince;
 constexpr ValueNames<GeometryDrawer, 3> kDrawerNames{
     {{{GeometryDrawer::Raster, "raster"}, {GeometryDrawer::Rays, "rays"}, {GeometryDrawer::Auto, "auto"}}}};
 
-// The cost model: seconds per unit of work, fitted by least squares (absolute seconds, coefficients kept
-// non-negative) to 192 frames timed on the 2-core machine with no compiler running, each the fastest of
-// 15 runs (the exact frames: of 6). The frames: the geometry nodes of the orbit, approach and flythrough
-// paths (8 frames each) at 1920×1080 and 960×540 with --threshold 64, 128 and 512, over the embedded
+// The cost model (FrameCosts' geometry terms, whose defaults are these): seconds per unit of work, fitted by least
+// squares (absolute seconds, coefficients kept non-negative) to 192 frames timed on the 2-core machine with no compiler
+// running, each the fastest of 15 runs (the exact frames: of 6). The frames: the geometry nodes of the orbit, approach
+// and flythrough paths (8 frames each) at 1920×1080 and 960×540 with --threshold 64, 128 and 512, over the embedded
 // default scene and a city of bunny.glb (`pbs generate city --levels 3 --fanout 10`), each with its
 // surfels from `pbs surfelize`; and the same paths with every visible mesh as geometry (exact mode, 4
 // frames each at 1920×1080). With covered = min(boxPixels, imagePixels):
@@ -36,11 +36,8 @@ constexpr ValueNames<GeometryDrawer, 3> kDrawerNames{
 // in all, 24 ms at worst); over the 24 exact frames 1.57 s against 8.16 s and 1.68 s, none wrong. Fitted
 // on either scene alone, the other's frames still come within 6 % of choosing after the fact. More cores
 // speed both drawers alike, and only the constants' ratios decide. A BVH yet to build is charged whole
-// to the frame that needs it: a frame does not bet on the frames after it.
-constexpr double kRasterPerTriangle = 12.1e-9;
-constexpr double kRasterPerCoveredPixel = 41.6e-9;
-constexpr double kRaysPerImagePixel = 2.9e-9;
-constexpr double kRaysPerCoveredPixel = 55.2e-9;
+// to the frame that needs it: a frame does not bet on the frames after it. `pbs calibrate` refits all but
+// the builds for another machine.
 constexpr double kRaysPerBuiltTriangle = 172e-9;
 
 }  // namespace
@@ -71,26 +68,26 @@ GeometryWork geometryWork(const Scene& scene, const Hierarchy& hierarchy, std::s
   return work;
 }
 
-GeometryCosts estimateGeometryCosts(const GeometryWork& work) {
+GeometryCosts estimateGeometryCosts(const GeometryWork& work, const FrameCosts& costs) {
   // Overlapping boxes add up past the image; rays are cast (and pixels shaded) at most once per pixel.
   const double covered = std::min(work.boxPixels, double(work.imagePixels));
-  return {.raster = kRasterPerTriangle * double(work.triangles) + kRasterPerCoveredPixel * covered,
-          .rays = kRaysPerImagePixel * double(work.imagePixels) + kRaysPerCoveredPixel * covered +
+  return {.raster = costs.rasterPerTriangle * double(work.triangles) + costs.rasterPerPixel * covered,
+          .rays = costs.raysPerImagePixel * double(work.imagePixels) + costs.raysPerPixel * covered +
                   kRaysPerBuiltTriangle * double(work.unbuiltTriangles)};
 }
 
-GeometryDrawer chooseGeometryDrawer(const GeometryWork& work) {
-  const GeometryCosts costs = estimateGeometryCosts(work);
-  return costs.rays < costs.raster ? GeometryDrawer::Rays : GeometryDrawer::Raster;
+GeometryDrawer chooseGeometryDrawer(const GeometryWork& work, const FrameCosts& costs) {
+  const GeometryCosts estimate = estimateGeometryCosts(work, costs);
+  return estimate.rays < estimate.raster ? GeometryDrawer::Rays : GeometryDrawer::Raster;
 }
 
 GeometryPass drawLodGeometry(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
                              const Camera& camera, Framebuffer& framebuffer, GeometryDrawer drawer,
-                             EmbreeNodeCaster* rays) {
+                             EmbreeNodeCaster* rays, const FrameCosts& costs) {
   const auto start = Clock::now();
   GeometryPass pass;
   if (rays && drawer == GeometryDrawer::Auto)
-    drawer = chooseGeometryDrawer(geometryWork(scene, hierarchy, nodes, camera, rays));
+    drawer = chooseGeometryDrawer(geometryWork(scene, hierarchy, nodes, camera, rays), costs);
   if (rays && drawer == GeometryDrawer::Rays) {
     pass.drawer = GeometryDrawer::Rays;
     pass.bvhBuildSeconds = rays->render(camera, nodes, framebuffer).seconds;

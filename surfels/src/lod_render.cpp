@@ -6,6 +6,8 @@
 #include "pbs/raster/blended_splats.hpp"
 #include "pbs/raster/points.hpp"
 #include "pbs/raster/value_names.hpp"
+#include "pbs/scene/scene_draws.hpp"
+#include "pbs/surfels/frame_cost.hpp"
 #include "pbs/surfels/lod_geometry.hpp"
 
 #include <glm/gtc/matrix_inverse.hpp>
@@ -127,8 +129,8 @@ LodStats drawLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurf
                              " are loaded (SurfelCache::load first)");
 
   const auto rasterStart = Clock::now();
-  const GeometryPass geometry =
-      drawLodGeometry(scene, hierarchy, draws.geometryNodes, camera, framebuffer, options.geometry, rays);
+  const GeometryPass geometry = drawLodGeometry(scene, hierarchy, draws.geometryNodes, camera, framebuffer,
+                                                options.geometry, rays, options.frameCosts);
   // A framebuffer with the coverage channel is a blended frame's: every pixel of it is written, splats or not.
   if (options.splat == SplatMode::Blend && framebuffer.has(kChannelCoverage))
     drawBlended(hierarchy, surfels, draws, camera, framebuffer, options);
@@ -140,6 +142,10 @@ LodStats drawLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurf
   stats.surfels = draws.surfelCount;
   stats.nodesGeometry = draws.geometryNodes.size();
   stats.nodesSurfels = draws.surfels.size();
+  for (std::uint32_t node : draws.geometryNodes)
+    stats.geometryPixels += clippedBoxPixels(camera, instanceWorldBounds(scene, hierarchy, node));
+  for (const LodDraws::Surfels& draw : draws.surfels)
+    stats.surfelPixels += splatPixels(camera, hierarchy.world[draw.node], surfels.arrays[draw.array], draw);
   stats.geometryDrawer = geometry.drawer;
   stats.geometrySeconds = geometry.seconds;
   stats.bvhBuildSeconds = geometry.bvhBuildSeconds;

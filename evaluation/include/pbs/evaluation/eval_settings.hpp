@@ -1,8 +1,9 @@
 // The settings `pbs eval` measures: the peers (exact renderers: "embree=N" rays at N samples per
 // pixel, "exact=N" the rasterizer drawing every triangle), "surfels" (the baseline LOD options), and
 // sweeps over it: each the baseline with one value changed, named "KEY=VALUE" ("overdraw=2",
-// "threshold=64", "primitives=500000" (a budget of triangles plus surfels), "point=1", "band=0", "rule=packing",
-// "ordering=dart", "simplify=0.05": simplified meshes in place of surfels), or several at once
+// "threshold=64", "primitives=500000" (a budget of triangles plus surfels), "ms=33" (a frame-time budget), "point=1",
+// "band=0", "rule=packing", "ordering=dart", "simplify=0.05": simplified meshes in place of surfels), or several at
+// once
 // ("point=2+threshold=128").
 #pragma once
 

@@ -87,6 +87,8 @@ class FrameRenderer {
   ChannelMask channels() const { return gbuffer_.channels; }
   bool clearsDepth() const { return options_.mode != RenderMode::Embree; }
   double buildSeconds() const { return buildSeconds_; }  // 0 unless this renderer built the BVH
+  // The budget the next frames spend (BudgetFeedback corrects it between frames).
+  void setBudget(const LodBudget& budget) { options_.lod.budget = budget; }
   // Embree's peak allocation while building it (EmbreeScene::peakBytes); 0 unless this renderer built it.
   std::uint64_t bvhPeakBytes() const { return ownRays_ ? ownRays_->peakBytes() : 0; }
 

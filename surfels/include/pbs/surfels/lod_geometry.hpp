@@ -9,6 +9,7 @@
 #include "pbs/scene/hierarchy.hpp"
 #include "pbs/scene/scene.hpp"
 #include "pbs/surfels/geometry_drawer.hpp"
+#include "pbs/surfels/lod_render.hpp"
 
 #include <cstdint>
 #include <span>
@@ -30,15 +31,16 @@ struct GeometryWork {
 GeometryWork geometryWork(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
                           const Camera& camera, const EmbreeNodeCaster* rays);
 
-// The cost model's estimates, in seconds on the machine it was measured on (lod_geometry.cpp).
+// The cost model's estimates in seconds, by the geometry terms of `costs` (defaults: the machine the
+// model was measured on, lod_geometry.cpp) and the BVH builds.
 struct GeometryCosts {
   double raster = 0.0;
   double rays = 0.0;
 };
-GeometryCosts estimateGeometryCosts(const GeometryWork& work);
+GeometryCosts estimateGeometryCosts(const GeometryWork& work, const FrameCosts& costs = {});
 
 // Raster or Rays, whichever the model estimates cheaper (Raster on a tie, and for no work at all).
-GeometryDrawer chooseGeometryDrawer(const GeometryWork& work);
+GeometryDrawer chooseGeometryDrawer(const GeometryWork& work, const FrameCosts& costs = {});
 
 // What drawLodGeometry did.
 struct GeometryPass {
@@ -53,6 +55,6 @@ struct GeometryPass {
 // image does not depend on the thread count.
 GeometryPass drawLodGeometry(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
                              const Camera& camera, Framebuffer& framebuffer, GeometryDrawer drawer,
-                             EmbreeNodeCaster* rays);
+                             EmbreeNodeCaster* rays, const FrameCosts& costs = {});
 
 }  // namespace pbs

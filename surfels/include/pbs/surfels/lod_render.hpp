@@ -39,14 +39,37 @@ enum class SplatMode : std::uint32_t { Nearest = 0, Blend = 1 };
 std::optional<SplatMode> splatModeFromName(std::string_view name);
 const char* splatModeName(SplatMode mode);
 
+// Seconds a frame spends per unit of what it draws: what `--budget-ms` spends (LodBudget). The geometry
+// terms default to the model that picks the geometry's drawer (lod_geometry.cpp), the others were fitted
+// on the 2-core machine the project is measured on (`pbs calibrate`, docs/performance.md, "A frame by
+// budget"); `pbs calibrate` fits all of them for another machine. A node's projected box, clipped to the
+// image, stands for the pixels it fills; the geometry's pixels are their sum, at most the image.
+struct FrameCosts {
+  double perImagePixel = 5e-9;         // every frame: clear, shading, resolve
+  double rasterPerTriangle = 12.1e-9;  // geometry by the rasterizer: each triangle in view
+  double rasterPerPixel = 41.6e-9;     // and each pixel of the geometry's boxes
+  double raysPerImagePixel = 2.9e-9;   // geometry by rays: each pixel of the image (a ray)
+  double raysPerPixel = 55.2e-9;       // and each pixel of the geometry's boxes
+  double perSurfel = 30e-9;            // each surfel drawn
+  double perSurfelPixel = 20e-9;       // each pixel a splat touches (splatPixels)
+  double perNode = 1e-6;               // each node drawn, as geometry or as a prefix
+
+  // Every triangle and surfel 1, the rest free: a budget of primitives (with the rasterizer's terms).
+  static FrameCosts primitives() { return {0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0}; }
+  bool operator==(const FrameCosts&) const = default;
+};
+
+enum class BudgetUnit : std::uint32_t { Primitives, Seconds };
+
 // A frame's cost, estimated from what it draws: a greedy refinement spends it (LodOptions::budget).
 struct LodBudget {
-  double limit = 0.0;        // 0: no budget, the thresholds decide
-  double perTriangle = 1.0;  // cost of each triangle drawn as geometry
-  double perSurfel = 1.0;    // of each surfel drawn
+  double limit = 0.0;  // 0: no budget, the thresholds decide
+  BudgetUnit unit = BudgetUnit::Primitives;
 
   // Triangles plus surfels drawn, at most `limit` (`--budget-primitives`): the same cut on every machine.
-  static LodBudget primitives(double limit) { return {limit, 1.0, 1.0}; }
+  static LodBudget primitives(double limit) { return {limit, BudgetUnit::Primitives}; }
+  // A frame LodOptions::frameCosts predicts to take at most `seconds` (`--budget-ms`).
+  static LodBudget seconds(double seconds) { return {seconds, BudgetUnit::Seconds}; }
   bool operator==(const LodBudget&) const = default;
 };
 
@@ -92,7 +115,11 @@ struct LodOptions {
   // refinement does not fit are passed over for smaller ones. A limit below the coarsest cut's cost draws
   // the coarsest cut. No transition bands. Deterministic.
   LodBudget budget;
+  // What a budget in seconds prices a frame's work with (`--calibration`).
+  FrameCosts frameCosts;
 
+  // The costs `budget` spends: its unit's.
+  FrameCosts budgetCosts() const { return budget.unit == BudgetUnit::Seconds ? frameCosts : FrameCosts::primitives(); }
   bool operator==(const LodOptions&) const = default;
 };
 
@@ -143,6 +170,10 @@ struct LodStats {
   std::uint64_t surfels = 0;
   std::uint64_t nodesGeometry = 0;
   std::uint64_t nodesSurfels = 0;
+  // The pixels a frame's cost model reads (FrameCosts): the geometry nodes' projected boxes (each its own
+  // mesh's) clipped to the image, summed; the pixels the prefixes' splats touch (splatPixels), summed.
+  double geometryPixels = 0.0;
+  double surfelPixels = 0.0;
   // The geometry nodes' pass: its drawer (Raster or Rays), its time (part of rasterSeconds) and, of
   // that, the ray caster's BVH builds of meshes no earlier frame needed.
   GeometryDrawer geometryDrawer = GeometryDrawer::Raster;

@@ -1,0 +1,138 @@
+// calibrateFrameCosts: frames timed under cuts from coarse to fine, and the costs fitted to them.
+#include "pbs/evaluation/frame_calibration.hpp"
+
+#include <pbs/scene/input_error.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pbs {
+namespace {
+
+// The file's names for the costs, in FrameCosts' order.
+struct CostField {
+  const char* name;
+  double FrameCosts::*cost;
+};
+constexpr CostField kCostFields[] = {{"image_pixel", &FrameCosts::perImagePixel},
+                                     {"raster_triangle", &FrameCosts::rasterPerTriangle},
+                                     {"raster_pixel", &FrameCosts::rasterPerPixel},
+                                     {"rays_image_pixel", &FrameCosts::raysPerImagePixel},
+                                     {"rays_pixel", &FrameCosts::raysPerPixel},
+                                     {"surfel", &FrameCosts::perSurfel},
+                                     {"surfel_pixel", &FrameCosts::perSurfelPixel},
+                                     {"node", &FrameCosts::perNode}};
+constexpr int kFileVersion = 1;
+
+}  // namespace
+
+std::vector<CalibrationCut> calibrationCuts(const LodOptions& base) {
+  std::vector<std::pair<std::string, LodOptions>> cuts;
+  for (double threshold : {32.0, 128.0}) {
+    LodOptions lod = base;
+    lod.budget = {};
+    lod.threshold = threshold;
+    cuts.emplace_back("threshold=" + std::to_string(int(threshold)), lod);
+  }
+  for (double primitives : {250e3, 1e6, 4e6, 16e6}) {
+    LodOptions lod = base;
+    lod.budget = LodBudget::primitives(primitives);
+    cuts.emplace_back("primitives=" + std::to_string(std::uint64_t(primitives)), lod);
+  }
+  std::vector<CalibrationCut> drawn;
+  for (GeometryDrawer drawer : {GeometryDrawer::Raster, GeometryDrawer::Rays}) {
+    for (auto [name, lod] : cuts) {
+      lod.geometry = drawer;
+      drawn.push_back({name + "+geometry=" + geometryDrawerName(drawer), lod});
+    }
+  }
+  return drawn;
+}
+
+FrameCalibration calibrateFrameCosts(const Scene& scene, const Hierarchy& hierarchy, const FrameSources& sources,
+                                     std::span<const Camera> cameras, std::span<const CalibrationCut> cuts,
+                                     std::uint32_t repeats, const ProgressEvents& progress) {
+  FrameCalibration calibration;
+  if (cameras.empty()) return calibration;
+  const std::string step = "timing frames";
+  progress.begun(step);
+  const std::size_t total = cuts.size() * cameras.size();
+  std::vector<TimedFrame> timed;
+  for (std::size_t c = 0; c < cuts.size(); ++c) {
+    FrameRenderer renderer(scene, hierarchy, {.mode = RenderMode::Surfels, .lod = cuts[c].lod}, cameras[0].width,
+                           cameras[0].height, sources);
+    for (std::uint32_t v = 0; v < cameras.size(); ++v) {
+      CalibrationFrame frame{.cut = cuts[c].name, .view = v, .timed = {}};
+      frame.timed.seconds = std::numeric_limits<double>::infinity();
+      for (std::uint32_t r = 0; r < std::max(repeats, 1u); ++r) {
+        const FrameResult result = renderer.render(cameras[v]);
+        const double seconds = result.seconds - result.surfelLoadSeconds - result.stats.bvhBuildSeconds;
+        if (seconds >= frame.timed.seconds) continue;
+        frame.timed = {.work = frameWork(result.stats, std::uint64_t(cameras[v].width) * cameras[v].height),
+                       .seconds = seconds,
+                       .geometrySeconds = result.stats.geometrySeconds - result.stats.bvhBuildSeconds,
+                       .drawer = result.stats.geometryDrawer};
+      }
+      // The clock's resolution: no frame takes no time.
+      frame.timed.seconds = std::max(frame.timed.seconds, 1e-6);
+      frame.timed.geometrySeconds = std::clamp(frame.timed.geometrySeconds, 0.0, 0.99 * frame.timed.seconds);
+      timed.push_back(frame.timed);
+      calibration.frames.push_back(frame);
+      const std::size_t done = c * cameras.size() + v + 1;
+      progress.updated(step, double(done) / double(total),
+                       std::to_string(done) + " of " + std::to_string(total) + " frames");
+    }
+  }
+  calibration.fit = fitFrameCosts(timed);
+  progress.ended(step, std::to_string(total) + " frames");
+  return calibration;
+}
+
+nlohmann::json calibrationJson(const FrameCalibration& calibration) {
+  nlohmann::json json = {{"pbs_frame_costs", kFileVersion}};
+  for (const CostField& field : kCostFields) json["seconds_per"][field.name] = calibration.fit.costs.*field.cost;
+  json["fit"] = {{"frames", calibration.fit.frames},
+                 {"raster_frames", calibration.fit.rasterFrames},
+                 {"ray_frames", calibration.fit.rayFrames},
+                 {"median_relative_error", calibration.fit.medianError},
+                 {"p90_relative_error", calibration.fit.p90Error}};
+  for (const CalibrationFrame& frame : calibration.frames) {
+    const TimedFrame& t = frame.timed;
+    json["frames"].push_back({{"cut", frame.cut},
+                              {"view", frame.view},
+                              {"seconds", t.seconds},
+                              {"geometry_seconds", t.geometrySeconds},
+                              {"geometry_drawer", geometryDrawerName(t.drawer)},
+                              {"predicted_seconds", predictFrameCost(calibration.fit.costs, t.work, t.drawer)},
+                              {"image_pixels", t.work.imagePixels},
+                              {"triangles", t.work.triangles},
+                              {"geometry_pixels", t.work.geometryPixels},
+                              {"surfels", t.work.surfels},
+                              {"surfel_pixels", t.work.surfelPixels},
+                              {"nodes", t.work.nodes}});
+  }
+  return json;
+}
+
+FrameCosts frameCostsFromJson(const nlohmann::json& json, std::string_view file) {
+  if (!json.is_object() || !json.contains("pbs_frame_costs"))
+    throw InputError(file, "", "not a calibration file (no pbs_frame_costs; make one with pbs calibrate)");
+  if (json["pbs_frame_costs"] != kFileVersion)
+    throw InputError(file, "pbs_frame_costs", "version " + json["pbs_frame_costs"].dump() + ", this pbs reads 1");
+  const nlohmann::json* per = json.contains("seconds_per") ? &json["seconds_per"] : nullptr;
+  if (!per || !per->is_object()) throw InputError(file, "seconds_per", "missing");
+  FrameCosts costs;
+  for (const CostField& field : kCostFields) {
+    const std::string element = std::string("seconds_per.") + field.name;
+    if (!per->contains(field.name)) throw InputError(file, element, "missing");
+    const nlohmann::json& value = (*per)[field.name];
+    if (!value.is_number() || !std::isfinite(value.get<double>()) || value.get<double>() < 0.0 ||
+        value.get<double>() > 1.0)
+      throw InputError(file, element, "expected seconds in [0, 1], got " + value.dump());
+    costs.*field.cost = value.get<double>();
+  }
+  return costs;
+}
+
+}  // namespace pbs

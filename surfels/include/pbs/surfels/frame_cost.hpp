@@ -1,0 +1,93 @@
+// A frame's time predicted from what it draws (FrameCosts), and the fit that makes the prediction for one
+// machine from timed frames (`pbs calibrate`): what `--budget-ms` spends.
+#pragma once
+
+#include "pbs/raster/bounds.hpp"
+#include "pbs/raster/camera.hpp"
+#include "pbs/surfels/geometry_drawer.hpp"
+#include "pbs/surfels/lod_render.hpp"
+#include "pbs/surfels/scene_surfels.hpp"
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <span>
+
+namespace pbs {
+
+// What a frame drew, in the units FrameCosts prices.
+struct FrameWork {
+  double imagePixels = 0.0;
+  double triangles = 0.0;       // of the geometry nodes
+  double geometryPixels = 0.0;  // Σ of their boxes' clipped pixels (the covered pixels: this, at most the image)
+  double surfels = 0.0;
+  double surfelPixels = 0.0;  // Σ of the prefixes' splatPixels
+  double nodes = 0.0;         // geometry and surfel nodes drawn
+
+  FrameWork& operator+=(const FrameWork& other);
+  FrameWork& operator-=(const FrameWork& other);
+};
+
+FrameWork frameWork(const LodStats& stats, std::uint64_t imagePixels);
+
+// The geometry's seconds by one drawer (Raster or Rays; Auto: the cheaper, as drawLodGeometry picks).
+double predictGeometryCost(const FrameCosts& costs, const FrameWork& work, GeometryDrawer drawer);
+// The rest: image pixels, surfels, nodes.
+double predictNonGeometryCost(const FrameCosts& costs, const FrameWork& work);
+// Both.
+double predictFrameCost(const FrameCosts& costs, const FrameWork& work, GeometryDrawer drawer);
+
+// The pixels the splats of `draw` (a prefix of `splats`, drawn by the node of world transform `world`)
+// touch, however many overlap: each a square of its disc's diameter plus a pixel of filter, at most the
+// image, and none behind the eye or off screen. The surfels are taken as spread over the node's box, which
+// is sampled on a 4 × 4 × 4 lattice: their positions may not be loaded yet when a traversal asks, and a
+// prefix whose box reaches the eye is priced for the huge discs near it, not for those at its centre.
+double splatPixels(const Camera& camera, const glm::dmat4& world, const SplatArray& splats,
+                   const LodDraws::Surfels& draw);
+
+// The pixels a box fills at most: its projected box, clipped to the image; 0 outside the clip volume.
+double clippedBoxPixels(const Camera& camera, const Bounds& box);
+
+// A timed frame: what it drew, its time, and of that its geometry pass and the drawer that drew it.
+struct TimedFrame {
+  FrameWork work;
+  double seconds = 0.0;
+  double geometrySeconds = 0.0;
+  GeometryDrawer drawer = GeometryDrawer::Raster;
+};
+
+struct FrameCostFit {
+  FrameCosts costs;
+  std::size_t frames = 0;
+  std::size_t rasterFrames = 0;  // frames whose geometry the rasterizer drew: fitted its terms if ≥ 3
+  std::size_t rayFrames = 0;     // the same for rays
+  double medianError = 0.0;      // |predicted − measured| / measured, each frame with its own drawer: median
+  double p90Error = 0.0;         // and 90th percentile
+};
+
+// Non-negative least squares on the relative error, in three parts: the geometry pass per drawer (raster:
+// triangles and pixels; rays: image and pixels) over the frames it drew, and the rest of each frame
+// (image pixels, surfels, surfel pixels, nodes) over all. A drawer with fewer than 3 frames keeps the
+// default terms. Throws std::invalid_argument for fewer than 4 frames or a time not positive and finite.
+FrameCostFit fitFrameCosts(std::span<const TimedFrame> frames);
+
+// `--budget-feedback`: a time budget corrected by how far the last frames' measured times were from their
+// predicted ones, for machines (or scenes) the costs were not fitted on. The next frame's limit is the
+// budget over the median ratio measured / predicted of the last few frames. Frames then depend on
+// measured times, so they are not reproducible bit for bit: an option, not the default.
+class BudgetFeedback {
+ public:
+  explicit BudgetFeedback(double budgetSeconds) : budget_(budgetSeconds) {}
+  double limit() const;  // seconds the cost model may predict for the next frame
+  // Ignores a ratio that is not positive and finite (a frame that drew nothing).
+  void observe(double predictedSeconds, double measuredSeconds);
+
+ private:
+  static constexpr std::size_t kFrames = 5;
+  double budget_;
+  std::deque<double> ratios_;
+};
+
+}  // namespace pbs
