@@ -37,9 +37,6 @@ struct CellSortedPoints {
   glm::ivec3 cellOf(const glm::vec3& p) const {
     return glm::clamp(glm::ivec3(glm::floor((p - lo) / cellSize)), glm::ivec3(0), dims - 1);
   }
-  // cellOf for a point of the box: p - lo is not negative there, so truncation is the floor (and floor
-  // itself is a long sequence on baseline x86-64, which has no rounding instruction).
-  glm::ivec3 cellOfInside(const glm::vec3& p) const { return glm::min(glm::ivec3((p - lo) / cellSize), dims - 1); }
   std::size_t linear(const glm::ivec3& c) const {
     return (static_cast<std::size_t>(c.z) * dims.y + c.y) * dims.x + c.x;
   }
@@ -80,11 +77,26 @@ CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t 
   grid.cellStart.assign(cells + 1, 0);
   grid.blockDims = ((grid.dims - 1) >> kBlockShift) + 1;
   grid.blockOccupied.assign(static_cast<std::size_t>(grid.blockDims.x) * grid.blockDims.y * grid.blockDims.z, 0);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const glm::ivec3 cell = grid.cellOfInside(points[i]);
-    cellOfPoint[i] = static_cast<std::uint32_t>(grid.linear(cell));
-    ++grid.cellStart[cellOfPoint[i] + 1];
-    grid.blockOccupied[grid.blockLinear(cell >> kBlockShift)] = 1;
+  {
+    // grid.cellOf for points of the box, where p - lo is not negative, so truncation is the floor (floor
+    // itself is a long sequence on baseline x86-64). The grid's fields are copied: the byte stores
+    // below may alias anything, and would have them reloaded per point.
+    const glm::vec3 lo = grid.lo;
+    const float cellSize = grid.cellSize;
+    const glm::ivec3 dims = grid.dims, blockDims = grid.blockDims;
+    std::uint32_t* count = grid.cellStart.data() + 1;
+    std::uint8_t* blockOccupied = grid.blockOccupied.data();
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const glm::vec3 q = (points[i] - lo) / cellSize;
+      const glm::ivec3 cell(std::min(int(q.x), dims.x - 1), std::min(int(q.y), dims.y - 1),
+                            std::min(int(q.z), dims.z - 1));
+      const glm::uvec3 u(cell);  // the cell's index modulo 2^32, as the static_cast of grid.linear gives
+      const std::uint32_t c = (u.z * std::uint32_t(dims.y) + u.y) * std::uint32_t(dims.x) + u.x;
+      cellOfPoint[i] = c;
+      ++count[c];
+      const glm::ivec3 block = cell >> kBlockShift;
+      blockOccupied[(std::size_t(block.z) * blockDims.y + block.y) * blockDims.x + block.x] = 1;
+    }
   }
   for (std::size_t c = 0; c < cells; ++c) grid.cellStart[c + 1] += grid.cellStart[c];
   std::vector<std::uint32_t> fill(grid.cellStart.begin(), grid.cellStart.end() - 1);
@@ -145,45 +157,59 @@ std::vector<std::uint32_t> orderFarthest(std::span<const glm::vec3> points, std:
   std::vector<float> distance(points.size(), std::numeric_limits<float>::infinity());
   distance[grid.slotOf[first]] = -1.0f;
 
-  // Per cell: the heap key of its farthest pool point, 0 when it has none. The heap holds cells, not
-  // points: a few cells per chosen point change, and a heap of cells stays small enough for the cache.
+  // Per cell: an upper bound of the heap key of its farthest pool point, 0 when it has none. The heap
+  // holds cells, not points: a few cells per chosen point change, and a heap of cells stays small
+  // enough for the cache.
   const std::size_t cells = grid.cellStart.size() - 1;
   std::vector<std::uint64_t> cellBest(cells, 0);
-  // Rescans a cell after its distances changed: a cell is small, and it was just read anyway. Its slots
-  // are in increasing index order, so the first slot at the largest distance holds heapKey's tie rule.
+  // Rescans a cell after its distances changed: a cell is small, and it was just read anyway. The bound
+  // is the farthest distance with the cell's lowest index; which slot holds that distance (the key's
+  // index) is only looked for when the cell reaches the top of the heap (exactKey).
   const auto updateCell = [&](std::size_t c, const glm::vec3& chosen) {
     const std::uint32_t begin = grid.cellStart[c];
     const std::int32_t best = lowerDistances(grid, begin, grid.cellStart[c + 1], chosen, distance.data());
-    if (best < 0) {
-      cellBest[c] = 0;
-      return;
-    }
-    std::uint32_t s = begin;
-    while (std::bit_cast<std::int32_t>(distance[s]) != best) ++s;
-    cellBest[c] = heapKey(distance[s], grid.index[s]);
+    cellBest[c] = best < 0 ? 0 : heapKey(std::bit_cast<float>(best), grid.index[begin]);
+  };
+  // Slots are in increasing index order within a cell, so the first at the farthest distance holds
+  // heapKey's tie rule.
+  const auto exactKey = [&](std::size_t c) {
+    const std::uint32_t farthest = static_cast<std::uint32_t>(cellBest[c] >> 32);
+    std::uint32_t s = grid.cellStart[c];
+    while (std::bit_cast<std::uint32_t>(distance[s]) != farthest) ++s;
+    return heapKey(distance[s], grid.index[s]);
   };
   using Entry = std::pair<std::uint64_t, std::uint32_t>;  // (cell's key when pushed, cell)
+  // By key alone: equal keys hold the same index, so they are entries of one cell (pair's synthesised
+  // three-way comparison costs more than the key's).
+  const auto byKey = [](const Entry& a, const Entry& b) { return a.first < b.first; };
   std::vector<Entry> heap;
   for (std::uint32_t c = 0; c < cells; ++c) {
     updateCell(c, points[first]);
     if (cellBest[c] != 0) heap.emplace_back(cellBest[c], c);
   }
-  std::make_heap(heap.begin(), heap.end());
+  std::make_heap(heap.begin(), heap.end(), byKey);
 
   // Per axis, the squared gap from the chosen point to each layer of cells in its reach: a cell's gap
   // is then the sum of three (summed in glm::dot's order, so it is the very value of gapTo).
   std::array<std::vector<float>, 3> layerGap;
   // Keys only shrink and the heap is not told: each entry is an upper bound of its cell's key, so a
-  // top that is current holds the true farthest point; a stale top is pushed back with its current key.
+  // top that is current and exact holds the true farthest point; a stale top is pushed back with its
+  // current bound, a current one with its exact key when that is lower.
+  const auto push = [&](std::uint64_t key, std::uint32_t cell) {
+    heap.emplace_back(key, cell);
+    std::push_heap(heap.begin(), heap.end(), byKey);
+  };
   while (order.size() < max && !heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end());
+    std::pop_heap(heap.begin(), heap.end(), byKey);
     const auto [key, cell] = heap.back();
     heap.pop_back();
     if (cellBest[cell] != key) {
-      if (cellBest[cell] != 0) {
-        heap.emplace_back(cellBest[cell], cell);
-        std::push_heap(heap.begin(), heap.end());
-      }
+      if (cellBest[cell] != 0) push(cellBest[cell], cell);
+      continue;
+    }
+    cellBest[cell] = exactKey(cell);
+    if (cellBest[cell] != key) {
+      push(cellBest[cell], cell);
       continue;
     }
     const std::uint32_t index = ~static_cast<std::uint32_t>(key);
@@ -253,10 +279,7 @@ std::vector<std::uint32_t> orderFarthest(std::span<const glm::vec3> points, std:
     }
     // The chosen point's own entry was consumed; its cell (always within reach) needs a new one.
     const std::uint32_t own = static_cast<std::uint32_t>(grid.linear(grid.cellOf(p)));
-    if (cellBest[own] != 0) {
-      heap.emplace_back(cellBest[own], own);
-      std::push_heap(heap.begin(), heap.end());
-    }
+    if (cellBest[own] != 0) push(cellBest[own], own);
   }
   return order;
 }
