@@ -30,7 +30,7 @@ void checkIndices(std::span<const glm::vec3> points, std::span<const std::uint32
 std::vector<double> prefixMinDistances(std::span<const glm::vec3> points, std::span<const std::uint32_t> order) {
   checkIndices(points, order, "prefixMinDistances");
   std::vector<double> minDistance(order.size(), std::numeric_limits<double>::infinity());
-  NearestPointGrid prefix(points, "prefixMinDistances");
+  NearestPointGrid prefix(points, order, "prefixMinDistances");
   double running = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < order.size(); ++k) {
     const float d2 = prefix.nearestSquared(points[order[k]]);
@@ -51,7 +51,7 @@ double meanNearestNeighbourDistance(std::span<const glm::vec3> points, std::span
   count = std::min(count, order.size());
   if (count < 2) return 0.0;
   checkIndices(points, order.first(count), "meanNearestNeighbourDistance");
-  NearestPointGrid prefix(points, "meanNearestNeighbourDistance");
+  NearestPointGrid prefix(points, order.first(count), "meanNearestNeighbourDistance");
   for (std::size_t k = 0; k < count; ++k) prefix.insert(order[k]);
   double sum = 0.0;
   for (std::size_t k = 0; k < count; ++k) {

@@ -14,13 +14,15 @@ namespace pbs {
 // naming `who` and the first offending index, for a non-finite coordinate (it has no distances) or a
 // box wider than kMaxOrderableExtent (squared distances would overflow float). A box narrower than
 // float's smallest normal number comes back as a single point: its squared distances underflow to 0
-// anyway, and cells sized from it would be 0 (divisions by zero, endless cell-size loops).
+// anyway, and cells sized from it would be 0 (divisions by zero, endless cell-size loops). With
+// `names`, points[i] is the caller's point names[i], and messages name that.
 struct OrderableBox {
   glm::vec3 lo{0.0f};
   glm::vec3 extent{0.0f};
 };
 inline constexpr float kMaxOrderableExtent = 1e18f;  // 3·(1e18)² stays below FLT_MAX ≈ 3.4e38
-OrderableBox orderableBox(std::span<const glm::vec3> points, const char* who);
+OrderableBox orderableBox(std::span<const glm::vec3> points, const char* who,
+                          std::span<const std::uint32_t> names = {});
 
 class NearestPointGrid {
  public:
@@ -29,6 +31,9 @@ class NearestPointGrid {
   // `points` is every point that may be inserted; its bounding box fixes the grid's extent. Throws
   // std::invalid_argument (see orderableBox) for points it cannot measure.
   NearestPointGrid(std::span<const glm::vec3> points, const char* who);
+  // Only the points `insertable` names may be inserted, and only their box is measured (and checked):
+  // a metric over a prefix of an order then pays for the prefix, not for every candidate.
+  NearestPointGrid(std::span<const glm::vec3> points, std::span<const std::uint32_t> insertable, const char* who);
 
   void insert(std::uint32_t index);
 

@@ -227,6 +227,20 @@ TEST(StiffInputs, CollinearEvenlySpaced) {
   EXPECT_DOUBLE_EQ(minDistance.back(), 0.125);
 }
 
+// A lattice with every point twice, shuffled: many exactly equal distances, duplicates and interleaved
+// indices within one grid cell (coarse cells for a short order, fine ones for the whole pool), where
+// the lowest index must win each tie.
+TEST(StiffInputs, LatticeTiesGoToTheLowestIndex) {
+  std::vector<glm::vec3> points;
+  for (int z = 0; z < 10; ++z)
+    for (int y = 0; y < 10; ++y)
+      for (int x = 0; x < 10; ++x) points.insert(points.end(), 2, glm::vec3(x, y, z));
+  SeededRandom rng(4);
+  for (std::size_t i = points.size() - 1; i > 0; --i) std::swap(points[i], points[rng.below(i + 1)]);
+  for (std::uint32_t max : {16u, 200u, 2000u})
+    for (std::uint64_t seed : {1u, 2u}) EXPECT_EQ(orderFarthest(points, max, seed), bruteFarthest(points, max, seed));
+}
+
 TEST(StiffInputs, TwoClustersFarApart) {
   auto points = uniformSpherePoints(600, 8);
   const auto other = uniformSpherePoints(600, 9);

@@ -11,6 +11,8 @@ namespace pbs {
 
 // Like the orderings (ordering.hpp), the measures throw std::invalid_argument for non-finite points,
 // points spanning more than 1e18, or an order index past the points; coincident points give d_min 0.
+// They read only the points they measure (those of the order, or of its first `count` entries): the
+// others may be anything.
 
 // Entry k-1 is d_min(k): the smallest distance between two of the first k ordered points, computed as
 // the running minimum of each new point's distance to its predecessors. Entry 0 is +infinity (no pair).
