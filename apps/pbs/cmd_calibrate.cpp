@@ -54,10 +54,14 @@ void run(const CalibrateOptions& options) {
               width, height, cuts.size(), cameras.size());
   std::printf("ns per image pixel %.2f, surfel %.2f, surfel pixel %.2f, node %.0f\n", c.perImagePixel * 1e9,
               c.perSurfel * 1e9, c.perSurfelPixel * 1e9, c.perNode * 1e9);
-  std::printf("geometry by the rasterizer (%zu frames): ns per triangle %.2f, pixel %.2f\n", calibration.fit.rasterFrames,
-              c.rasterPerTriangle * 1e9, c.rasterPerPixel * 1e9);
-  std::printf("geometry by rays (%zu frames): ns per image pixel %.2f, pixel %.2f\n", calibration.fit.rayFrames,
-              c.raysPerImagePixel * 1e9, c.raysPerPixel * 1e9);
+  std::printf(
+      "geometry by the rasterizer (%zu frames): ns per triangle %.2f, covered pixel %.2f, box pixel %.2f, node %.0f\n",
+      calibration.fit.rasterFrames, c.rasterPerTriangle * 1e9, c.rasterPerPixel * 1e9, c.rasterPerBoxPixel * 1e9,
+      c.rasterPerNode * 1e9);
+  std::printf(
+      "geometry by rays (%zu frames): ns per image pixel %.2f, covered pixel %.2f, box pixel level %.2f, node %.0f\n",
+      calibration.fit.rayFrames, c.raysPerImagePixel * 1e9, c.raysPerPixel * 1e9, c.raysPerBoxPixel * 1e9,
+      c.raysPerNode * 1e9);
   std::printf("predicted against measured: median error %.1f %%, 90th percentile %.1f %%\n",
               calibration.fit.medianError * 100.0, calibration.fit.p90Error * 100.0);
   std::printf("wrote %s\n", options.output.c_str());

@@ -78,6 +78,9 @@ nlohmann::json frameJson(RenderMode mode, const FrameResult& frame) {
     entry["surfel_load_seconds"] = frame.surfelLoadSeconds;
     entry["geometry_seconds"] = frame.stats.geometrySeconds;
     entry["bvh_build_seconds"] = frame.stats.bvhBuildSeconds;
+    entry["geometry_pixels"] = frame.stats.geometryPixels;
+    entry["geometry_ray_pixels"] = frame.stats.geometryRayPixels;
+    entry["surfel_pixels"] = frame.stats.surfelPixels;
   }
   return entry;
 }

@@ -15,14 +15,13 @@ struct CostField {
   const char* name;
   double FrameCosts::*cost;
 };
-constexpr CostField kCostFields[] = {{"image_pixel", &FrameCosts::perImagePixel},
-                                     {"raster_triangle", &FrameCosts::rasterPerTriangle},
-                                     {"raster_pixel", &FrameCosts::rasterPerPixel},
-                                     {"rays_image_pixel", &FrameCosts::raysPerImagePixel},
-                                     {"rays_pixel", &FrameCosts::raysPerPixel},
-                                     {"surfel", &FrameCosts::perSurfel},
-                                     {"surfel_pixel", &FrameCosts::perSurfelPixel},
-                                     {"node", &FrameCosts::perNode}};
+constexpr CostField kCostFields[] = {
+    {"image_pixel", &FrameCosts::perImagePixel},   {"raster_triangle", &FrameCosts::rasterPerTriangle},
+    {"raster_pixel", &FrameCosts::rasterPerPixel}, {"raster_box_pixel", &FrameCosts::rasterPerBoxPixel},
+    {"raster_node", &FrameCosts::rasterPerNode},   {"rays_image_pixel", &FrameCosts::raysPerImagePixel},
+    {"rays_pixel", &FrameCosts::raysPerPixel},     {"rays_box_pixel", &FrameCosts::raysPerBoxPixel},
+    {"rays_node", &FrameCosts::raysPerNode},       {"surfel", &FrameCosts::perSurfel},
+    {"surfel_pixel", &FrameCosts::perSurfelPixel}, {"node", &FrameCosts::perNode}};
 constexpr int kFileVersion = 1;
 
 }  // namespace
@@ -108,9 +107,11 @@ nlohmann::json calibrationJson(const FrameCalibration& calibration) {
                               {"image_pixels", t.work.imagePixels},
                               {"triangles", t.work.triangles},
                               {"geometry_pixels", t.work.geometryPixels},
+                              {"geometry_ray_pixels", t.work.geometryRayPixels},
                               {"surfels", t.work.surfels},
                               {"surfel_pixels", t.work.surfelPixels},
-                              {"nodes", t.work.nodes}});
+                              {"nodes", t.work.nodes},
+                              {"geometry_nodes", t.work.geometryNodes}});
   }
   return json;
 }

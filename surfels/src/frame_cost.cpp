@@ -98,18 +98,22 @@ double coveredPixels(const FrameWork& work) { return std::min(work.geometryPixel
 FrameWork& FrameWork::operator+=(const FrameWork& other) {
   triangles += other.triangles;
   geometryPixels += other.geometryPixels;
+  geometryRayPixels += other.geometryRayPixels;
   surfels += other.surfels;
   surfelPixels += other.surfelPixels;
   nodes += other.nodes;
+  geometryNodes += other.geometryNodes;
   return *this;
 }
 
 FrameWork& FrameWork::operator-=(const FrameWork& other) {
   triangles -= other.triangles;
   geometryPixels -= other.geometryPixels;
+  geometryRayPixels -= other.geometryRayPixels;
   surfels -= other.surfels;
   surfelPixels -= other.surfelPixels;
   nodes -= other.nodes;
+  geometryNodes -= other.geometryNodes;
   return *this;
 }
 
@@ -117,18 +121,22 @@ FrameWork frameWork(const LodStats& stats, std::uint64_t imagePixels) {
   return {.imagePixels = double(imagePixels),
           .triangles = double(stats.triangles),
           .geometryPixels = stats.geometryPixels,
+          .geometryRayPixels = stats.geometryRayPixels,
           .surfels = double(stats.surfels),
           .surfelPixels = stats.surfelPixels,
-          .nodes = double(stats.nodesGeometry + stats.nodesSurfels)};
+          .nodes = double(stats.nodesGeometry + stats.nodesSurfels),
+          .geometryNodes = double(stats.nodesGeometry)};
 }
 
 double predictGeometryCost(const FrameCosts& costs, const FrameWork& work, GeometryDrawer drawer) {
   const double covered = coveredPixels(work);
-  const double raster = costs.rasterPerTriangle * work.triangles + costs.rasterPerPixel * covered;
+  const double raster = costs.rasterPerTriangle * work.triangles + costs.rasterPerPixel * covered +
+                        costs.rasterPerBoxPixel * work.geometryPixels + costs.rasterPerNode * work.geometryNodes;
   // No geometry, no rays: drawLodGeometry's chooser picks the rasterizer for an empty pass.
-  const double rays =
-      work.triangles > 0.0 ? costs.raysPerImagePixel * work.imagePixels + costs.raysPerPixel * covered
-                                                : 0.0;
+  const double rays = work.triangles > 0.0
+                          ? costs.raysPerImagePixel * work.imagePixels + costs.raysPerPixel * covered +
+                                costs.raysPerBoxPixel * work.geometryRayPixels + costs.raysPerNode * work.geometryNodes
+                          : 0.0;
   switch (drawer) {
     case GeometryDrawer::Raster: return raster;
     case GeometryDrawer::Rays: return rays;
@@ -173,6 +181,8 @@ double splatPixels(const Camera& camera, const glm::dmat4& world, const SplatArr
   return double(draw.count) * sum / double(kSide * kSide * kSide);
 }
 
+double rayLevels(double triangles) { return std::log2(2.0 + triangles); }
+
 double clippedBoxPixels(const Camera& camera, const Bounds& box) {
   if (box.empty() || outsideClipVolume(camera, box)) return 0.0;
   // A box around or behind the eye projects to +infinity: it fills at most the image.
@@ -201,10 +211,10 @@ FrameCostFit fitFrameCosts(std::span<const TimedFrame> frames) {
     // A pass of a few microseconds is timer noise, not geometry.
     if (w.triangles == 0.0 || frame.geometrySeconds < 1e-5) continue;
     if (frame.drawer == GeometryDrawer::Rays) {
-      rays.push_back({w.imagePixels, coveredPixels(w)});
+      rays.push_back({w.imagePixels, coveredPixels(w), w.geometryRayPixels, w.geometryNodes});
       raySeconds.push_back(frame.geometrySeconds);
     } else {
-      raster.push_back({w.triangles, coveredPixels(w)});
+      raster.push_back({w.triangles, coveredPixels(w), w.geometryPixels, w.geometryNodes});
       rasterSeconds.push_back(frame.geometrySeconds);
     }
   }
@@ -219,11 +229,15 @@ FrameCostFit fitFrameCosts(std::span<const TimedFrame> frames) {
     const std::vector<double> g = fitNonNegative(raster, rasterSeconds);
     fit.costs.rasterPerTriangle = g[0];
     fit.costs.rasterPerPixel = g[1];
+    fit.costs.rasterPerBoxPixel = g[2];
+    fit.costs.rasterPerNode = g[3];
   }
   if (rays.size() >= 3) {
     const std::vector<double> g = fitNonNegative(rays, raySeconds);
     fit.costs.raysPerImagePixel = g[0];
     fit.costs.raysPerPixel = g[1];
+    fit.costs.raysPerBoxPixel = g[2];
+    fit.costs.raysPerNode = g[3];
   }
   std::vector<double> errors;
   for (const TimedFrame& frame : frames)

@@ -57,10 +57,13 @@ class BudgetTraversal {
     if (array != kNoSurfels && std::isfinite(pixels)) {
       const SurfelEntry entry = surfelEntry(node, array, pixels);
       // A subtree whose every triangle costs less than its prefix is drawn exactly: cheaper and better.
-      const FrameWork exact{.imagePixels = imagePixels_,
-                            .triangles = double(hierarchy_.subtreeTriangles[node]),
-                            .geometryPixels = std::min(pixels, imagePixels_),
-                            .nodes = 1.0};
+      const FrameWork exact{
+          .imagePixels = imagePixels_,
+          .triangles = double(hierarchy_.subtreeTriangles[node]),
+          .geometryPixels = std::min(pixels, imagePixels_),
+          .geometryRayPixels = std::min(pixels, imagePixels_) * rayLevels(double(hierarchy_.subtreeTriangles[node])),
+          .nodes = 1.0,
+          .geometryNodes = 1.0};
       if (cost(exact) <= cost(entry.work)) {
         refine(node, cut, Descent::Geometry);
       } else if (entry.draw.count > 0) {
@@ -81,9 +84,13 @@ class BudgetTraversal {
       const std::uint64_t triangles = scene_.meshes[std::size_t(mesh)].triangleCount();
       cut.work.triangles += double(triangles);
       cut.work.nodes += 1.0;
+      cut.work.geometryNodes += 1.0;
       // Only a budget in seconds prices pixels.
-      if (options_.budget.unit == BudgetUnit::Seconds)
-        cut.work.geometryPixels += clippedBoxPixels(camera_, instanceWorldBounds(scene_, hierarchy_, node));
+      if (options_.budget.unit == BudgetUnit::Seconds) {
+        const double pixels = clippedBoxPixels(camera_, instanceWorldBounds(scene_, hierarchy_, node));
+        cut.work.geometryPixels += pixels;
+        cut.work.geometryRayPixels += pixels * rayLevels(double(triangles));
+      }
       cut.triangles += triangles;
       cut.geometry.push_back(node);
     }

@@ -2,6 +2,8 @@
 // model (fitted below) expects to finish first.
 #include "pbs/surfels/lod_geometry.hpp"
 
+#include "pbs/surfels/frame_cost.hpp"
+
 #include "elapsed.hpp"
 #include "pbs/raster/projected_box.hpp"
 #include "pbs/raster/value_names.hpp"
@@ -59,7 +61,10 @@ GeometryWork geometryWork(const Scene& scene, const Hierarchy& hierarchy, std::s
     const std::uint64_t triangles = scene.meshes[std::size_t(mesh)].triangleCount();
     work.triangles += triangles;
     // A box around or behind the eye projects to +infinity: it fills at most the image.
-    work.boxPixels += std::min(projectedBoxPixels(camera, box), double(work.imagePixels));
+    const double pixels = std::min(projectedBoxPixels(camera, box), double(work.imagePixels));
+    work.boxPixels += pixels;
+    ++work.nodes;
+    work.boxRayPixels += pixels * rayLevels(double(triangles));
     if ((!rays || !rays->built(std::uint32_t(mesh))) && !counted[std::size_t(mesh)]) {
       counted[std::size_t(mesh)] = 1;
       work.unbuiltTriangles += triangles;
@@ -71,8 +76,10 @@ GeometryWork geometryWork(const Scene& scene, const Hierarchy& hierarchy, std::s
 GeometryCosts estimateGeometryCosts(const GeometryWork& work, const FrameCosts& costs) {
   // Overlapping boxes add up past the image; rays are cast (and pixels shaded) at most once per pixel.
   const double covered = std::min(work.boxPixels, double(work.imagePixels));
-  return {.raster = costs.rasterPerTriangle * double(work.triangles) + costs.rasterPerPixel * covered,
+  return {.raster = costs.rasterPerTriangle * double(work.triangles) + costs.rasterPerPixel * covered +
+                    costs.rasterPerBoxPixel * work.boxPixels + costs.rasterPerNode * double(work.nodes),
           .rays = costs.raysPerImagePixel * double(work.imagePixels) + costs.raysPerPixel * covered +
+                  costs.raysPerBoxPixel * work.boxRayPixels + costs.raysPerNode * double(work.nodes) +
                   kRaysPerBuiltTriangle * double(work.unbuiltTriangles)};
 }
 

@@ -142,8 +142,12 @@ LodStats drawLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurf
   stats.surfels = draws.surfelCount;
   stats.nodesGeometry = draws.geometryNodes.size();
   stats.nodesSurfels = draws.surfels.size();
-  for (std::uint32_t node : draws.geometryNodes)
-    stats.geometryPixels += clippedBoxPixels(camera, instanceWorldBounds(scene, hierarchy, node));
+  for (std::uint32_t node : draws.geometryNodes) {
+    const double pixels = clippedBoxPixels(camera, instanceWorldBounds(scene, hierarchy, node));
+    stats.geometryPixels += pixels;
+    stats.geometryRayPixels +=
+        pixels * rayLevels(double(scene.meshes[std::size_t(scene.nodes[node].mesh)].triangleCount()));
+  }
   for (const LodDraws::Surfels& draw : draws.surfels)
     stats.surfelPixels += splatPixels(camera, hierarchy.world[draw.node], surfels.arrays[draw.array], draw);
   stats.geometryDrawer = geometry.drawer;

@@ -295,5 +295,46 @@ TEST(EvalCli, BudgetsBoundWhatFramesDraw) {
   EXPECT_EQ(eval.run("--sweep primitives=0").status, 2);
 }
 
+// `pbs calibrate` writes a calibration file that `--budget-ms --calibration` reads; frames then report the
+// limit and the prediction, the feedback corrects it between frames, and a file without its costs is
+// refused by name.
+TEST(EvalCli, CalibrateWritesWhatABudgetInMillisecondsReads) {
+  const EvalRun eval;
+  const std::filesystem::path calibration = eval.scratch / "calibration.json";
+  const test::CommandResult made =
+      test::runPbs("calibrate " + eval.scene + " --surfels " + eval.surfels +
+                   " --size 96x64 --frames 1 --repeats 1 -q -o '" + calibration.string() + "'");
+  ASSERT_EQ(made.status, 0) << made.err;
+  EXPECT_NE(made.out.find("median error"), std::string::npos) << made.out;
+  const nlohmann::json file = nlohmann::json::parse(test::readFile(calibration));
+  EXPECT_EQ(file["pbs_frame_costs"], 1);
+  EXPECT_EQ(file["frames"].size(), 36u) << "12 cuts of one view of each of the three paths";
+
+  const std::string render = "render " + eval.scene + " --surfels " + eval.surfels + " --size 96x64 --budget-ms 20 ";
+  const test::CommandResult frames =
+      test::runPbs(render + "--calibration '" + calibration.string() + "' --frames 3 --budget-feedback --json");
+  ASSERT_EQ(frames.status, 0) << frames.err;
+  const nlohmann::json report = nlohmann::json::parse(frames.out);
+  ASSERT_EQ(report["frames"].size(), 3u);
+  EXPECT_DOUBLE_EQ(report["frames"][0]["budget_limit_seconds"].get<double>(), 0.020) << "no frame to correct by yet";
+  for (const nlohmann::json& frame : report["frames"]) EXPECT_GT(frame["predicted_seconds"].get<double>(), 0.0);
+
+  test::writeFile(eval.scratch / "bad.json", R"({"pbs_frame_costs": 1, "seconds_per": {}})");
+  const test::CommandResult bad = test::runPbs(render + "--calibration '" + (eval.scratch / "bad.json").string() + "'");
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_NE(bad.err.find("bad.json: seconds_per.image_pixel: missing"), std::string::npos) << bad.err;
+  EXPECT_EQ(
+      test::runPbs("render " + eval.scene + " --surfels " + eval.surfels + " --size 96x64 --budget-feedback").status, 2)
+      << "feedback corrects a budget in milliseconds";
+  EXPECT_EQ(test::runPbs(render + "--budget-primitives 5000").status, 2) << "one budget at a time";
+  const test::CommandResult swept =
+      eval.run("--size 96x64 --frames 1 --peers exact=1 --reference-samples 4 --sweep ms=20 --quiet");
+  ASSERT_EQ(swept.status, 0) << swept.err;
+  const std::vector<test::CsvRow> rows = eval.rows();
+  EXPECT_EQ(std::count_if(rows.begin(), rows.end(),
+                          [](const test::CsvRow& row) { return row.fields.at("setting") == "ms=20"; }),
+            1);
+}
+
 }  // namespace
 }  // namespace pbs

@@ -20,11 +20,13 @@ namespace pbs {
 // What a frame drew, in the units FrameCosts prices.
 struct FrameWork {
   double imagePixels = 0.0;
-  double triangles = 0.0;       // of the geometry nodes
-  double geometryPixels = 0.0;  // Σ of their boxes' clipped pixels (the covered pixels: this, at most the image)
+  double triangles = 0.0;          // of the geometry nodes
+  double geometryPixels = 0.0;     // Σ of their boxes' clipped pixels (the covered pixels: this, at most the image)
+  double geometryRayPixels = 0.0;  // Σ of their boxes' clipped pixels × rayLevels of their meshes
   double surfels = 0.0;
-  double surfelPixels = 0.0;  // Σ of the prefixes' splatPixels
-  double nodes = 0.0;         // geometry and surfel nodes drawn
+  double surfelPixels = 0.0;   // Σ of the prefixes' splatPixels
+  double nodes = 0.0;          // geometry and surfel nodes drawn
+  double geometryNodes = 0.0;  // of which geometry
 
   FrameWork& operator+=(const FrameWork& other);
   FrameWork& operator-=(const FrameWork& other);
@@ -47,6 +49,10 @@ double predictFrameCost(const FrameCosts& costs, const FrameWork& work, Geometry
 double splatPixels(const Camera& camera, const glm::dmat4& world, const SplatArray& splats,
                    const LodDraws::Surfels& draw);
 
+// How deep a ray goes into a mesh of `triangles` once it enters its box: log2(2 + triangles), the levels of
+// a binary BVH over them.
+double rayLevels(double triangles);
+
 // The pixels a box fills at most: its projected box, clipped to the image; 0 outside the clip volume.
 double clippedBoxPixels(const Camera& camera, const Bounds& box);
 
@@ -68,9 +74,9 @@ struct FrameCostFit {
 };
 
 // Non-negative least squares on the relative error, in three parts: the geometry pass per drawer (raster:
-// triangles and pixels; rays: image and pixels) over the frames it drew, and the rest of each frame
-// (image pixels, surfels, surfel pixels, nodes) over all. A drawer with fewer than 3 frames keeps the
-// default terms. Throws std::invalid_argument for fewer than 4 frames or a time not positive and finite.
+// triangles, covered and box pixels, nodes; rays: image, covered and box pixels, nodes) over the frames it drew, and
+// the rest of each frame (image pixels, surfels, surfel pixels, nodes) over all. A drawer with fewer than 3 frames
+// keeps the default terms. Throws std::invalid_argument for fewer than 4 frames or a time not positive and finite.
 FrameCostFit fitFrameCosts(std::span<const TimedFrame> frames);
 
 // `--budget-feedback`: a time budget corrected by how far the last frames' measured times were from their

@@ -39,23 +39,40 @@ enum class SplatMode : std::uint32_t { Nearest = 0, Blend = 1 };
 std::optional<SplatMode> splatModeFromName(std::string_view name);
 const char* splatModeName(SplatMode mode);
 
-// Seconds a frame spends per unit of what it draws: what `--budget-ms` spends (LodBudget). The geometry
-// terms default to the model that picks the geometry's drawer (lod_geometry.cpp), the others were fitted
-// on the 2-core machine the project is measured on (`pbs calibrate`, docs/performance.md, "A frame by
-// budget"); `pbs calibrate` fits all of them for another machine. A node's projected box, clipped to the
-// image, stands for the pixels it fills; the geometry's pixels are their sum, at most the image.
+// Seconds a frame spends per unit of what it draws: what `--budget-ms` spends (LodBudget), and what the
+// geometry's drawer is chosen by (lod_geometry.hpp). The geometry terms default to the model fitted for
+// that choice (lod_geometry.cpp), the others to `pbs calibrate default` at 1920×1080 on the 2-core machine
+// the project is measured on (docs/performance.md, "A frame by budget"); a calibration file replaces all of
+// them. A node's projected box, clipped to the image, stands for the pixels it fills.
 struct FrameCosts {
-  double perImagePixel = 5e-9;         // every frame: clear, shading, resolve
+  double perImagePixel = 5.9e-9;       // every frame: clear, shading, resolve
   double rasterPerTriangle = 12.1e-9;  // geometry by the rasterizer: each triangle in view
-  double rasterPerPixel = 41.6e-9;     // and each pixel of the geometry's boxes
+  double rasterPerPixel = 41.6e-9;     // each pixel the geometry covers (its boxes' pixels, at most the image)
+  double rasterPerBoxPixel = 0.0;      // each pixel of each geometry box, however many overlap (depth complexity)
+  double rasterPerNode = 0.0;          // each geometry node
   double raysPerImagePixel = 2.9e-9;   // geometry by rays: each pixel of the image (a ray)
-  double raysPerPixel = 55.2e-9;       // and each pixel of the geometry's boxes
-  double perSurfel = 30e-9;            // each surfel drawn
-  double perSurfelPixel = 20e-9;       // each pixel a splat touches (splatPixels)
-  double perNode = 1e-6;               // each node drawn, as geometry or as a prefix
+  double raysPerPixel = 55.2e-9;       // each pixel the geometry covers
+  double raysPerBoxPixel = 0.0;        // each pixel of each geometry box, times its mesh's BVH levels
+  double raysPerNode = 0.0;            // each geometry node (an instance of the frame's top-level BVH)
+  double perSurfel = 64e-9;            // each surfel drawn
+  double perSurfelPixel = 2.0e-9;      // each pixel a splat touches (splatPixels)
+  double perNode = 0.0;                // each node drawn, as geometry or as a prefix
 
   // Every triangle and surfel 1, the rest free: a budget of primitives (with the rasterizer's terms).
-  static FrameCosts primitives() { return {0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0}; }
+  static FrameCosts primitives() {
+    return {.perImagePixel = 0.0,
+            .rasterPerTriangle = 1.0,
+            .rasterPerPixel = 0.0,
+            .rasterPerBoxPixel = 0.0,
+            .rasterPerNode = 0.0,
+            .raysPerImagePixel = 0.0,
+            .raysPerPixel = 0.0,
+            .raysPerBoxPixel = 0.0,
+            .raysPerNode = 0.0,
+            .perSurfel = 1.0,
+            .perSurfelPixel = 0.0,
+            .perNode = 0.0};
+  }
   bool operator==(const FrameCosts&) const = default;
 };
 
@@ -173,6 +190,7 @@ struct LodStats {
   // The pixels a frame's cost model reads (FrameCosts): the geometry nodes' projected boxes (each its own
   // mesh's) clipped to the image, summed; the pixels the prefixes' splats touch (splatPixels), summed.
   double geometryPixels = 0.0;
+  double geometryRayPixels = 0.0;  // each geometry box's pixels times its mesh's BVH levels (rayLevels)
   double surfelPixels = 0.0;
   // The geometry nodes' pass: its drawer (Raster or Rays), its time (part of rasterSeconds) and, of
   // that, the ray caster's BVH builds of meshes no earlier frame needed.
