@@ -10,6 +10,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pbs {
@@ -90,6 +91,27 @@ std::vector<double> fitNonNegative(const std::vector<std::vector<double>>& terms
   }
   return best;
 }
+
+// One least-squares problem: per frame its terms and seconds, and the costs its solution sets.
+struct CostProblem {
+  explicit CostProblem(std::vector<double FrameCosts::*> costsSet) : costs(std::move(costsSet)) {}
+
+  std::vector<double FrameCosts::*> costs;
+  std::vector<std::vector<double>> terms;
+  std::vector<double> seconds;
+
+  void add(std::vector<double> frameTerms, double frameSeconds) {
+    terms.push_back(std::move(frameTerms));
+    seconds.push_back(frameSeconds);
+  }
+  // Sets the costs from the fit when there are at least `minimumFrames` frames; returns the frames.
+  std::size_t solveInto(FrameCosts& into, std::size_t minimumFrames) const {
+    if (terms.size() < minimumFrames) return terms.size();
+    const std::vector<double> fitted = fitNonNegative(terms, seconds);
+    for (std::size_t k = 0; k < costs.size(); ++k) into.*costs[k] = fitted[k];
+    return terms.size();
+  }
+};
 
 double coveredPixels(const FrameWork& work) { return std::min(work.geometryPixels, work.imagePixels); }
 
@@ -202,43 +224,27 @@ FrameCostFit fitFrameCosts(std::span<const TimedFrame> frames) {
   }
   FrameCostFit fit;
   fit.frames = frames.size();
-  std::vector<std::vector<double>> rest, raster, rays;
-  std::vector<double> restSeconds, rasterSeconds, raySeconds;
+  // Three problems: the rest of each frame over all frames, each drawer's geometry pass over the frames it
+  // drew (at least 3, or its terms keep their defaults).
+  CostProblem rest(
+      {&FrameCosts::perImagePixel, &FrameCosts::perSurfel, &FrameCosts::perSurfelPixel, &FrameCosts::perNode});
+  CostProblem raster({&FrameCosts::rasterPerTriangle, &FrameCosts::rasterPerPixel, &FrameCosts::rasterPerBoxPixel,
+                      &FrameCosts::rasterPerNode});
+  CostProblem rays({&FrameCosts::raysPerImagePixel, &FrameCosts::raysPerPixel, &FrameCosts::raysPerBoxPixel,
+                    &FrameCosts::raysPerNode});
   for (const TimedFrame& frame : frames) {
     const FrameWork& w = frame.work;
-    rest.push_back({w.imagePixels, w.surfels, w.surfelPixels, w.nodes});
-    restSeconds.push_back(frame.seconds - frame.geometrySeconds);
+    rest.add({w.imagePixels, w.surfels, w.surfelPixels, w.nodes}, frame.seconds - frame.geometrySeconds);
     // A pass of a few microseconds is timer noise, not geometry.
     if (w.triangles == 0.0 || frame.geometrySeconds < 1e-5) continue;
-    if (frame.drawer == GeometryDrawer::Rays) {
-      rays.push_back({w.imagePixels, coveredPixels(w), w.geometryRayPixels, w.geometryNodes});
-      raySeconds.push_back(frame.geometrySeconds);
-    } else {
-      raster.push_back({w.triangles, coveredPixels(w), w.geometryPixels, w.geometryNodes});
-      rasterSeconds.push_back(frame.geometrySeconds);
-    }
+    if (frame.drawer == GeometryDrawer::Rays)
+      rays.add({w.imagePixels, coveredPixels(w), w.geometryRayPixels, w.geometryNodes}, frame.geometrySeconds);
+    else
+      raster.add({w.triangles, coveredPixels(w), w.geometryPixels, w.geometryNodes}, frame.geometrySeconds);
   }
-  const std::vector<double> r = fitNonNegative(rest, restSeconds);
-  fit.costs.perImagePixel = r[0];
-  fit.costs.perSurfel = r[1];
-  fit.costs.perSurfelPixel = r[2];
-  fit.costs.perNode = r[3];
-  fit.rasterFrames = raster.size();
-  fit.rayFrames = rays.size();
-  if (raster.size() >= 3) {
-    const std::vector<double> g = fitNonNegative(raster, rasterSeconds);
-    fit.costs.rasterPerTriangle = g[0];
-    fit.costs.rasterPerPixel = g[1];
-    fit.costs.rasterPerBoxPixel = g[2];
-    fit.costs.rasterPerNode = g[3];
-  }
-  if (rays.size() >= 3) {
-    const std::vector<double> g = fitNonNegative(rays, raySeconds);
-    fit.costs.raysPerImagePixel = g[0];
-    fit.costs.raysPerPixel = g[1];
-    fit.costs.raysPerBoxPixel = g[2];
-    fit.costs.raysPerNode = g[3];
-  }
+  rest.solveInto(fit.costs, 1);
+  fit.rasterFrames = raster.solveInto(fit.costs, 3);
+  fit.rayFrames = rays.solveInto(fit.costs, 3);
   std::vector<double> errors;
   for (const TimedFrame& frame : frames)
     errors.push_back(std::abs(predictFrameCost(fit.costs, frame.work, frame.drawer) - frame.seconds) / frame.seconds);

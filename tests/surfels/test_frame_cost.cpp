@@ -66,7 +66,9 @@ TEST(FrameCosts, TheFitRecoversTheCostsFramesWereTimedBy) {
   EXPECT_EQ(fit.rayFrames, 30u);
   EXPECT_LT(fit.medianError, 1e-9);
   EXPECT_LT(fit.p90Error, 1e-9);
-  const auto near = [](double fitted, double expected) { return std::abs(fitted - expected) <= 1e-6 * expected + 1e-18; };
+  const auto near = [](double fitted, double expected) {
+    return std::abs(fitted - expected) <= 1e-6 * expected + 1e-18;
+  };
   EXPECT_TRUE(near(fit.costs.perImagePixel, truth.perImagePixel)) << fit.costs.perImagePixel;
   EXPECT_TRUE(near(fit.costs.rasterPerTriangle, truth.rasterPerTriangle));
   EXPECT_TRUE(near(fit.costs.rasterPerPixel, 0.0)) << fit.costs.rasterPerPixel;
@@ -133,7 +135,8 @@ TEST(FrameCosts, SplatsNearTheEyeTouchMorePixelsAndNoneBehindIt) {
   EXPECT_GT(far, 1000.0) << "at least a pixel a splat";
   EXPECT_GT(nearer, far);
   Camera behind = cameras.front();
-  behind.view = glm::dmat4(-1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0) * behind.view;
+  behind.view =
+      glm::dmat4(-1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0) * behind.view;
   EXPECT_EQ(splatPixels(behind, s.hierarchy.world[node], s.surfels.arrays[array], draw), 0.0);
 }
 
