@@ -1,10 +1,13 @@
-// `pbs bench raster [SCENE] [--json]`: the rasterizer against llvmpipe and Embree, same run.
+// `pbs bench raster [SCENE] [--json]`: the rasterizer against llvmpipe and Embree, same run (with
+// --sweep, on terrains of several triangle sizes); `pbs bench order`: the orderings.
 #include "bench/order_bench.hpp"
 #include "bench/raster_bench.hpp"
+#include "bench/raster_sweep.hpp"
 #include "commands.hpp"
 #include "scene_report.hpp"
 
 #include <pbs/evaluation/report_numbers.hpp>
+#include <pbs/evaluation/svg_plot.hpp>
 #include <pbs/raster/raster_limits.hpp>
 
 #include <cstdio>
@@ -59,6 +62,42 @@ void printRasterReport(const nlohmann::json& r) {
   }
 }
 
+// A time in milliseconds, or "missing" for a peer that could not run.
+std::string milliseconds(const nlohmann::json& entry) {
+  if (entry.contains("missing")) return "missing";
+  char text[64];
+  std::snprintf(text, sizeof text, "%.2f", 1e3 * entry["seconds"].get<double>());
+  return text;
+}
+
+std::string ratio(const nlohmann::json& value) {
+  if (value.is_null()) return "-";
+  char text[64];
+  std::snprintf(text, sizeof text, "%.1fx", value.get<double>());
+  return text;
+}
+
+void printSweepReport(const nlohmann::json& r) {
+  std::printf("capture sweep: %s, %d orthographic views at %u², depth + colour + position + normal, %d threads\n",
+              r["mesh"].get<std::string>().c_str(), r["views"].get<int>(), r["resolution"].get<unsigned>(),
+              r["threads"].get<int>());
+  std::printf(
+      "(%d interleaved rounds: medians of the times; ratios are medians of the per-round ratios;\n"
+      " throughput counts each triangle once per view)\n",
+      r["repeats"].get<int>());
+  std::printf("%10s %12s %10s %10s %12s %9s %11s %12s\n", "px/tri", "triangles", "pbs ms", "Embree ms", "llvmpipe ms",
+              "vs Embree", "vs llvmpipe", "pbs Mtri/s");
+  for (const nlohmann::json& size : r["sizes"]) {
+    const nlohmann::json& c = size["capture"];
+    std::printf("%10.4g %12s %10s %10s %12s %9s %11s %12.1f\n", size["pixels_per_triangle"].get<double>(),
+                withThousands(size["triangles"].get<std::uint64_t>()).c_str(), milliseconds(c["pbs"]).c_str(),
+                milliseconds(c["embree"]).c_str(), milliseconds(c["llvmpipe"]).c_str(), ratio(c["vs_embree"]).c_str(),
+                ratio(c["vs_llvmpipe"]).c_str(), size["mtriangles_per_s"]["pbs"].get<double>());
+  }
+  const nlohmann::json& first = r["sizes"].front()["capture"]["llvmpipe"];
+  if (first.contains("missing")) std::printf("llvmpipe missing: %s\n", first["missing"].get<std::string>().c_str());
+}
+
 void printOrderReport(const nlohmann::json& r) {
   std::printf("ordering %s of %s points on a unit sphere, one thread\n",
               withThousands(r["max"].get<std::uint64_t>()).c_str(),
@@ -78,27 +117,49 @@ void addBenchCommand(CLI::App& app) {
   struct Options {
     std::string scene = "default";
     bool json = false;
-    bench::RasterBenchOptions raster;
+    bool sweep = false;
+    std::string plot;
+    bench::RasterSweepOptions sweepOptions;  // its raster options serve the single scene too
   };
   auto options = std::make_shared<Options>();
   CLI::App* bench = app.add_subcommand("bench", "Measure pbs against its peers");
   bench->require_subcommand(1);
   CLI::App* raster = bench->add_subcommand("raster", "capture views and point splats vs llvmpipe and Embree");
-  raster->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->capture_default_str();
+  CLI::Option* scene =
+      raster->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->capture_default_str();
   raster->add_flag("--json", options->json, "print JSON instead of text");
-  raster->add_option("--resolution", options->raster.resolution, "capture and point image size")
+  CLI::Option* sweep =
+      raster->add_flag("--sweep", options->sweep, "the capture alone, on terrains of each --sizes triangle size")
+          ->excludes(scene);
+  raster->add_option("--resolution", options->sweepOptions.raster.resolution, "capture and point image size")
       ->check(CLI::Range(1u, kMaxViewportSize))
       ->capture_default_str();
-  raster->add_option("--points", options->raster.points, "number of random points")
+  raster->add_option("--points", options->sweepOptions.raster.points, "number of random points")
       ->check(CLI::Range(1, 1'000'000'000))
+      ->excludes(sweep)
       ->capture_default_str();
-  raster->add_option("--repeat", options->raster.repeats, "timed runs per measurement (median reported)")
+  raster->add_option("--repeat", options->sweepOptions.raster.repeats, "timed runs per measurement (median reported)")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
-  addThreadsOption(*raster, options->raster.threads);
+  raster->add_option("--sizes", options->sweepOptions.pixelsPerTriangle, "--sweep's mean pixels per triangle")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber)
+      ->needs(sweep)
+      ->capture_default_str();
+  raster->add_option("--plot", options->plot, "--sweep: write the throughput plot to this SVG file")->needs(sweep);
+  addThreadsOption(*raster, options->sweepOptions.raster.threads);
   raster->callback([options] {
+    if (options->sweep) {
+      const nlohmann::json report = bench::benchRasterSweep(options->sweepOptions);
+      if (!options->plot.empty()) writeTextFile(options->plot, renderSvg(bench::rasterSweepPlot(report)));
+      if (options->json)
+        std::cout << report.dump(2) << "\n";
+      else
+        printSweepReport(report);
+      return;
+    }
     const LoadedScene loaded = loadAndAnalyze(options->scene, LoadOptions{});
-    const nlohmann::json report = bench::benchRaster(loaded.scene, loaded.hierarchy, options->raster);
+    const nlohmann::json report = bench::benchRaster(loaded.scene, loaded.hierarchy, options->sweepOptions.raster);
     if (options->json)
       std::cout << report.dump(2) << "\n";
     else

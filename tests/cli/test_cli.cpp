@@ -161,6 +161,61 @@ TEST(Cli, RasterBenchDrawsTheSameViewsAsItsPeers) {
   EXPECT_GT(json["threads"].get<int>(), 0);
 }
 
+// The sweep sizes a terrain for each asked triangle size (more triangles as they shrink) and times
+// real work on each: pbs and Embree cover the same pixels; llvmpipe either does too or is reported
+// missing with its reason, its ratio and throughput empty. The plot has a line per contender.
+TEST(Cli, RasterSweepTimesEveryTriangleSize) {
+  ScratchDir scratch;
+  const auto plot = scratch / "sweep.svg";
+  const CommandResult result = runPbs("bench raster --sweep --resolution 64 --repeat 1 --json --plot " + quoted(plot));
+  ASSERT_EQ(result.status, 0) << result.err;
+  const auto json = nlohmann::json::parse(result.out);
+  const std::vector<double> asked = {1.0 / 16, 1.0 / 4, 1.0, 4.0, 16.0, 64.0};
+  const auto& sizes = json["sizes"];
+  ASSERT_EQ(sizes.size(), asked.size());
+  bool llvmpipeMissing = false;
+  for (std::size_t i = 0; i < asked.size(); ++i) {
+    const auto& size = sizes[i];
+    EXPECT_EQ(size["pixels_per_triangle_asked"].get<double>(), asked[i]);
+    // Whole grid cells: within ((n ± ½)/n)² of the asked size for n ≥ 3 cells a side.
+    const double measured = size["pixels_per_triangle"].get<double>();
+    EXPECT_GT(measured, 0.65 * asked[i]) << i;
+    EXPECT_LT(measured, 1.4 * asked[i]) << i;
+    if (i > 0) {
+      EXPECT_LT(size["triangles"].get<std::uint64_t>(), sizes[i - 1]["triangles"].get<std::uint64_t>()) << i;
+    }
+    const auto& capture = size["capture"];
+    const double covered = capture["pbs"]["covered_pixels"].get<double>();
+    EXPECT_GT(covered, 0.0) << i;
+    EXPECT_NEAR(capture["embree"]["covered_pixels"].get<double>(), covered, 0.005 * covered) << i;
+    EXPECT_GT(capture["pbs"]["seconds"].get<double>(), 0.0) << i;
+    EXPECT_GT(capture["embree"]["seconds"].get<double>(), 0.0) << i;
+    EXPECT_GT(size["mtriangles_per_s"]["pbs"].get<double>(), 0.0) << i;
+    EXPECT_GT(size["mtriangles_per_s"]["embree"].get<double>(), 0.0) << i;
+    if (capture["llvmpipe"].contains("missing")) {
+      llvmpipeMissing = true;
+      EXPECT_FALSE(capture["llvmpipe"]["missing"].get<std::string>().empty()) << i;
+      EXPECT_TRUE(capture["vs_llvmpipe"].is_null()) << i;
+      EXPECT_TRUE(size["mtriangles_per_s"]["llvmpipe"].is_null()) << i;
+    } else {
+      EXPECT_NEAR(capture["llvmpipe"]["covered_pixels"].get<double>(), covered, 0.005 * covered) << i;
+      EXPECT_GT(size["mtriangles_per_s"]["llvmpipe"].get<double>(), 0.0) << i;
+    }
+  }
+  const std::string svg = readFile(plot);
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+  for (const char* name : {"pbs, 1 thread", "Embree packets"}) EXPECT_NE(svg.find(name), std::string::npos) << name;
+  EXPECT_EQ(svg.find("llvmpipe") != std::string::npos, !llvmpipeMissing);
+}
+
+// The sweep draws its own meshes and no points: a scene or --points with it is refused, as are
+// --sizes and --plot without it.
+TEST(Cli, RasterSweepRefusesOptionsItDoesNotRead) {
+  for (const char* args : {"bench raster default --sweep", "bench raster --sweep --points 10", "bench raster --sizes 1",
+                           "bench raster --plot x.svg", "bench raster --sweep --sizes 0"})
+    EXPECT_NE(runPbs(args).status, 0) << args;
+}
+
 TEST(Cli, OrderBenchMeasuresAllThreeOrderings) {
   const CommandResult result = runPbs("bench order --points 20000 --max 2000 --json");
   ASSERT_EQ(result.status, 0) << result.err;

@@ -37,12 +37,9 @@ struct CaptureViews {
 };
 
 CaptureViews makeCaptureViews(const Bounds& box, std::uint32_t resolution) {
-  CaptureViews views;
-  for (const glm::dvec3& direction : boxCornerDirections()) {
-    views.cameras.push_back(boxViewCamera(box, direction, resolution));
-    const Camera& camera = views.cameras.back();
+  CaptureViews views{captureCameras(box, resolution), {}};
+  for (const Camera& camera : views.cameras)
     views.framebuffers.push_back(makeFramebuffer(camera.width, camera.height, kCaptureChannels, box.center()));
-  }
   return views;
 }
 
@@ -152,11 +149,12 @@ nlohmann::json timingEntry(const std::vector<double>& rounds, int threads, std::
   return {{"seconds", median(rounds)}, {"threads", threads}, {"covered_pixels", covered}};
 }
 
-// The capture views by pbs on one thread and on all, Embree packets and llvmpipe, in interleaved
-// rounds. pbs and Embree share the framebuffers: coverage is counted from one more, untimed run of
-// each after the rounds.
-nlohmann::json benchCapture(const Scene& scene, const Hierarchy& hierarchy, const Bounds& box,
-                            const RasterBenchOptions& options) {
+}  // namespace
+
+// pbs and Embree share the framebuffers: coverage is counted from one more, untimed run of each
+// after the rounds.
+nlohmann::json benchCapture(const Scene& scene, const Hierarchy& hierarchy, const RasterBenchOptions& options) {
+  const Bounds box = sceneBounds(scene, hierarchy);
   const int all = resolveThreadCount(options.threads);
   CaptureViews views = makeCaptureViews(box, options.resolution);
   const auto pbsRun = [&](int threads) {
@@ -200,6 +198,8 @@ nlohmann::json benchCapture(const Scene& scene, const Hierarchy& hierarchy, cons
   capture["thread_scaling"] = medianRatio(rounds[0], rounds[1]);
   return capture;
 }
+
+namespace {
 
 struct RandomPoints {
   std::vector<glm::vec3> positions;
@@ -284,10 +284,21 @@ nlohmann::json benchPoints(const RandomPoints& points, const RasterBenchOptions&
 
 }  // namespace
 
-nlohmann::json benchRaster(const Scene& scene, const Hierarchy& hierarchy, const RasterBenchOptions& options) {
+Bounds sceneBounds(const Scene& scene, const Hierarchy& hierarchy) {
   Bounds box;
   for (std::uint32_t root : scene.roots) box.extend(hierarchy.worldBounds[root]);
-  const nlohmann::json capture = benchCapture(scene, hierarchy, box, options);
+  return box;
+}
+
+std::vector<Camera> captureCameras(const Bounds& box, std::uint32_t resolution) {
+  std::vector<Camera> cameras;
+  for (const glm::dvec3& direction : boxCornerDirections())
+    cameras.push_back(boxViewCamera(box, direction, resolution));
+  return cameras;
+}
+
+nlohmann::json benchRaster(const Scene& scene, const Hierarchy& hierarchy, const RasterBenchOptions& options) {
+  const nlohmann::json capture = benchCapture(scene, hierarchy, options);
 
   const RandomPoints points = makeRandomPoints(options.points);
   nlohmann::json pointsReport;
@@ -303,7 +314,7 @@ nlohmann::json benchRaster(const Scene& scene, const Hierarchy& hierarchy, const
           {"resolution", options.resolution},
           {"point_count", options.points},
           {"repeats", options.repeats},
-          {"timing", "interleaved rounds: medians of each contender's seconds, ratios as medians of per-round ratios"}};
+          {"timing", kInterleavedTiming}};
 }
 
 }  // namespace pbs::bench

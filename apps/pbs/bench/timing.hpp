@@ -13,6 +13,10 @@
 
 namespace pbs::bench {
 
+// How every benchmark report's timings were taken, for its "timing" entry.
+inline constexpr const char* kInterleavedTiming =
+    "interleaved rounds: medians of each contender's seconds, ratios as medians of per-round ratios";
+
 inline double median(std::vector<double> values) {
   if (values.empty()) return 0.0;
   std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
