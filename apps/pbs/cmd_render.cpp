@@ -57,12 +57,18 @@ std::filesystem::path frameFile(const RenderOptions& options, std::uint32_t f) {
 // An EXR keeps the shaded float image; any other format gets its 8-bit conversion.
 bool keepsFloat(const std::filesystem::path& file) { return file.extension() == ".exr"; }
 
+// What the frames make of their G-buffer: nothing without -o, else what the file keeps.
+FrameImage frameImage(const RenderOptions& options) {
+  if (options.output.empty()) return FrameImage::None;
+  return keepsFloat(frameFile(options, 0)) ? FrameImage::Float : FrameImage::Rgba8;
+}
+
 void writeFrame(const std::filesystem::path& file, std::uint32_t width, std::uint32_t height,
-                const std::vector<glm::vec4>& image) {
+                const FrameResult& frame) {
   if (keepsFloat(file))
-    writeImageFloat(file, width, height, 4, std::span(&image.front().x, image.size() * 4));
+    writeImageFloat(file, width, height, 4, std::span(&frame.image.front().x, frame.image.size() * 4));
   else
-    writeImage8(file, width, height, 4, toRgba8(image));
+    writeImage8(file, width, height, 4, frame.rgba8);
 }
 
 nlohmann::json frameJson(RenderMode mode, const FrameResult& frame) {
@@ -161,7 +167,8 @@ void run(const RenderOptions& options) {
     stream.emplace(
         *surfels, loaded.scene, loaded.hierarchy, options.lod,
         StreamOptions{.bytesPerSecond = options.streamMBps * 1e6, .order = *streamOrderFromName(options.streamOrder)});
-  FrameRenderer renderer(loaded.scene, loaded.hierarchy, {.mode = mode, .lod = options.lod, .samples = options.samples},
+  FrameRenderer renderer(loaded.scene, loaded.hierarchy,
+                         {.mode = mode, .lod = options.lod, .samples = options.samples, .image = frameImage(options)},
                          width, height,
                          {.cache = surfels ? &*surfels : nullptr,
                           .stream = stream ? &*stream : nullptr,
@@ -182,7 +189,11 @@ void run(const RenderOptions& options) {
       {"passes_per_frame", options.samples},
       {"image_file", output.empty()                      ? "none"
                      : keepsFloat(frameFile(options, 0)) ? "float"
-                                                         : "8-bit"}};
+                                                         : "8-bit"},
+      // Shading makes only what the file keeps: the float image, the 8-bit one directly, or nothing.
+      {"shaded_image", frameImage(options) == FrameImage::None    ? "none"
+                       : frameImage(options) == FrameImage::Float ? "float"
+                                                                  : "8-bit"}};
   if (mode == RenderMode::Embree) {
     report["build_seconds"] = renderer.buildSeconds();
     report["bvh_peak_bytes"] = renderer.bvhPeakBytes();
@@ -214,7 +225,7 @@ void run(const RenderOptions& options) {
     if (stream) entry.update(streamJson(stream->stats()));
     if (!output.empty()) {
       const std::filesystem::path file = frameFile(options, f);
-      writeFrame(file, width, height, frame.image);
+      writeFrame(file, width, height, frame);
       entry["file"] = file.string();
     }
     if (options.frames > 0) {

@@ -33,6 +33,14 @@ void forEachShadedPixel(const Framebuffer& gbuffer, const Camera& camera, const 
   });
 }
 
+// A channel in [0, 1] (clamped; NaN as 0) as a byte, rounded to nearest with halves away from zero, as
+// std::lround rounds: the float product plus one half is exact in double, so truncating it is the
+// rounding, without a call per channel.
+std::uint8_t toByte(float channel) {
+  const float clamped = channel > 0.0f ? std::min(channel, 1.0f) : 0.0f;
+  return std::uint8_t(std::int32_t(double(clamped * 255.0f) + 0.5));
+}
+
 }  // namespace
 
 std::vector<glm::vec4> shadeHeadlight(const Framebuffer& gbuffer, const Camera& camera) {
@@ -54,12 +62,19 @@ void accumulateHeadlight(const Framebuffer& gbuffer, const Camera& camera, Sampl
 std::vector<std::uint8_t> toRgba8(const std::vector<glm::vec4>& image) {
   std::vector<std::uint8_t> bytes(image.size() * 4);
   // Each pixel on its own, in parallel: at 1920×1080 one thread took about 27 ms, as long as a frame.
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, image.size(), 1 << 14), [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i)
-          for (int c = 0; c < 4; ++c)
-            bytes[i * 4 + std::size_t(c)] = std::uint8_t(std::lround(std::clamp(image[i][c], 0.0f, 1.0f) * 255.0f));
-      });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, image.size(), 1 << 14),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i)
+                        for (int c = 0; c < 4; ++c) bytes[i * 4 + std::size_t(c)] = toByte(image[i][c]);
+                    });
+  return bytes;
+}
+
+std::vector<std::uint8_t> shadeHeadlightRgba8(const Framebuffer& gbuffer, const Camera& camera) {
+  std::vector<std::uint8_t> bytes(gbuffer.pixelCount() * 4, 0);
+  forEachShadedPixel(gbuffer, camera, [&](std::size_t i, const glm::vec4& rgba) {
+    for (int c = 0; c < 4; ++c) bytes[i * 4 + std::size_t(c)] = toByte(rgba[c]);
+  });
   return bytes;
 }
 

@@ -12,6 +12,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace pbs {
 namespace {
@@ -162,24 +163,28 @@ FrameResult FrameRenderer::render(const Camera& camera) {
   const auto start = detail::Clock::now();
   if (options_.samples == 1) {
     result.stats = drawPass(camera, result.surfelLoadSeconds);
-    result.image = shadeHeadlight(gbuffer_, camera);
+    if (options_.image == FrameImage::Float) result.image = shadeHeadlight(gbuffer_, camera);
+    if (options_.image == FrameImage::Rgba8) result.rgba8 = shadeHeadlightRgba8(gbuffer_, camera);
   } else {
     SampleSums sums{std::vector<glm::vec4>(gbuffer_.pixelCount(), glm::vec4(0.0f)), 0};
+    bool firstPass = true;
     for (const glm::dvec2& sample : subpixelSamples(options_.samples)) {
       const Camera shifted = subpixelCamera(camera, sample);
       const LodStats pass = drawPass(shifted, result.surfelLoadSeconds);
       // Counts are the first pass's (every pass draws about the same); times add up.
-      if (sums.samples == 0) {
+      if (firstPass) {
         result.stats = pass;
+        firstPass = false;
       } else {
         result.stats.traverseSeconds += pass.traverseSeconds;
         result.stats.rasterSeconds += pass.rasterSeconds;
         result.stats.geometrySeconds += pass.geometrySeconds;
         result.stats.bvhBuildSeconds += pass.bvhBuildSeconds;
       }
-      accumulateHeadlight(gbuffer_, shifted, sums);
+      if (options_.image != FrameImage::None) accumulateHeadlight(gbuffer_, shifted, sums);
     }
-    result.image = resolveSamples(sums);
+    if (options_.image != FrameImage::None) result.image = resolveSamples(sums);
+    if (options_.image == FrameImage::Rgba8) result.rgba8 = toRgba8(std::exchange(result.image, {}));
   }
   result.seconds = detail::secondsSince(start);
   return result;

@@ -2,6 +2,7 @@
 // bit-identical frames for any thread count, and the rasterizer and the rays converging to one image.
 #include "test_fixtures.hpp"
 
+#include <pbs/raster/headlight_shading.hpp>
 #include <pbs/raster/image_metrics.hpp>
 #include <pbs/raster/orbit_camera.hpp>
 #include <pbs/raster/supersampling.hpp>
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <set>
 #include <stdexcept>
 #include <vector>
@@ -150,6 +152,49 @@ TEST(Supersampling, AReusedRendererLeavesNothingOfTheLastView) {
       EXPECT_GT(nearCovered, 4 * farCovered) << "the near view must cover pixels the far one leaves empty";
     }
   }
+}
+
+// A frame bound for an 8-bit file is shaded straight to bytes, the same bytes the float image converts to;
+// one made for no file is shaded not at all, and draws and counts the same.
+TEST(Supersampling, EightBitAndNoImageFramesAreTheFloatFramesBytesAndCounts) {
+  const GroupsView view;
+  for (RenderMode mode : {RenderMode::Exact, RenderMode::Embree}) {
+    for (std::uint32_t samples : {1u, 4u}) {
+      FrameRenderer floats(view.scene, view.hierarchy, {.mode = mode, .samples = samples}, 160, 120);
+      FrameRenderer bytes(view.scene, view.hierarchy, {.mode = mode, .samples = samples, .image = FrameImage::Rgba8},
+                          160, 120);
+      FrameRenderer none(view.scene, view.hierarchy, {.mode = mode, .samples = samples, .image = FrameImage::None}, 160,
+                         120);
+      const FrameResult expected = floats.render(view.camera);
+      const FrameResult eightBit = bytes.render(view.camera);
+      const FrameResult nothing = none.render(view.camera);
+      EXPECT_TRUE(eightBit.image.empty());
+      EXPECT_EQ(eightBit.rgba8, toRgba8(expected.image)) << renderModeName(mode) << " " << samples;
+      EXPECT_TRUE(nothing.image.empty() && nothing.rgba8.empty());
+      EXPECT_EQ(nothing.stats.triangles, expected.stats.triangles);
+    }
+  }
+}
+
+// toRgba8 rounds each channel to the nearest byte with halves away from zero, clamps to [0, 1], and takes
+// NaN as 0.
+TEST(Supersampling, BytesRoundLikeLround) {
+  std::vector<glm::vec4> image;
+  for (int k = 0; k <= 510; ++k) {
+    const float half = float(k) / 510.0f;  // every byte and every half between two
+    image.emplace_back(half, std::nextafter(half, 0.0f), std::nextafter(half, 1.0f), float(k) / 255.0f);  // to 2
+  }
+  image.emplace_back(-0.5f, 1.5f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity());
+  const std::vector<std::uint8_t> bytes = toRgba8(image);
+  for (std::size_t i = 0; i + 1 < image.size(); ++i)
+    for (int c = 0; c < 4; ++c)
+      ASSERT_EQ(bytes[i * 4 + std::size_t(c)], std::uint8_t(std::lround(std::clamp(image[i][c], 0.0f, 1.0f) * 255.0f)))
+          << i << " " << c;
+  const std::size_t last = (image.size() - 1) * 4;
+  EXPECT_EQ(bytes[last], 0);
+  EXPECT_EQ(bytes[last + 1], 255);
+  EXPECT_EQ(bytes[last + 2], 0) << "NaN";
+  EXPECT_EQ(bytes[last + 3], 255);
 }
 
 TEST(Supersampling, OneSampleIsTheUnsupersampledFrame) {

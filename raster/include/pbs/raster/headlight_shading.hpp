@@ -27,4 +27,8 @@ void accumulateHeadlight(const Framebuffer& gbuffer, const Camera& camera, Sampl
 // The same as RGBA8 (rounded to nearest), for PNG output.
 std::vector<std::uint8_t> toRgba8(const std::vector<glm::vec4>& image);
 
+// toRgba8(shadeHeadlight(gbuffer, camera)), bit for bit, in one pass: a frame bound for an 8-bit file never
+// holds its float image (16 bytes a pixel written, then read again to convert).
+std::vector<std::uint8_t> shadeHeadlightRgba8(const Framebuffer& gbuffer, const Camera& camera);
+
 }  // namespace pbs

@@ -30,6 +30,10 @@ enum class RenderMode { Surfels, Exact, Embree, Simplified };
 std::optional<RenderMode> renderModeFromName(std::string_view name);
 const char* renderModeName(RenderMode mode);
 
+// What a frame's image is made as: the shaded float image (for comparisons and float files), its 8-bit
+// conversion alone (for 8-bit files: no float image is held), or none (frames only timed and counted).
+enum class FrameImage { Float, Rgba8, None };
+
 struct FrameOptions {
   RenderMode mode = RenderMode::Exact;
   LodOptions lod{};  // surfels and simplified modes
@@ -37,13 +41,15 @@ struct FrameOptions {
   // position, shaded and summed, then box-filtered into colour with fractional alpha. Memory does not
   // grow with the count: one G-buffer and one sum image.
   std::uint32_t samples = 1;
+  FrameImage image = FrameImage::Float;
 };
 
 struct FrameResult {
   // Shaded (headlight_shading.hpp), straight RGBA: alpha is the fraction of samples that hit a surface
   // (0 or 1 at one sample), colour (0, 0, 0) where it is 0.
   std::vector<glm::vec4> image;
-  double seconds = 0.0;  // every pass: clear, traverse, raster or rays, shading; plus the resolve
+  std::vector<std::uint8_t> rgba8;  // FrameImage::Rgba8 instead of `image`: toRgba8(image), 4 bytes a pixel
+  double seconds = 0.0;             // every pass: clear, traverse, raster or rays, shading; plus the resolve
   // Of those, reading prefixes on demand (FrameSources::cache) and meshes on demand (FrameSources::meshes).
   double surfelLoadSeconds = 0.0;
   // Traversal and raster times summed over the passes; the counts are those of one pass.
