@@ -17,19 +17,17 @@
 namespace pbs::cli {
 namespace {
 
-std::string seconds(const nlohmann::json& entry) {
-  if (entry.contains("missing")) return "missing (" + entry["missing"].get<std::string>() + ")";
+// A contender's figure `key`, scaled and printed by `format`, or that it is missing (and why, if `why`).
+std::string figure(const nlohmann::json& entry, const char* key, const char* format, double scale = 1.0,
+                   bool why = true) {
+  if (entry.contains("missing")) return why ? "missing (" + entry["missing"].get<std::string>() + ")" : "missing";
   char text[64];
-  std::snprintf(text, sizeof text, "%.4f s", entry["seconds"].get<double>());
+  std::snprintf(text, sizeof text, format, scale * entry[key].get<double>());
   return text;
 }
 
-std::string mpoints(const nlohmann::json& entry) {
-  if (entry.contains("missing")) return "missing (" + entry["missing"].get<std::string>() + ")";
-  char text[64];
-  std::snprintf(text, sizeof text, "%.1f Mpoints/s", entry["mpoints_per_s"].get<double>());
-  return text;
-}
+std::string seconds(const nlohmann::json& entry) { return figure(entry, "seconds", "%.4f s"); }
+std::string mpoints(const nlohmann::json& entry) { return figure(entry, "mpoints_per_s", "%.1f Mpoints/s"); }
 
 void printRasterReport(const nlohmann::json& r) {
   const auto& c = r["capture"];
@@ -62,13 +60,8 @@ void printRasterReport(const nlohmann::json& r) {
   }
 }
 
-// A time in milliseconds, or "missing" for a peer that could not run.
-std::string milliseconds(const nlohmann::json& entry) {
-  if (entry.contains("missing")) return "missing";
-  char text[64];
-  std::snprintf(text, sizeof text, "%.2f", 1e3 * entry["seconds"].get<double>());
-  return text;
-}
+// A time in milliseconds, or "missing" for a peer that could not run (the table says why below it).
+std::string milliseconds(const nlohmann::json& entry) { return figure(entry, "seconds", "%.2f", 1e3, false); }
 
 std::string ratio(const nlohmann::json& value) {
   if (value.is_null()) return "-";

@@ -167,9 +167,9 @@ void run(const RenderOptions& options) {
     stream.emplace(
         *surfels, loaded.scene, loaded.hierarchy, options.lod,
         StreamOptions{.bytesPerSecond = options.streamMBps * 1e6, .order = *streamOrderFromName(options.streamOrder)});
+  const FrameImage image = frameImage(options);
   FrameRenderer renderer(loaded.scene, loaded.hierarchy,
-                         {.mode = mode, .lod = options.lod, .samples = options.samples, .image = frameImage(options)},
-                         width, height,
+                         {.mode = mode, .lod = options.lod, .samples = options.samples, .image = image}, width, height,
                          {.cache = surfels ? &*surfels : nullptr,
                           .stream = stream ? &*stream : nullptr,
                           .meshes = meshes ? &*meshes : nullptr});
@@ -187,13 +187,10 @@ void run(const RenderOptions& options) {
       {"gbuffer", channelNames(renderer.channels())},
       {"cleared_each_pass", renderer.clearsDepth() ? std::vector<std::string>{"depth"} : std::vector<std::string>{}},
       {"passes_per_frame", options.samples},
-      {"image_file", output.empty()                      ? "none"
-                     : keepsFloat(frameFile(options, 0)) ? "float"
-                                                         : "8-bit"},
-      // Shading makes only what the file keeps: the float image, the 8-bit one directly, or nothing.
-      {"shaded_image", frameImage(options) == FrameImage::None    ? "none"
-                       : frameImage(options) == FrameImage::Float ? "float"
-                                                                  : "8-bit"}};
+      // Frames shade only what the file keeps: the float image, the 8-bit one directly, or nothing.
+      {"image_file", image == FrameImage::None    ? "none"
+                     : image == FrameImage::Float ? "float"
+                                                  : "8-bit"}};
   if (mode == RenderMode::Embree) {
     report["build_seconds"] = renderer.buildSeconds();
     report["bvh_peak_bytes"] = renderer.bvhPeakBytes();
@@ -215,10 +212,9 @@ void run(const RenderOptions& options) {
     seconds.push_back(frame.seconds);
     nlohmann::json entry = frameJson(mode, frame);
     if (timeBudget) {
-      // The model's scope: reading surfels and building a mesh's BVH are paid once, not per frame.
       const double predicted = predictFrameCost(
           options.lod.frameCosts, frameWork(frame.stats, std::uint64_t(width) * height), frame.stats.geometryDrawer);
-      feedback.observe(predicted, frame.seconds - frame.surfelLoadSeconds - frame.stats.bvhBuildSeconds);
+      feedback.observe(predicted, frame.recurringSeconds());
       entry["budget_limit_seconds"] = options.budgetFeedback ? limit : options.lod.budget.limit;
       entry["predicted_seconds"] = predicted;
     }

@@ -66,7 +66,7 @@ FrameCalibration calibrateFrameCosts(const Scene& scene, const Hierarchy& hierar
       frame.timed.seconds = std::numeric_limits<double>::infinity();
       for (std::uint32_t r = 0; r < std::max(repeats, 1u); ++r) {
         const FrameResult result = renderer.render(cameras[v]);
-        const double seconds = result.seconds - result.surfelLoadSeconds - result.stats.bvhBuildSeconds;
+        const double seconds = result.recurringSeconds();
         if (seconds >= frame.timed.seconds) continue;
         frame.timed = {.work = frameWork(result.stats, std::uint64_t(cameras[v].width) * cameras[v].height),
                        .seconds = seconds,

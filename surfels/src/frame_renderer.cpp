@@ -166,7 +166,8 @@ FrameResult FrameRenderer::render(const Camera& camera) {
     if (options_.image == FrameImage::Float) result.image = shadeHeadlight(gbuffer_, camera);
     if (options_.image == FrameImage::Rgba8) result.rgba8 = shadeHeadlightRgba8(gbuffer_, camera);
   } else {
-    SampleSums sums{std::vector<glm::vec4>(gbuffer_.pixelCount(), glm::vec4(0.0f)), 0};
+    SampleSums sums;
+    if (options_.image != FrameImage::None) sums.sums.assign(gbuffer_.pixelCount(), glm::vec4(0.0f));
     bool firstPass = true;
     for (const glm::dvec2& sample : subpixelSamples(options_.samples)) {
       const Camera shifted = subpixelCamera(camera, sample);

@@ -117,10 +117,10 @@ class BudgetTraversal {
     const double size = std::sqrt(pixels);
     const std::uint32_t count = prefixLength(splats, size, at.worldPixel, at.scale, options_);
     const LodDraws::Surfels draw = lod::prefixDraw(node, array, splats, at, count, count);
-    const FrameWork work{.imagePixels = imagePixels_,
-                         .surfels = double(count),
-                         .surfelPixels = splatPixels(camera_, hierarchy_.world[node], splats, draw),
-                         .nodes = 1.0};
+    FrameWork work{.imagePixels = imagePixels_, .surfels = double(count), .nodes = 1.0};
+    // Only a budget in seconds prices pixels.
+    if (options_.budget.unit == BudgetUnit::Seconds)
+      work.surfelPixels = splatPixels(camera_, hierarchy_.world[node], splats, draw);
     return {size, work, draw};
   }
 

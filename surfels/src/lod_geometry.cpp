@@ -74,12 +74,14 @@ GeometryWork geometryWork(const Scene& scene, const Hierarchy& hierarchy, std::s
 }
 
 GeometryCosts estimateGeometryCosts(const GeometryWork& work, const FrameCosts& costs) {
-  // Overlapping boxes add up past the image; rays are cast (and pixels shaded) at most once per pixel.
-  const double covered = std::min(work.boxPixels, double(work.imagePixels));
-  return {.raster = costs.rasterPerTriangle * double(work.triangles) + costs.rasterPerPixel * covered +
-                    costs.rasterPerBoxPixel * work.boxPixels + costs.rasterPerNode * double(work.nodes),
-          .rays = costs.raysPerImagePixel * double(work.imagePixels) + costs.raysPerPixel * covered +
-                  costs.raysPerBoxPixel * work.boxRayPixels + costs.raysPerNode * double(work.nodes) +
+  // The frame cost model's geometry terms (predictGeometryCost), and for rays the BVHs a frame must build.
+  const FrameWork frame{.imagePixels = double(work.imagePixels),
+                        .triangles = double(work.triangles),
+                        .geometryPixels = work.boxPixels,
+                        .geometryRayPixels = work.boxRayPixels,
+                        .geometryNodes = double(work.nodes)};
+  return {.raster = predictGeometryCost(costs, frame, GeometryDrawer::Raster),
+          .rays = predictGeometryCost(costs, frame, GeometryDrawer::Rays) +
                   kRaysPerBuiltTriangle * double(work.unbuiltTriangles)};
 }
 
@@ -93,8 +95,8 @@ GeometryPass drawLodGeometry(const Scene& scene, const Hierarchy& hierarchy, std
                              EmbreeNodeCaster* rays, const FrameCosts& costs) {
   const auto start = Clock::now();
   GeometryPass pass;
-  if (rays && drawer == GeometryDrawer::Auto)
-    drawer = chooseGeometryDrawer(geometryWork(scene, hierarchy, nodes, camera, rays), costs);
+  pass.work = geometryWork(scene, hierarchy, nodes, camera, rays);
+  if (rays && drawer == GeometryDrawer::Auto) drawer = chooseGeometryDrawer(pass.work, costs);
   if (rays && drawer == GeometryDrawer::Rays) {
     pass.drawer = GeometryDrawer::Rays;
     pass.bvhBuildSeconds = rays->render(camera, nodes, framebuffer).seconds;

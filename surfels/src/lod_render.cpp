@@ -6,7 +6,6 @@
 #include "pbs/raster/blended_splats.hpp"
 #include "pbs/raster/points.hpp"
 #include "pbs/raster/value_names.hpp"
-#include "pbs/scene/scene_draws.hpp"
 #include "pbs/surfels/frame_cost.hpp"
 #include "pbs/surfels/lod_geometry.hpp"
 
@@ -142,12 +141,8 @@ LodStats drawLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurf
   stats.surfels = draws.surfelCount;
   stats.nodesGeometry = draws.geometryNodes.size();
   stats.nodesSurfels = draws.surfels.size();
-  for (std::uint32_t node : draws.geometryNodes) {
-    const double pixels = clippedBoxPixels(camera, instanceWorldBounds(scene, hierarchy, node));
-    stats.geometryPixels += pixels;
-    stats.geometryRayPixels +=
-        pixels * rayLevels(double(scene.meshes[std::size_t(scene.nodes[node].mesh)].triangleCount()));
-  }
+  stats.geometryPixels = geometry.work.boxPixels;
+  stats.geometryRayPixels = geometry.work.boxRayPixels;
   for (const LodDraws::Surfels& draw : draws.surfels)
     stats.surfelPixels += splatPixels(camera, hierarchy.world[draw.node], surfels.arrays[draw.array], draw);
   stats.geometryDrawer = geometry.drawer;

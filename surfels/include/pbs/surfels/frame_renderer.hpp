@@ -54,6 +54,10 @@ struct FrameResult {
   double surfelLoadSeconds = 0.0;
   // Traversal and raster times summed over the passes; the counts are those of one pass.
   LodStats stats;
+
+  // `seconds` less what is paid once rather than every frame (reading prefixes, building a mesh's BVH):
+  // what a frame's cost model predicts (frame_cost.hpp).
+  double recurringSeconds() const { return seconds - surfelLoadSeconds - stats.bvhBuildSeconds; }
 };
 
 // What a mode draws from besides the scene; each must outlive the renderer.

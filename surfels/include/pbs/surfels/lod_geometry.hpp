@@ -49,6 +49,7 @@ struct GeometryPass {
   GeometryDrawer drawer = GeometryDrawer::Raster;  // never Auto
   double seconds = 0.0;                            // the whole pass, BVH builds included
   double bvhBuildSeconds = 0.0;                    // of which mesh BVHs built for rays
+  GeometryWork work;                               // what it drew, in the cost model's terms
 };
 
 // Draws the meshes of `nodes` (faces not culled) with `drawer`; Auto asks chooseGeometryDrawer. Without a
