@@ -6,6 +6,8 @@ cd "$(dirname "$0")/.."
 
 packages=(cmake ninja-build g++ pkg-config libglm-dev libembree-dev libopenimageio-dev libpng-dev openimageio-tools
           libtinygltf-dev libsimdjson-dev nlohmann-json3-dev libtbb-dev libgtest-dev libcli11-dev libmeshoptimizer-dev
+          libcpp-httplib-dev libjpeg62-turbo-dev   # pbs view: its HTTP server and its moving frames
+          chromium chromium-driver                 # pbs view's browser test (headless Chromium)
           libosmesa6   # libosmesa6: Mesa llvmpipe, the peer `pbs bench raster` measures against
           clang libclang-rt-14-dev   # scripts/fuzz.sh: clang with libFuzzer (-fsanitize=fuzzer)
           clang-format)              # scripts/format.sh: the formatting CI checks

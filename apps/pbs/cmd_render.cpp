@@ -2,6 +2,7 @@
 // path) of a scene with surfels for small nodes, or exactly with the rasterizer or the ray caster
 // (paper, Sec. 3), at one or many samples per pixel.
 #include "commands.hpp"
+#include "frame_scene.hpp"
 #include "image_files.hpp"
 #include "memory_limit.hpp"
 #include <pbs/evaluation/report_numbers.hpp>
@@ -124,41 +125,33 @@ void run(const RenderOptions& options) {
   const RenderMode mode = *renderModeFromName(modeName);
   if (mode == RenderMode::Surfels && options.surfels.empty())
     throw CLI::ValidationError("--mode surfels", "needs --surfels FILE (make one with pbs surfelize)");
-  // With surfels, the file is opened first: it holds the exact box of every instance and, from version 4,
-  // the fingerprints that let a glTF scene be opened without its mesh arrays, each read when a frame
-  // first draws it as geometry (a stream simulates its own link for meshes, so it reads them whole; a
-  // scene rebuilt as a loose octree is read whole, its meshes split).
-  std::optional<SurfelFileReader> surfelFile;
-  if (mode == RenderMode::Surfels) surfelFile.emplace(options.surfels);
-  const bool meshesOnDemand =
-      surfelFile && options.streamMBps <= 0.0 && drawableWithoutMeshes(options.scene, *surfelFile);
   // Per pixel: the G-buffer (depth, colour, normal), the shaded image and its 8-bit copy, the sums of
-  // a supersampled frame; the surfels and the meshes read on demand, each up to the cache's budget.
-  std::uint64_t estimate = std::uint64_t(width) * height * (4 + 4 + 12 + 16 + 4 + (options.samples > 1 ? 16 : 0));
-  const std::uint64_t cacheBytes = options.cacheMb << 20;
-  if (mode == RenderMode::Surfels) estimate += cacheBytes;
-  if (meshesOnDemand) estimate += cacheBytes;
-  requireMemory(estimate, "rendering " + std::to_string(width) + "x" + std::to_string(height), options.maxMemory);
-  const SceneFit fit{.alongside = estimate, .limit = options.maxMemory, .rays = mode == RenderMode::Embree};
-  LoadedScene loaded = meshesOnDemand ? openWithoutMeshes(options.scene, *surfelFile)
-                       : surfelFile   ? loadAndAnalyze(options.scene, LoadOptions{}, *surfelFile, fit)
-                                      : loadAndAnalyze(options.scene, LoadOptions{}, fit);
-  std::optional<LazyMeshes> meshes;
-  if (meshesOnDemand)
-    meshes.emplace(loaded.scene, loaded.decodeMesh, surfelFile->sceneTable().meshes, loaded.name, cacheBytes);
+  // a supersampled frame; the surfels and the meshes read on demand come on top, each up to the cache's
+  // budget. A stream simulates its own link for meshes, so it reads them whole.
+  const std::uint64_t pixelBytes =
+      std::uint64_t(width) * height * (4 + 4 + 12 + 16 + 4 + (options.samples > 1 ? 16 : 0));
+  FrameScene opened({.scene = options.scene,
+                     .surfels = mode == RenderMode::Surfels ? options.surfels : "",
+                     .cacheBytes = options.cacheMb << 20,
+                     .meshesOnDemand = options.streamMBps <= 0.0,
+                     .rays = mode == RenderMode::Embree,
+                     .alongside = pixelBytes,
+                     .what = "rendering " + std::to_string(width) + "x" + std::to_string(height),
+                     .maxMemory = options.maxMemory});
+  const LoadedScene& loaded = opened.loaded;
+  std::optional<LazyMeshes>& meshes = opened.meshes;
+  std::optional<SurfelCache>& surfels = opened.surfels;
   const std::uint64_t bvhEstimate =
       mode == RenderMode::Embree ? embreeMemoryEstimate(loaded.scene, loaded.hierarchy) : 0;
   if (mode == RenderMode::Embree) {
     // The rays' BVHs come on top of the scene: refuse a build that would not fit before starting it.
     std::uint64_t sceneBytes = 0;
     for (const Mesh& mesh : loaded.scene.meshes) sceneBytes += meshBytes(mesh);
-    requireMemory(estimate + sceneBytes + bvhEstimate,
+    requireMemory(opened.foreseenBytes + sceneBytes + bvhEstimate,
                   "ray casting " + loaded.name + " (" + withThousands(loaded.summary.uniqueTriangles) +
                       " triangles in Embree's BVHs)",
                   options.maxMemory);
   }
-  std::optional<SurfelCache> surfels;
-  if (surfelFile) surfels.emplace(std::move(*surfelFile), loaded.scene, loaded.hierarchy, cacheBytes);
   if (options.streamMBps > 0.0 && !surfels)
     throw CLI::ValidationError("--stream", options.surfels.empty() ? "streams a .surfels file: give --surfels FILE"
                                                                    : "streams surfels: not with --mode " + modeName);

@@ -31,6 +31,7 @@ void addAnalyzeCommand(CLI::App& app);
 void addPrefixesCommand(CLI::App& app);
 void addSurfelizeCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
+void addViewCommand(CLI::App& app);
 void addCalibrateCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   pbs::cli::addPrefixesCommand(app);
   pbs::cli::addSurfelizeCommand(app);
   pbs::cli::addRenderCommand(app);
+  pbs::cli::addViewCommand(app);
   pbs::cli::addCalibrateCommand(app);
   pbs::cli::addCompareCommand(app);
   pbs::cli::addEvalCommand(app);

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace pbs::cli {
 
@@ -13,5 +14,9 @@ namespace pbs::cli {
 // pbs_write_image8, so that either can be called.
 int writePng8(const char* path, std::uint32_t width, std::uint32_t height, int channels, const std::uint8_t* pixels,
               char* error, std::size_t errorSize);
+
+// The same PNG file's bytes, in memory (for `pbs view`). Throws std::runtime_error with libpng's reason.
+std::vector<std::uint8_t> encodePng8(std::uint32_t width, std::uint32_t height, int channels,
+                                     const std::uint8_t* pixels);
 
 }  // namespace pbs::cli

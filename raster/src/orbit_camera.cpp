@@ -16,13 +16,20 @@ glm::dvec3 orbitDirection(const Orbit& orbit) {
 
 Camera orbitCamera(const glm::dvec3& center, double radius, const Orbit& orbit, std::uint32_t width,
                    std::uint32_t height) {
+  return orbitCamera(center, center, radius, orbit, width, height);
+}
+
+Camera orbitCamera(const glm::dvec3& target, const glm::dvec3& center, double radius, const Orbit& orbit,
+                   std::uint32_t width, std::uint32_t height) {
   if (!(radius > 0.0)) radius = 1.0;
   const glm::dvec3 direction = orbitDirection(orbit);
   const double distance = std::max(orbit.distance, 1e-6) * radius;
-  const glm::dvec3 eye = center + direction * distance;
-  const glm::dmat4 view = glm::lookAt(eye, center, glm::dvec3(0.0, 1.0, 0.0));
-  const double near = std::max(distance - radius, radius * 1e-4);
-  const double far = distance + radius;
+  const glm::dvec3 eye = target + direction * distance;
+  const glm::dmat4 view = glm::lookAt(eye, target, glm::dvec3(0.0, 1.0, 0.0));
+  // A sphere around the target that holds the scene's: the scene's own when the target is its centre.
+  const double reach = radius + glm::length(target - center);
+  const double near = std::max(distance - reach, radius * 1e-4);
+  const double far = distance + reach;
   return perspectiveCamera(view, glm::radians(kOrbitFovYDegrees), near, far, width, height);
 }
 

@@ -22,12 +22,6 @@ struct SceneFrame {
   double radius = 1.0;          // half the diagonal, > 0
 };
 
-Bounds sceneBounds(const Hierarchy& hierarchy, std::span<const std::uint32_t> roots) {
-  Bounds bounds;  // as summarizeScene unites them, so the orbit matches `pbs render`'s bit for bit
-  for (std::uint32_t root : roots) bounds.extend(hierarchy.worldBounds[root]);
-  return bounds;
-}
-
 SceneFrame sceneFrame(const Bounds& bounds) {
   SceneFrame frame;
   if (!bounds.empty()) frame.center = bounds.center();
@@ -212,6 +206,12 @@ std::vector<PathView> flythroughPath(const Hierarchy& hierarchy, std::span<const
 }
 
 }  // namespace
+
+Bounds sceneBounds(const Hierarchy& hierarchy, std::span<const std::uint32_t> roots) {
+  Bounds bounds;  // as summarizeScene unites them, so the orbit matches `pbs render`'s bit for bit
+  for (std::uint32_t root : roots) bounds.extend(hierarchy.worldBounds[root]);
+  return bounds;
+}
 
 std::optional<CameraPath> cameraPathFromName(std::string_view name) { return kPathNames.parse(name); }
 

@@ -69,6 +69,12 @@ FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, con
   }
 }
 
+void FrameRenderer::setLod(const LodOptions& lod) {
+  if (lod.splat != options_.lod.splat || lod.geometry != options_.lod.geometry)
+    throw std::invalid_argument("a frame renderer keeps the splat mode and geometry drawer it was made with");
+  options_.lod = lod;
+}
+
 void FrameRenderer::loadGeometry(const LodDraws& draws) {
   std::vector<std::uint32_t> meshes;
   for (std::uint32_t node : draws.geometryNodes)

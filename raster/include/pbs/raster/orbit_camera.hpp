@@ -27,4 +27,10 @@ glm::dvec3 orbitDirection(const Orbit& orbit);
 Camera orbitCamera(const glm::dvec3& center, double radius, const Orbit& orbit, std::uint32_t width,
                    std::uint32_t height);
 
+// The same orbit around `target` instead of the centre (a viewer's camera that has flown away from it):
+// distance in the sphere's radii, near and far enclosing the sphere from the eye. With the target at the
+// centre it is the camera above, bit for bit.
+Camera orbitCamera(const glm::dvec3& target, const glm::dvec3& center, double radius, const Orbit& orbit,
+                   std::uint32_t width, std::uint32_t height);
+
 }  // namespace pbs

@@ -68,6 +68,10 @@ inline constexpr double kFlyLowHeight = 0.10;   // of H, the loop's lowest point
 inline constexpr double kFlyHighHeight = 0.40;  // of H, the loop's highest point
 inline constexpr double kFlyPitchDegrees = 15.0;
 
+// The union of the roots' worldBounds: the box whose centre C and half diagonal R the paths use (empty
+// when there is no geometry).
+Bounds sceneBounds(const Hierarchy& hierarchy, std::span<const std::uint32_t> roots);
+
 // "orbit", "approach", "flythrough"; nullopt for any other name.
 std::optional<CameraPath> cameraPathFromName(std::string_view name);
 const char* cameraPathName(CameraPath path);

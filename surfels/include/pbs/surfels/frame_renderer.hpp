@@ -99,6 +99,10 @@ class FrameRenderer {
   double buildSeconds() const { return buildSeconds_; }  // 0 unless this renderer built the BVH
   // The budget the next frames spend (BudgetFeedback corrects it between frames).
   void setBudget(const LodBudget& budget) { options_.lod.budget = budget; }
+  // The LOD options of the next frames (a viewer's sliders). Their splat mode and geometry drawer must be
+  // the ones the renderer was made with, which decide its channels and its ray caster
+  // (std::invalid_argument).
+  void setLod(const LodOptions& lod);
   // Embree's peak allocation while building it (EmbreeScene::peakBytes); 0 unless this renderer built it.
   std::uint64_t bvhPeakBytes() const { return ownRays_ ? ownRays_->peakBytes() : 0; }
 

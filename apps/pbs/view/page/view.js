@@ -1,0 +1,319 @@
+// pbs view's page: sends the camera and the settings, shows the frames the server renders.
+// One frame is in flight at a time; a camera that moves meanwhile sends only its latest state when that
+// frame returns, and the server drops a request once a newer one of the same tab has arrived. While the
+// camera rests, the view is refined in stages (the full surfel frame, then exact, then 16 samples).
+'use strict';
+
+const $ = (id) => document.getElementById(id);
+const params = new URLSearchParams(location.search);
+const client = 'tab-' + Math.random().toString(36).slice(2, 10);
+
+const view = {
+  scene: null,
+  camera: null,       // {tx, ty, tz, az, el, dist}: an orbit around the target, dist in scene radii
+  show: params.get('show') || 'surfels',
+  refine: params.get('refine') !== '0',
+  lod: null,          // {threshold, overdraw, splat, point}
+  budgetKind: '',
+  budget: 0,
+  size: params.get('size') || 'fit',
+  movingScale: 1,     // the share of the overdraw moving frames draw, adapted to keep them fast
+};
+
+// What the tests read: the last frame shown, and whether the still view is fully refined.
+window.pbsView = { ready: false, shown: null, refined: false, framesShown: 0, errors: [] };
+
+let sequence = 0;
+let inFlight = null;        // {controller, still}
+let movePending = false;    // the camera moved while a frame was in flight
+let stillStages = [];       // what the resting camera still has to show, in order
+let stillTimer = 0;
+const movingTimes = [];     // when each moving frame was shown, for the frame rate
+
+function frameSize() {
+  if (view.size !== 'fit') return view.size.split('x').map(Number);
+  const stage = $('stage');
+  return [Math.max(16, Math.min(3840, stage.clientWidth)), Math.max(16, Math.min(2160, stage.clientHeight))];
+}
+
+// The frame's query: the camera, what to show, the settings. `overrides` changes some of them.
+function frameQuery(overrides) {
+  const [w, h] = frameSize();
+  const c = view.camera;
+  const q = {
+    client, seq: ++sequence, w, h,
+    tx: c.tx, ty: c.ty, tz: c.tz, az: c.az, el: c.el, dist: c.dist,
+    show: view.show, samples: 1, format: 'png',
+    threshold: view.lod.threshold, overdraw: view.lod.overdraw, splat: view.lod.splat,
+  };
+  if (view.lod.splat === 'nearest') q.point = view.lod.point;
+  if (view.budgetKind && view.budget > 0) q[view.budgetKind] = view.budget;
+  Object.assign(q, overrides);
+  return new URLSearchParams(q).toString();
+}
+
+function movingQuery() {
+  if (view.show === 'difference' || view.show === 'flip') {
+    // Comparisons need a 16-sample reference: while moving, the frame they compare.
+    return frameQuery({ show: view.scene.surfels ? 'surfels' : 'embree', format: 'jpeg',
+                        overdraw: view.lod.overdraw * view.movingScale });
+  }
+  const overdraw = view.show === 'surfels' ? view.lod.overdraw * view.movingScale : view.lod.overdraw;
+  return frameQuery({ format: 'jpeg', overdraw });
+}
+
+function stillQueries() {
+  const stages = [{ label: view.show, query: frameQuery({}) }];
+  if (!view.refine) return stages;
+  if (view.show === 'surfels') {
+    stages.push({ label: 'exact (rays)', query: frameQuery({ show: 'embree' }) });
+    stages.push({ label: 'exact (rays), 16 samples', query: frameQuery({ show: 'embree', samples: 16 }) });
+  } else if (view.show === 'exact' || view.show === 'embree') {
+    stages.push({ label: view.show + ', 16 samples', query: frameQuery({ samples: 16 }) });
+  }
+  return stages;
+}
+
+async function send(query, still, label) {
+  const controller = new AbortController();
+  inFlight = { controller, still };
+  const started = performance.now();
+  try {
+    const response = await fetch('/api/frame?' + query, { signal: controller.signal });
+    if (response.status === 204) return;  // superseded on the server: a newer frame follows
+    if (!response.ok) {
+      const message = (await response.text()).trim();
+      window.pbsView.errors.push(message);
+      $('status').textContent = message;
+      if (still) stillStages = [];
+      return;
+    }
+    const stats = JSON.parse(response.headers.get('X-Pbs-Stats') || '{}');
+    const blob = await response.blob();
+    const url = URL.createObjectURL(blob);
+    const image = $('frame');
+    const old = image.src;
+    image.src = url;
+    await image.decode().catch(() => {});
+    if (old.startsWith('blob:')) URL.revokeObjectURL(old);
+    const total = performance.now() - started;
+    showFrame({ query, still, label, stats, total, url });
+  } catch (error) {
+    if (error.name !== 'AbortError') {
+      window.pbsView.errors.push(String(error));
+      $('status').textContent = 'lost the server: ' + error;
+    }
+  } finally {
+    if (inFlight && inFlight.controller === controller) inFlight = null;
+    next();
+  }
+}
+
+function showFrame(frame) {
+  const now = performance.now();
+  if (!frame.still) {
+    movingTimes.push(now);
+    while (movingTimes.length && movingTimes[0] < now - 1000) movingTimes.shift();
+    // Moving surfel frames are kept under 50 ms (20 a second): fewer surfels when slower, more when fast.
+    if (view.show !== 'exact' && view.show !== 'embree') {
+      if (frame.total > 50) view.movingScale = Math.max(1 / 16, view.movingScale / 2);
+      else if (frame.total < 25) view.movingScale = Math.min(1, view.movingScale * 2);
+    }
+  }
+  window.pbsView.shown = { query: frame.query, still: frame.still, label: frame.label, stats: frame.stats };
+  window.pbsView.framesShown++;
+  window.pbsView.refined = frame.still && stillStages.length === 0;
+  const label = frame.still ? frame.label + (stillStages.length ? ' (refining…)' : '') : 'moving';
+  $('status').textContent = label;
+  const s = frame.stats;
+  const rows = [
+    ['shown', label],
+    ['drawn by', s.drawn_by + (s.samples > 1 ? ', ' + s.samples + ' samples' : '')],
+    ['render', s.render_ms.toFixed(1) + ' ms'],
+    ['encode', s.encode_ms.toFixed(1) + ' ms'],
+    ['delivered', frame.total.toFixed(1) + ' ms'],
+    ['frames a second (moving)', String(movingTimes.length)],
+    ['triangles', s.triangles.toLocaleString()],
+    ['surfels', s.surfels.toLocaleString()],
+    ['nodes as geometry', s.nodes_geometry.toLocaleString()],
+    ['nodes as surfels', s.nodes_surfels.toLocaleString()],
+    ['bytes', s.bytes.toLocaleString()],
+  ];
+  if (s.flip !== undefined) rows.push(['FLIP (foreground)', s.flip.toFixed(4)]);
+  const body = $('stats').tBodies[0];
+  body.replaceChildren(...rows.map(([name, value]) => {
+    const row = document.createElement('tr');
+    row.append(Object.assign(document.createElement('td'), { textContent: name }),
+               Object.assign(document.createElement('td'), { textContent: value }));
+    return row;
+  }));
+}
+
+// After a frame (or on a change): the camera's latest state if it moved, else the next still stage.
+function next() {
+  if (inFlight) return;
+  if (movePending) {
+    movePending = false;
+    send(movingQuery(), false, 'moving');
+  } else if (stillStages.length) {
+    const stage = stillStages.shift();
+    send(stage.query, true, stage.label);
+  }
+}
+
+function changed() {
+  window.pbsView.refined = false;
+  stillStages = [];
+  movePending = true;
+  if (inFlight && inFlight.still) inFlight.controller.abort();
+  clearTimeout(stillTimer);
+  stillTimer = setTimeout(() => { stillStages = stillQueries(); next(); }, 150);
+  next();
+}
+
+// The settings changed while still: refine again from the first stage.
+function settingsChanged() {
+  window.pbsView.refined = false;
+  if (inFlight) inFlight.controller.abort();
+  clearTimeout(stillTimer);
+  movePending = false;
+  stillStages = stillQueries();
+  next();
+}
+
+function orbitDirection(c) {
+  const az = c.az * Math.PI / 180, el = Math.max(-89.9, Math.min(89.9, c.el)) * Math.PI / 180;
+  return [Math.cos(el) * Math.cos(az), Math.sin(el), Math.cos(el) * Math.sin(az)];
+}
+
+function fly(forward, right, up) {
+  const c = view.camera, r = view.scene.radius;
+  const back = orbitDirection(c);
+  const ahead = back.map((v) => -v);
+  const side = [-ahead[2], 0, ahead[0]];
+  const length = Math.hypot(side[0], side[2]) || 1;
+  const step = 0.04 * c.dist * r;
+  c.tx += step * (forward * ahead[0] + right * side[0] / length);
+  c.ty += step * (forward * ahead[1] + up);
+  c.tz += step * (forward * ahead[2] + right * side[2] / length);
+  changed();
+}
+
+function resetCamera() {
+  const s = view.scene;
+  view.camera = { tx: s.center[0], ty: s.center[1], tz: s.center[2], az: s.orbit[0], el: s.orbit[1], dist: s.orbit[2] };
+}
+
+function goToPathFrame() {
+  const stops = view.scene.paths[$('path').value];
+  view.camera = Object.assign({}, stops[Number($('path-frame').value) % stops.length]);
+  changed();
+}
+
+function bindControls() {
+  const stage = $('stage');
+  let drag = null;
+  stage.addEventListener('pointerdown', (e) => {
+    drag = { x: e.clientX, y: e.clientY };
+    stage.setPointerCapture(e.pointerId);
+    stage.focus();
+  });
+  stage.addEventListener('pointermove', (e) => {
+    if (!drag) return;
+    const c = view.camera;
+    c.az += (e.clientX - drag.x) * 0.4;
+    c.el = Math.max(-89, Math.min(89, c.el + (e.clientY - drag.y) * 0.4));
+    drag = { x: e.clientX, y: e.clientY };
+    changed();
+  });
+  stage.addEventListener('pointerup', () => { drag = null; });
+  stage.addEventListener('wheel', (e) => {
+    e.preventDefault();
+    const c = view.camera;
+    c.dist = Math.max(1e-4, Math.min(1e4, c.dist * Math.exp(e.deltaY * 0.001)));
+    changed();
+  }, { passive: false });
+  document.addEventListener('keydown', (e) => {
+    if (e.target.tagName === 'INPUT' || e.target.tagName === 'SELECT') return;
+    const moves = { w: [1, 0, 0], s: [-1, 0, 0], a: [0, -1, 0], d: [0, 1, 0], q: [0, 0, -1], e: [0, 0, 1] };
+    const key = e.key.toLowerCase();
+    if (moves[key]) fly(...moves[key]);
+    else if (key === 'r') { resetCamera(); changed(); }
+  });
+
+  for (const input of document.querySelectorAll('input[name=show]')) {
+    input.checked = input.value === view.show;
+    input.disabled = input.value === 'surfels' && !view.scene.surfels;
+    input.addEventListener('change', () => { view.show = input.value; settingsChanged(); });
+  }
+  $('refine').checked = view.refine;
+  $('refine').addEventListener('change', () => { view.refine = $('refine').checked; settingsChanged(); });
+
+  // Sliders on a log2 scale where the values span orders of magnitude.
+  const logSlider = (id, key) => {
+    const input = $(id);
+    input.value = Math.log2(view.lod[key]);
+    const update = () => { $(id + '-value').textContent = +view.lod[key].toPrecision(3); };
+    update();
+    input.addEventListener('input', () => { view.lod[key] = 2 ** Number(input.value); update(); settingsChanged(); });
+  };
+  logSlider('threshold', 'threshold');
+  logSlider('overdraw', 'overdraw');
+  $('splat').value = view.lod.splat;
+  const point = $('point');
+  point.value = view.lod.point;
+  const pointState = () => {
+    point.disabled = view.lod.splat !== 'nearest';
+    $('point-value').textContent = view.lod.point > 0 ? view.lod.point : 'from the prefix';
+  };
+  pointState();
+  $('splat').addEventListener('change', () => {
+    view.lod.splat = $('splat').value;
+    if (view.lod.splat !== 'nearest') { view.lod.point = 0; point.value = 0; }
+    pointState();
+    settingsChanged();
+  });
+  point.addEventListener('input', () => { view.lod.point = Number(point.value); pointState(); settingsChanged(); });
+  const budgetChanged = () => {
+    view.budgetKind = $('budget-kind').value;
+    view.budget = Math.max(0, Number($('budget').value) || 0);
+    settingsChanged();
+  };
+  $('budget-kind').addEventListener('change', budgetChanged);
+  $('budget').addEventListener('change', budgetChanged);
+
+  $('path').addEventListener('change', goToPathFrame);
+  $('path-frame').addEventListener('input', goToPathFrame);
+  let playing = 0;
+  $('play').addEventListener('click', () => {
+    if (playing) { clearInterval(playing); playing = 0; $('play').textContent = 'play'; return; }
+    $('play').textContent = 'stop';
+    playing = setInterval(() => {
+      const frame = $('path-frame');
+      frame.value = (Number(frame.value) + 1) % (Number(frame.max) + 1);
+      goToPathFrame();
+    }, 100);
+  });
+  $('size').value = view.size;
+  $('size').addEventListener('change', () => { view.size = $('size').value; settingsChanged(); });
+  window.addEventListener('resize', () => { if (view.size === 'fit') settingsChanged(); });
+}
+
+async function start() {
+  const response = await fetch('/api/scene');
+  view.scene = await response.json();
+  $('scene-name').textContent = view.scene.name + ', ' + view.scene.triangles.toLocaleString() + ' triangles';
+  view.lod = Object.assign({}, view.scene.lod);
+  if (!view.scene.surfels && view.show === 'surfels') view.show = 'embree';
+  resetCamera();
+  $('path-frame').max = view.scene.paths.orbit.length - 1;
+  bindControls();
+  window.pbsView.ready = true;
+  settingsChanged();
+}
+
+// For tests and scripts: set the camera as the page's own controls would.
+window.pbsView.setCamera = (camera) => { Object.assign(view.camera, camera); changed(); };
+window.pbsView.camera = () => Object.assign({}, view.camera);
+
+start().catch((error) => { $('status').textContent = 'cannot reach the server: ' + error; });

@@ -1,0 +1,152 @@
+// The routes of ViewServer, the table of each client's newest frame, and a frame's encoding.
+#include "view_server.hpp"
+
+#include "../png_writer.hpp"
+#include "jpeg_encoder.hpp"
+#include "view_page.hpp"
+
+#include <httplib.h>
+
+#include <chrono>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace pbs::cli {
+namespace {
+
+constexpr int kJpegQuality = 85;
+constexpr std::size_t kMaxClients = 4096;  // the table of newest frames starts afresh beyond it
+
+// Each client's newest frame number: an older request still waiting for the renderer is dropped.
+class NewestFrames {
+ public:
+  void note(const std::string& client, std::uint64_t sequence) {
+    const std::lock_guard lock(mutex_);
+    if (newest_.size() >= kMaxClients && !newest_.count(client)) newest_.clear();
+    std::uint64_t& newest = newest_[client];
+    newest = std::max(newest, sequence);
+  }
+  bool superseded(const std::string& client, std::uint64_t sequence) const {
+    const std::lock_guard lock(mutex_);
+    const auto found = newest_.find(client);
+    return found != newest_.end() && found->second > sequence;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::unordered_map<std::string, std::uint64_t> newest_;
+};
+
+// Straight RGBA over white, as the page shows it, for JPEG (which has no alpha).
+std::vector<std::uint8_t> overWhite(const std::vector<std::uint8_t>& rgba) {
+  std::vector<std::uint8_t> rgb(rgba.size() / 4 * 3);
+  for (std::size_t i = 0, o = 0; i < rgba.size(); i += 4, o += 3) {
+    const unsigned alpha = rgba[i + 3];
+    for (int c = 0; c < 3; ++c) rgb[o + c] = std::uint8_t((rgba[i + c] * alpha + 255u * (255u - alpha) + 127u) / 255u);
+  }
+  return rgb;
+}
+
+nlohmann::json frameStats(const ViewFrame& frame, double encodeSeconds, std::size_t bytes) {
+  nlohmann::json stats = {{"render_ms", frame.seconds * 1e3},
+                          {"encode_ms", encodeSeconds * 1e3},
+                          {"bytes", bytes},
+                          {"drawn_by", renderModeName(frame.drawnBy)},
+                          {"samples", frame.samples},
+                          {"triangles", frame.stats.triangles},
+                          {"surfels", frame.stats.surfels},
+                          {"nodes_geometry", frame.stats.nodesGeometry},
+                          {"nodes_surfels", frame.stats.nodesSurfels}};
+  if (frame.foregroundFlip) stats["flip"] = *frame.foregroundFlip;
+  return stats;
+}
+
+std::multimap<std::string, std::string> parameters(const httplib::Request& request) {
+  return {request.params.begin(), request.params.end()};
+}
+
+}  // namespace
+
+struct ViewServer::State {
+  ViewRenderer& renderer;
+  nlohmann::json scene;
+  ViewRequest defaults;
+  NewestFrames newest;
+  httplib::Server http;
+};
+
+ViewServer::ViewServer(ViewRenderer& renderer, nlohmann::json scene, const LodOptions& defaults)
+    : state_(new State{renderer, std::move(scene), {}, {}, {}}) {
+  state_->defaults.target = renderer.center();
+  state_->defaults.lod = defaults;
+  httplib::Server& http = state_->http;
+  // Requests carry their parameters in the URL: nothing has a body.
+  http.set_payload_max_length(1024);
+  http.set_read_timeout(5, 0);
+  http.set_write_timeout(10, 0);
+  for (const PageFile& file : viewPageFiles())
+    http.Get(std::string(file.path), [&file](const httplib::Request&, httplib::Response& response) {
+      response.set_content(file.content.data(), file.content.size(), std::string(file.type).c_str());
+    });
+  State& state = *state_;
+  http.Get("/api/scene", [&state](const httplib::Request&, httplib::Response& response) {
+    response.set_header("Cache-Control", "no-store");
+    response.set_content(state.scene.dump(), "application/json");
+  });
+  http.Get("/api/frame", [&state](const httplib::Request& http_request, httplib::Response& response) {
+    response.set_header("Cache-Control", "no-store");
+    try {
+      const ViewRequest request = parseViewRequest(parameters(http_request), state.defaults);
+      state.newest.note(request.client, request.sequence);
+      const std::optional<ViewFrame> frame = state.renderer.render(
+          request, [&] { return state.newest.superseded(request.client, request.sequence); });
+      if (!frame) {
+        response.status = 204;  // a newer frame of this client is on its way
+        response.set_header("X-Pbs-Dropped", "superseded");
+        return;
+      }
+      // Encoded outside the renderer's lock: the next frame renders meanwhile.
+      const auto start = std::chrono::steady_clock::now();
+      const std::vector<std::uint8_t> bytes =
+          request.encoding == ViewEncoding::Jpeg
+              ? encodeJpeg(overWhite(frame->rgba8), request.width, request.height, kJpegQuality)
+              : encodePng8(request.width, request.height, 4, frame->rgba8.data());
+      const double encodeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      response.set_header("X-Pbs-Stats", frameStats(*frame, encodeSeconds, bytes.size()).dump());
+      response.set_content(reinterpret_cast<const char*>(bytes.data()), bytes.size(),
+                           request.encoding == ViewEncoding::Jpeg ? "image/jpeg" : "image/png");
+    } catch (const std::invalid_argument& error) {
+      response.status = 400;
+      response.set_content(std::string("error: ") + error.what() + "\n", "text/plain; charset=utf-8");
+    }
+  });
+  // Anything else the server could not do (an allocation refused, a renderer's failure) is a 500 with the
+  // reason, never a crash of the server.
+  http.set_exception_handler([](const httplib::Request&, httplib::Response& response, std::exception_ptr thrown) {
+    std::string reason = "unknown";
+    try {
+      std::rethrow_exception(thrown);
+    } catch (const std::exception& error) {
+      reason = error.what();
+    } catch (...) {
+    }
+    response.status = 500;
+    response.set_content("error: " + reason + "\n", "text/plain; charset=utf-8");
+  });
+}
+
+ViewServer::~ViewServer() = default;
+
+int ViewServer::bind(const std::string& host, int port) {
+  const int bound = port == 0 ? state_->http.bind_to_any_port(host) : state_->http.bind_to_port(host, port) ? port : -1;
+  if (bound <= 0) throw std::runtime_error("cannot listen on " + host + ":" + std::to_string(port));
+  return bound;
+}
+
+bool ViewServer::serve() { return state_->http.listen_after_bind(); }
+
+void ViewServer::stop() { state_->http.stop(); }
+
+}  // namespace pbs::cli

@@ -1,0 +1,246 @@
+// `pbs view` as a client sees it: the page and the scene served, frames equal to `pbs render`'s for the
+// same camera, bad requests answered 400 with the reason, superseded frames dropped, several clients at
+// once, and Ctrl-C ending it cleanly. The server listens on 127.0.0.1 and is stopped by its process id.
+#include "cli_scenes.hpp"
+#include "server_process.hpp"
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <cstdio>
+#include <thread>
+
+namespace pbs::test {
+namespace {
+
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+// A view of the groups scene with its surfels, and a client of it.
+struct ViewedGroups {
+  ScratchDir scratch;
+  std::pair<std::string, std::string> files = groupsWithSurfels(scratch);
+  std::filesystem::path scene = scratch / "groups.glb";
+  std::filesystem::path surfels = scratch / "groups.surfels";
+  ViewServer server{{"view", scene.string(), "--surfels", surfels.string()}};
+  httplib::Client client{"127.0.0.1", server.port};
+  nlohmann::json description() {
+    const auto response = client.Get("/api/scene");
+    EXPECT_TRUE(response && response->status == 200);
+    return response ? nlohmann::json::parse(response->body) : nlohmann::json{};
+  }
+  // The frame query for an orbit around the scene's centre, as `pbs render --orbit AZ,EL,DIST` sees it.
+  std::string orbitQuery(double az, double el, double dist, const std::string& more) {
+    const nlohmann::json center = description()["center"];
+    return "/api/frame?w=160&h=96&az=" + number(az) + "&el=" + number(el) + "&dist=" + number(dist) +
+           "&tx=" + number(center[0]) + "&ty=" + number(center[1]) + "&tz=" + number(center[2]) + more;
+  }
+};
+
+TEST(View, ServesThePageAndDescribesTheScene) {
+  ViewedGroups view;
+  ASSERT_GT(view.server.port, 0);
+  const auto page = view.client.Get("/");
+  ASSERT_TRUE(page);
+  EXPECT_EQ(page->status, 200);
+  EXPECT_NE(page->body.find("<title>pbs view</title>"), std::string::npos);
+  EXPECT_NE(page->get_header_value("Content-Type").find("text/html"), std::string::npos);
+  for (const char* file : {"/view.js", "/view.css"}) {
+    const auto served = view.client.Get(file);
+    ASSERT_TRUE(served);
+    EXPECT_EQ(served->status, 200) << file;
+    EXPECT_GT(served->body.size(), 500u) << file;
+  }
+  const nlohmann::json scene = view.description();
+  EXPECT_TRUE(scene["name"].get<std::string>().ends_with("groups.glb"));
+  EXPECT_TRUE(scene["surfels"].get<bool>());
+  EXPECT_GT(scene["radius"].get<double>(), 0.0);
+  for (const char* path : {"orbit", "approach", "flythrough"}) EXPECT_EQ(scene["paths"][path].size(), 24u) << path;
+  // Nothing but the page, the description and frames.
+  for (const char* other : {"/etc/passwd", "/../CMakeLists.txt", "/api/other", "/index.html"}) {
+    const auto response = view.client.Get(other);
+    ASSERT_TRUE(response);
+    EXPECT_EQ(response->status, 404) << other;
+  }
+}
+
+TEST(View, FramesAreTheBytesPbsRenderWritesForTheSameCamera) {
+  ViewedGroups view;
+  ASSERT_GT(view.server.port, 0);
+  for (const std::string mode : {"surfels", "exact", "embree"}) {
+    const auto frame = view.client.Get(view.orbitQuery(75, 35, 2.2, "&show=" + mode));
+    ASSERT_TRUE(frame);
+    ASSERT_EQ(frame->status, 200) << frame->body;
+    EXPECT_EQ(frame->get_header_value("Content-Type"), "image/png");
+    const nlohmann::json stats = nlohmann::json::parse(frame->get_header_value("X-Pbs-Stats"));
+    EXPECT_EQ(stats["drawn_by"], mode);
+    const std::filesystem::path rendered = view.scratch / (mode + ".png");
+    const CommandResult render = runPbs("render " + quoted(view.scene) + " --surfels " + quoted(view.surfels) +
+                                        " --mode " + mode + " --orbit 75,35,2.2 --size 160x96 -o " + quoted(rendered));
+    ASSERT_EQ(render.status, 0) << render.err;
+    EXPECT_TRUE(frame->body == readFile(rendered)) << mode << ": the served PNG differs from pbs render's";
+  }
+  // Supersampled and moving (JPEG) frames too.
+  const auto sampled = view.client.Get(view.orbitQuery(75, 35, 2.2, "&show=embree&samples=4"));
+  ASSERT_TRUE(sampled && sampled->status == 200);
+  const CommandResult render4 =
+      runPbs("render " + quoted(view.scene) + " --mode embree --samples 4 --orbit 75,35,2.2 --size 160x96 -o " +
+             quoted(view.scratch / "embree4.png"));
+  ASSERT_EQ(render4.status, 0) << render4.err;
+  EXPECT_TRUE(sampled->body == readFile(view.scratch / "embree4.png"));
+  const auto moving = view.client.Get(view.orbitQuery(75, 35, 2.2, "&format=jpeg"));
+  ASSERT_TRUE(moving && moving->status == 200);
+  EXPECT_EQ(moving->get_header_value("Content-Type"), "image/jpeg");
+  EXPECT_EQ(moving->body.substr(0, 3), std::string("\xFF\xD8\xFF"));
+}
+
+TEST(View, ComparisonsAndSettingsChangeTheFrame) {
+  ViewedGroups view;
+  ASSERT_GT(view.server.port, 0);
+  const auto surfels = view.client.Get(view.orbitQuery(10, 20, 2.5, ""));
+  const auto fewer = view.client.Get(view.orbitQuery(10, 20, 2.5, "&overdraw=0.25"));
+  const auto nearest = view.client.Get(view.orbitQuery(10, 20, 2.5, "&splat=nearest&point=3"));
+  const auto flip = view.client.Get(view.orbitQuery(10, 20, 2.5, "&show=flip"));
+  const auto difference = view.client.Get(view.orbitQuery(10, 20, 2.5, "&show=difference"));
+  for (const auto* response : {&surfels, &fewer, &nearest, &flip, &difference}) {
+    ASSERT_TRUE(*response);
+    ASSERT_EQ((*response)->status, 200) << (*response)->body;
+  }
+  EXPECT_NE(surfels->body, fewer->body);
+  EXPECT_NE(surfels->body, nearest->body);
+  const nlohmann::json fewerStats = nlohmann::json::parse(fewer->get_header_value("X-Pbs-Stats"));
+  const nlohmann::json allStats = nlohmann::json::parse(surfels->get_header_value("X-Pbs-Stats"));
+  EXPECT_LT(fewerStats["surfels"].get<double>(), allStats["surfels"].get<double>());
+  const nlohmann::json flipStats = nlohmann::json::parse(flip->get_header_value("X-Pbs-Stats"));
+  EXPECT_GT(flipStats["flip"].get<double>(), 0.0);
+  EXPECT_LT(flipStats["flip"].get<double>(), 1.0);
+  EXPECT_NE(flip->body, difference->body);
+}
+
+TEST(View, BadRequestsAreRefusedWithTheReasonAndTheServerGoesOn) {
+  ViewedGroups view;
+  ASSERT_GT(view.server.port, 0);
+  const std::pair<const char*, const char*> bad[] = {
+      {"/api/frame?w=abc", "w: expected a whole number"},
+      {"/api/frame?w=100000", "w: expected a whole number in [16, 3840]"},
+      {"/api/frame?az=nan", "az: expected a number"},
+      {"/api/frame?dist=0", "dist: expected a number"},
+      {"/api/frame?el=1e400", "el: expected a number"},
+      {"/api/frame?show=wireframe", "show: expected surfels, exact, embree"},
+      {"/api/frame?samples=3", "samples: expected 1, 4, 16 or 64"},
+      {"/api/frame?format=gif", "format: expected jpeg or png"},
+      {"/api/frame?client=a%20b", "client: expected 1 to 64 letters"},
+      {"/api/frame?w=64&w=65", "w: given more than once"},
+      {"/api/frame?hack=1", "unknown parameter 'hack'"},
+      {"/api/frame?point=2", "point: a fixed point size is for splat=nearest"},
+      {"/api/frame?budget=10&budget_ms=5", "budget and budget_ms: give one"},
+  };
+  for (const auto& [query, reason] : bad) {
+    const auto response = view.client.Get(query);
+    ASSERT_TRUE(response) << query;
+    EXPECT_EQ(response->status, 400) << query;
+    EXPECT_EQ(response->body.rfind(std::string("error: ") + reason, 0), 0u) << query << ": " << response->body;
+  }
+  // A body is refused, a long URL too; then a good frame still comes.
+  const auto posted = view.client.Post("/api/frame", std::string(1 << 16, 'x'), "text/plain");
+  ASSERT_TRUE(posted);
+  EXPECT_GE(posted->status, 400);
+  const auto longUrl = view.client.Get("/api/frame?client=" + std::string(20000, 'a'));
+  EXPECT_TRUE(!longUrl || longUrl->status >= 400);
+  const auto good = view.client.Get("/api/frame?w=64&h=64");
+  ASSERT_TRUE(good);
+  EXPECT_EQ(good->status, 200);
+}
+
+TEST(View, AFrameSupersededByTheSameClientIsDropped) {
+  ViewedGroups view;
+  ASSERT_GT(view.server.port, 0);
+  const auto newer = view.client.Get("/api/frame?w=64&h=64&client=tab1&seq=5");
+  ASSERT_TRUE(newer && newer->status == 200);
+  const auto older = view.client.Get("/api/frame?w=64&h=64&client=tab1&seq=3");
+  ASSERT_TRUE(older);
+  EXPECT_EQ(older->status, 204);
+  EXPECT_EQ(older->get_header_value("X-Pbs-Dropped"), "superseded");
+  // Another client's older number is its own.
+  const auto other = view.client.Get("/api/frame?w=64&h=64&client=tab2&seq=3");
+  ASSERT_TRUE(other);
+  EXPECT_EQ(other->status, 200);
+}
+
+// A bounded load test: several clients orbiting at once, each with its own sequence. Every answer is a
+// frame or a drop, never an error, and the server serves on afterwards.
+TEST(View, SeveralClientsMovingAtOnce) {
+  ViewedGroups view;
+  ASSERT_GT(view.server.port, 0);
+  constexpr int kClients = 4, kFrames = 12;
+  std::atomic<int> frames{0}, dropped{0}, failed{0};
+  std::vector<std::thread> clients;
+  for (int c = 0; c < kClients; ++c)
+    clients.emplace_back([&, c] {
+      httplib::Client client("127.0.0.1", view.server.port);
+      for (int f = 0; f < kFrames; ++f) {
+        const std::string query = "/api/frame?w=320&h=180&format=jpeg&client=load" + std::to_string(c) +
+                                  "&seq=" + std::to_string(f) + "&az=" + std::to_string(30 * c + 15 * f);
+        const auto response = client.Get(query);
+        if (response && response->status == 200)
+          ++frames;
+        else if (response && response->status == 204)
+          ++dropped;
+        else
+          ++failed;
+      }
+    });
+  for (std::thread& client : clients) client.join();
+  EXPECT_EQ(failed.load(), 0);
+  EXPECT_EQ(frames.load() + dropped.load(), kClients * kFrames);
+  EXPECT_GT(frames.load(), 0);
+  const auto after = view.client.Get("/api/frame?w=64&h=64");
+  ASSERT_TRUE(after);
+  EXPECT_EQ(after->status, 200);
+  EXPECT_TRUE(view.server.process.running());
+}
+
+TEST(View, CtrlCStopsItCleanly) {
+  ViewedGroups view;
+  ASSERT_GT(view.server.port, 0);
+  ASSERT_TRUE(view.client.Get("/api/frame?w=64&h=64"));
+  const std::optional<int> status = view.server.process.stop(SIGINT, 30.0);
+  ASSERT_TRUE(status) << "pbs view did not stop on SIGINT";
+  EXPECT_EQ(*status, 0) << view.server.process.err();
+  EXPECT_NE(view.server.process.out().find("pbs view: stopped"), std::string::npos);
+}
+
+TEST(View, WithoutSurfelsItShowsTheSceneExactly) {
+  ScratchDir scratch;
+  const std::string scene = (scratch / "groups.glb").string();
+  groupsFile(scratch);
+  ViewServer server({"view", scene});
+  ASSERT_GT(server.port, 0);
+  httplib::Client client("127.0.0.1", server.port);
+  const auto description = client.Get("/api/scene");
+  ASSERT_TRUE(description);
+  EXPECT_FALSE(nlohmann::json::parse(description->body)["surfels"].get<bool>());
+  const auto surfels = client.Get("/api/frame?w=64&h=64&show=surfels");
+  ASSERT_TRUE(surfels);
+  EXPECT_EQ(surfels->status, 400);
+  EXPECT_NE(surfels->body.find("no .surfels file"), std::string::npos) << surfels->body;
+  const auto exact = client.Get("/api/frame?w=64&h=64&show=embree");
+  ASSERT_TRUE(exact);
+  EXPECT_EQ(exact->status, 200);
+}
+
+TEST(View, BadCommandLinesAreOneErrorLine) {
+  ScratchDir scratch;
+  const CommandResult missing = runPbs("view " + quoted(scratch / "none.glb") + " --port 0");
+  EXPECT_EQ(missing.status, 1);
+  EXPECT_EQ(missing.err.rfind("error: ", 0), 0u) << missing.err;
+  const CommandResult port = runPbs("view default --port 70000");
+  EXPECT_EQ(port.status, 2);
+}
+
+}  // namespace
+}  // namespace pbs::test
