@@ -31,9 +31,7 @@ struct ViewOptions {
 
 constexpr std::uint32_t kPathFrames = 24;  // the page's "go to" stops along each named path
 
-bool isLoopback(const std::string& host) {
-  return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
-}
+bool isLoopback(const std::string& host) { return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0; }
 
 // A path camera as the page's camera: an orbit around a target in front of the eye, at the distance of
 // the scene's centre along the view (at least a twentieth of its radius).
@@ -75,13 +73,13 @@ nlohmann::json sceneJson(const LoadedScene& loaded, const ViewRenderer& renderer
 void run(const ViewOptions& options) {
   // Frame buffers of the largest view at its most (G-buffer, comparison images), for a few renderers.
   const std::uint64_t pixelBytes = std::uint64_t(kMaxViewWidth) * kMaxViewHeight * (36 + 32) * 2;
-  FrameScene scene({.scene = options.scene,
-                    .surfels = options.surfels,
-                    .cacheBytes = options.cacheMb << 20,
-                    .alongside = pixelBytes,
-                    .what = "viewing frames up to " + std::to_string(kMaxViewWidth) + "x" +
-                            std::to_string(kMaxViewHeight),
-                    .maxMemory = options.maxMemory});
+  FrameScene scene(
+      {.scene = options.scene,
+       .surfels = options.surfels,
+       .cacheBytes = options.cacheMb << 20,
+       .alongside = pixelBytes,
+       .what = "viewing frames up to " + std::to_string(kMaxViewWidth) + "x" + std::to_string(kMaxViewHeight),
+       .maxMemory = options.maxMemory});
   ViewRenderer renderer(scene, options.maxMemory);
   ViewServer server(renderer, sceneJson(scene.loaded, renderer, options.lod), options.lod);
   const int port = server.bind(options.bind, options.port);

@@ -12,8 +12,7 @@ FrameScene::FrameScene(const FrameSceneOptions& options) {
   // rebuilt as a loose octree is read whole, its meshes split).
   std::optional<SurfelFileReader> surfelFile;
   if (!options.surfels.empty()) surfelFile.emplace(options.surfels);
-  const bool meshesOnDemand =
-      surfelFile && options.meshesOnDemand && drawableWithoutMeshes(options.scene, *surfelFile);
+  const bool meshesOnDemand = surfelFile && options.meshesOnDemand && drawableWithoutMeshes(options.scene, *surfelFile);
   foreseenBytes = options.alongside;
   if (surfelFile) foreseenBytes += options.cacheBytes;
   if (meshesOnDemand) foreseenBytes += options.cacheBytes;

@@ -15,14 +15,14 @@
 namespace pbs::cli {
 
 struct FrameSceneOptions {
-  std::string scene;    // a .gltf/.glb file or a built-in name
-  std::string surfels;  // its .surfels file; empty: none
+  std::string scene;                         // a .gltf/.glb file or a built-in name
+  std::string surfels;                       // its .surfels file; empty: none
   std::uint64_t cacheBytes = 1024ull << 20;  // each of the surfel cache and the meshes read on demand
   bool meshesOnDemand = true;                // false: the meshes are read whole even where the file allows
   bool rays = false;                         // the frames cast rays at the whole scene (its fit counts the BVH)
-  std::uint64_t alongside = 0;  // bytes the frames need besides the scene and the caches (buffers)
-  std::string what;             // what those bytes are for, in a refusal ("rendering 1920x1080")
-  std::uint64_t maxMemory = 0;  // --max-memory; 0: the machine's
+  std::uint64_t alongside = 0;               // bytes the frames need besides the scene and the caches (buffers)
+  std::string what;                          // what those bytes are for, in a refusal ("rendering 1920x1080")
+  std::uint64_t maxMemory = 0;               // --max-memory; 0: the machine's
 };
 
 // Not movable: the caches refer to the scene they belong to.

@@ -121,7 +121,7 @@ std::optional<ViewFrame> ViewRenderer::render(const ViewRequest& request, const 
   const std::lock_guard lock(mutex_);
   if (superseded()) return std::nullopt;
   if (request.show == ViewShow::Difference || request.show == ViewShow::Flip) return renderComparison(request);
-  const RenderMode mode = request.show == ViewShow::Surfels  ? RenderMode::Surfels
+  const RenderMode mode = request.show == ViewShow::Surfels ? RenderMode::Surfels
                           : request.show == ViewShow::Exact ? RenderMode::Exact
                                                             : RenderMode::Embree;
   const auto start = std::chrono::steady_clock::now();

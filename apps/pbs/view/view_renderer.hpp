@@ -21,7 +21,7 @@
 namespace pbs::cli {
 
 struct ViewFrame {
-  std::vector<std::uint8_t> rgba8;  // width × height, straight RGBA (colour 0 where alpha is 0)
+  std::vector<std::uint8_t> rgba8;           // width × height, straight RGBA (colour 0 where alpha is 0)
   RenderMode drawnBy = RenderMode::Surfels;  // the shown frame's mode (the test frame for difference and FLIP)
   std::uint32_t samples = 1;
   double seconds = 0.0;  // every frame rendered for it (the reference too, unless it was kept)

@@ -92,7 +92,8 @@ ViewRequest parseViewRequest(const std::multimap<std::string, std::string>& para
          if (samples != 1 && samples != 4 && samples != 16 && samples != 64) refuse(name, value, "1, 4, 16 or 64");
          request.samples = std::uint32_t(samples);
        }},
-      {"format", [&](auto& name, auto& value) { request.encoding = choice(name, value, kEncodingNames, "jpeg or png"); }},
+      {"format",
+       [&](auto& name, auto& value) { request.encoding = choice(name, value, kEncodingNames, "jpeg or png"); }},
       {"threshold", [&](auto& name, auto& value) { request.lod.threshold = number(name, value, 1, 16384); }},
       {"overdraw", [&](auto& name, auto& value) { request.lod.overdraw = number(name, value, 0.25, 256); }},
       {"splat",
@@ -117,8 +118,7 @@ ViewRequest parseViewRequest(const std::multimap<std::string, std::string>& para
   }
   if (request.lod.pointSize > 0.0f && request.lod.splat != SplatMode::Nearest)
     throw std::invalid_argument("point: a fixed point size is for splat=nearest (0 sizes discs from the prefix)");
-  if (seen.count("budget") && seen.count("budget_ms"))
-    throw std::invalid_argument("budget and budget_ms: give one");
+  if (seen.count("budget") && seen.count("budget_ms")) throw std::invalid_argument("budget and budget_ms: give one");
   return request;
 }
 

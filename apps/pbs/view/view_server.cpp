@@ -100,8 +100,8 @@ ViewServer::ViewServer(ViewRenderer& renderer, nlohmann::json scene, const LodOp
     try {
       const ViewRequest request = parseViewRequest(parameters(http_request), state.defaults);
       state.newest.note(request.client, request.sequence);
-      const std::optional<ViewFrame> frame = state.renderer.render(
-          request, [&] { return state.newest.superseded(request.client, request.sequence); });
+      const std::optional<ViewFrame> frame =
+          state.renderer.render(request, [&] { return state.newest.superseded(request.client, request.sequence); });
       if (!frame) {
         response.status = 204;  // a newer frame of this client is on its way
         response.set_header("X-Pbs-Dropped", "superseded");

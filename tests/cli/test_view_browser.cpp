@@ -1,0 +1,138 @@
+// `pbs view` in a real browser: headless Chromium, driven through chromedriver, opens the page, orbits by
+// dragging, flies with the keys, moves a slider, switches to the FLIP map and goes to a path's view; after
+// each, the frame the page shows must be the one `pbs render` makes for the page's camera. Skips where
+// Chromium or chromedriver is absent (the README's test command installs both).
+#include "cli_scenes.hpp"
+#include "server_process.hpp"
+#include "webdriver.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <regex>
+
+namespace pbs::test {
+namespace {
+
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+struct BrowserView {
+  ScratchDir scratch;
+  std::pair<std::string, std::string> files = groupsWithSurfels(scratch);
+  std::filesystem::path scene = scratch / "groups.glb";
+  std::filesystem::path surfels = scratch / "groups.surfels";
+  ViewServer server{{"view", scene.string(), "--surfels", surfels.string()}};
+  Browser browser{900, 500};
+
+  // Waits for the page's still view to be fully refined, then returns what it shows.
+  nlohmann::json refined() {
+    EXPECT_TRUE(browser.waitFor("window.pbsView && window.pbsView.refined", 60.0))
+        << "the page did not finish refining; errors: " << browser.run("return window.pbsView.errors;").dump();
+    return browser.run("return window.pbsView.shown;");
+  }
+  // The shown frame's query asked again (as another client, so that it is not dropped as superseded).
+  std::string fetchShown(const nlohmann::json& shown) {
+    httplib::Client client("127.0.0.1", server.port);
+    const std::string query =
+        std::regex_replace(shown["query"].get<std::string>(), std::regex("client=[^&]*"), "client=check");
+    const auto frame = client.Get("/api/frame?" + query);
+    EXPECT_TRUE(frame && frame->status == 200);
+    return frame ? frame->body : "";
+  }
+  // What `pbs render` writes for the page's camera (when its target is the scene's centre) and settings.
+  std::string rendered(const std::string& more) {
+    const nlohmann::json camera = browser.run("return window.pbsView.camera();");
+    const std::filesystem::path file = scratch / "rendered.png";
+    const CommandResult render = runPbs(
+        "render " + quoted(scene) + " --surfels " + quoted(surfels) + " --size 320x180 --orbit " +
+        number(camera["az"]) + "," + number(camera["el"]) + "," + number(camera["dist"]) + more + " -o " + quoted(file));
+    EXPECT_EQ(render.status, 0) << render.err;
+    return readFile(file);
+  }
+};
+
+TEST(ViewBrowser, DraggingTogglingAndSlidingChangeTheFramesAsPbsRenderWould) {
+  if (!std::filesystem::exists(kChromium) || !std::filesystem::exists(kChromedriver))
+    GTEST_SKIP() << "Chromium or chromedriver not installed (apt-get install chromium chromium-driver; "
+                    "scripts/setup.sh installs them)";
+  BrowserView view;
+  ASSERT_GT(view.server.port, 0);
+  ASSERT_TRUE(view.browser.started()) << "chromedriver did not start a headless Chromium session";
+  const std::string url = "http://127.0.0.1:" + std::to_string(view.server.port) + "/?size=320x180";
+
+  // Opened, the page refines its still view to 16 rays a pixel.
+  view.browser.open(url);
+  nlohmann::json shown = view.refined();
+  EXPECT_EQ(shown["stats"]["drawn_by"], "embree");
+  EXPECT_EQ(shown["stats"]["samples"], 16);
+  EXPECT_TRUE(view.fetchShown(shown) == view.rendered(" --mode embree --samples 16"));
+
+  // Refinement off: the still view is the surfel frame, pbs render's default view at the same size.
+  view.browser.click("#refine");
+  shown = view.refined();
+  EXPECT_EQ(shown["stats"]["drawn_by"], "surfels");
+  const std::string first = view.fetchShown(shown);
+  EXPECT_TRUE(first == view.rendered(""));
+
+  // Dragging orbits: 120 pixels to the right turn the azimuth by 48 degrees.
+  const double azimuth = view.browser.run("return window.pbsView.camera().az;").get<double>();
+  view.browser.drag("#stage", 120, 0, 6);
+  shown = view.refined();
+  const nlohmann::json camera = view.browser.run("return window.pbsView.camera();");
+  EXPECT_NEAR(camera["az"].get<double>(), azimuth + 48.0, 1e-9);
+  const std::string orbited = view.fetchShown(shown);
+  EXPECT_TRUE(orbited != first);
+  EXPECT_TRUE(orbited == view.rendered(""));
+
+  // A slider: the overdraw, moved down with the keyboard, changes which nodes draw surfels (arrays that
+  // ran out at 16 suffice at less, so fewer nodes are descended into).
+  const double surfelsBefore = shown["stats"]["surfels"].get<double>();
+  view.browser.click("#overdraw");
+  view.browser.type({kArrowLeft, kArrowLeft, kArrowLeft, kArrowLeft, kArrowLeft, kArrowLeft, kArrowLeft, kArrowLeft});
+  shown = view.refined();
+  const double overdraw = view.browser.run("return Number(new URLSearchParams(window.pbsView.shown.query).get('overdraw'));").get<double>();
+  EXPECT_LT(overdraw, 16.0);
+  EXPECT_NE(shown["stats"]["surfels"].get<double>(), surfelsBefore);
+  EXPECT_TRUE(view.fetchShown(shown) == view.rendered(" --overdraw " + number(overdraw)));
+
+  // The FLIP map: a comparison against 16 rays a pixel, with its error.
+  view.browser.click("input[name=show][value=flip]");
+  shown = view.refined();
+  EXPECT_GT(shown["stats"]["flip"].get<double>(), 0.0);
+  EXPECT_TRUE(view.fetchShown(shown) != orbited);
+
+  // Flying: W moves the camera's target along the view.
+  view.browser.click("input[name=show][value=surfels]");
+  view.refined();
+  const nlohmann::json before = view.browser.run("return window.pbsView.camera();");
+  view.browser.click("#stage");
+  view.browser.type({"w", "w", "w"});
+  shown = view.refined();
+  const nlohmann::json after = view.browser.run("return window.pbsView.camera();");
+  EXPECT_NE(after["tx"], before["tx"]);
+  EXPECT_EQ(after["az"], before["az"]);
+
+  // Go to: the approach's first stop.
+  view.browser.click("#path option:nth-child(2)");
+  shown = view.refined();
+  const nlohmann::json stop = view.browser.run("return window.pbsView.camera();");
+  EXPECT_LT(stop["dist"].get<double>(), 10.0);
+  EXPECT_NE(stop["tx"], after["tx"]);
+
+  if (const char* folder = std::getenv("PBS_VIEW_SCREENSHOT")) writeFile(folder, view.browser.screenshot());
+  const std::string screenshot = view.browser.screenshot();
+  EXPECT_EQ(screenshot.substr(1, 3), "PNG");
+  EXPECT_TRUE(view.browser.run("return window.pbsView.errors;").empty());
+
+  const std::optional<int> status = view.server.process.stop(SIGINT, 30.0);
+  ASSERT_TRUE(status);
+  EXPECT_EQ(*status, 0);
+}
+
+}  // namespace
+}  // namespace pbs::test
