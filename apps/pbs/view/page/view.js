@@ -1,7 +1,8 @@
 // pbs view's page: sends the camera and the settings, shows the frames the server renders.
-// One frame is in flight at a time; a camera that moves meanwhile sends only its latest state when that
-// frame returns, and the server drops a request once a newer one of the same tab has arrived. While the
-// camera rests, the view is refined in stages (the full surfel frame, then exact, then 16 samples).
+// While the camera moves, two frames are in flight at once (the server renders one while the other is
+// encoded, sent and decoded); a camera that moves meanwhile sends only its latest state when one returns,
+// and the server drops a request once a newer one of the same tab has arrived. While the camera rests,
+// the view is refined in stages (the full surfel frame, then exact, then 16 samples), one at a time.
 'use strict';
 
 const $ = (id) => document.getElementById(id);
@@ -20,12 +21,17 @@ const view = {
   movingScale: 1,     // the share of the overdraw moving frames draw, adapted to keep them fast
 };
 
-// What the tests read: the last frame shown, and whether the still view is fully refined.
-window.pbsView = { ready: false, shown: null, refined: false, framesShown: 0, errors: [] };
+// What tests and scripts/view-fps.mjs read: the last frame shown (with when, in performance.now()
+// milliseconds), whether the still view is fully refined, the moving frames shown so far and how long the
+// last ones took from request to picture.
+window.pbsView = { ready: false, shown: null, refined: false, framesShown: 0, movingShown: 0, deliveredMs: [], errors: [] };
 
 let sequence = 0;
-let inFlight = null;        // {controller, still}
-let movePending = false;    // the camera moved while a frame was in flight
+const kMovingInFlight = 2;
+let movingInFlight = 0;     // moving frames asked for and not yet answered
+let stillInFlight = null;   // the still stage's AbortController, while one is asked for
+let movePending = false;    // the camera moved since the last moving frame was asked for
+let lastShown = 0;          // the sequence number of the frame on screen: older answers are not shown
 let stillStages = [];       // what the resting camera still has to show, in order
 let stillTimer = 0;
 const movingTimes = [];     // when each moving frame was shown, for the frame rate
@@ -76,7 +82,9 @@ function stillQueries() {
 
 async function send(query, still, label) {
   const controller = new AbortController();
-  inFlight = { controller, still };
+  if (still) stillInFlight = controller;
+  else movingInFlight++;
+  const seq = Number(new URLSearchParams(query).get('seq'));
   const started = performance.now();
   try {
     const response = await fetch('/api/frame?' + query, { signal: controller.signal });
@@ -90,6 +98,8 @@ async function send(query, still, label) {
     }
     const stats = JSON.parse(response.headers.get('X-Pbs-Stats') || '{}');
     const blob = await response.blob();
+    if (seq < lastShown) return;  // a newer frame came first
+    lastShown = seq;
     const url = URL.createObjectURL(blob);
     const image = $('frame');
     const old = image.src;
@@ -104,7 +114,11 @@ async function send(query, still, label) {
       $('status').textContent = 'lost the server: ' + error;
     }
   } finally {
-    if (inFlight && inFlight.controller === controller) inFlight = null;
+    if (still) {
+      if (stillInFlight === controller) stillInFlight = null;
+    } else {
+      movingInFlight--;
+    }
     next();
   }
 }
@@ -114,14 +128,20 @@ function showFrame(frame) {
   if (!frame.still) {
     movingTimes.push(now);
     while (movingTimes.length && movingTimes[0] < now - 1000) movingTimes.shift();
-    // Moving surfel frames are kept under 50 ms (20 a second): fewer surfels when slower, more when fast.
+    // Moving surfel frames are kept to 40 ms of rendering (with two in flight, 25 a second): fewer
+    // surfels when slower, more when fast.
     if (view.show !== 'exact' && view.show !== 'embree') {
-      if (frame.total > 50) view.movingScale = Math.max(1 / 16, view.movingScale / 2);
-      else if (frame.total < 25) view.movingScale = Math.min(1, view.movingScale * 2);
+      if (frame.stats.render_ms > 40) view.movingScale = Math.max(1 / 16, view.movingScale / 2);
+      else if (frame.stats.render_ms < 15) view.movingScale = Math.min(1, view.movingScale * 2);
     }
   }
-  window.pbsView.shown = { query: frame.query, still: frame.still, label: frame.label, stats: frame.stats };
+  window.pbsView.shown = { query: frame.query, still: frame.still, label: frame.label, stats: frame.stats, at: now };
   window.pbsView.framesShown++;
+  if (!frame.still) {
+    window.pbsView.movingShown++;
+    window.pbsView.deliveredMs.push(frame.total);
+    if (window.pbsView.deliveredMs.length > 1000) window.pbsView.deliveredMs.shift();
+  }
   window.pbsView.refined = frame.still && stillStages.length === 0;
   const label = frame.still ? frame.label + (stillStages.length ? ' (refining…)' : '') : 'moving';
   $('status').textContent = label;
@@ -149,13 +169,14 @@ function showFrame(frame) {
   }));
 }
 
-// After a frame (or on a change): the camera's latest state if it moved, else the next still stage.
+// After a frame (or on a change): the camera's latest state if it moved, else the next still stage once
+// no frame is in flight.
 function next() {
-  if (inFlight) return;
   if (movePending) {
+    if (movingInFlight >= kMovingInFlight) return;
     movePending = false;
     send(movingQuery(), false, 'moving');
-  } else if (stillStages.length) {
+  } else if (stillStages.length && !movingInFlight && !stillInFlight) {
     const stage = stillStages.shift();
     send(stage.query, true, stage.label);
   }
@@ -165,7 +186,7 @@ function changed() {
   window.pbsView.refined = false;
   stillStages = [];
   movePending = true;
-  if (inFlight && inFlight.still) inFlight.controller.abort();
+  if (stillInFlight) stillInFlight.abort();
   clearTimeout(stillTimer);
   stillTimer = setTimeout(() => { stillStages = stillQueries(); next(); }, 150);
   next();
@@ -174,7 +195,7 @@ function changed() {
 // The settings changed while still: refine again from the first stage.
 function settingsChanged() {
   window.pbsView.refined = false;
-  if (inFlight) inFlight.controller.abort();
+  if (stillInFlight) stillInFlight.abort();
   clearTimeout(stillTimer);
   movePending = false;
   stillStages = stillQueries();
