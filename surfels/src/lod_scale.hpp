@@ -42,7 +42,7 @@ inline LodDraws::Surfels prefixDraw(std::uint32_t node, std::uint32_t array, con
   // An array of one surfel has no spacing to measure: its disc spans the box.
   const double radius = splats.packing > 0.0 ? splats.spacing(full) : glm::length(splats.box.size()) / 2.0;
   const double pointSize = at.worldPixel > 0.0 ? 2.0 * radius * at.scale / at.worldPixel : 0.0;
-  return {node, array, count, radius, pointSize};
+  return {node, array, count, radius, pointSize, full};
 }
 
 }  // namespace pbs::lod

@@ -48,9 +48,9 @@ struct BrowserView {
   std::string rendered(const std::string& more) {
     const nlohmann::json camera = browser.run("return window.pbsView.camera();");
     const std::filesystem::path file = scratch / "rendered.png";
-    const CommandResult render = runPbs(
-        "render " + quoted(scene) + " --surfels " + quoted(surfels) + " --size 320x180 --orbit " +
-        number(camera["az"]) + "," + number(camera["el"]) + "," + number(camera["dist"]) + more + " -o " + quoted(file));
+    const CommandResult render = runPbs("render " + quoted(scene) + " --surfels " + quoted(surfels) +
+                                        " --size 320x180 --orbit " + number(camera["az"]) + "," + number(camera["el"]) +
+                                        "," + number(camera["dist"]) + more + " -o " + quoted(file));
     EXPECT_EQ(render.status, 0) << render.err;
     return readFile(file);
   }
@@ -95,7 +95,8 @@ TEST(ViewBrowser, DraggingTogglingAndSlidingChangeTheFramesAsPbsRenderWould) {
   view.browser.click("#overdraw");
   view.browser.type({kArrowLeft, kArrowLeft, kArrowLeft, kArrowLeft, kArrowLeft, kArrowLeft, kArrowLeft, kArrowLeft});
   shown = view.refined();
-  const double overdraw = view.browser.run("return Number(new URLSearchParams(window.pbsView.shown.query).get('overdraw'));").get<double>();
+  const double overdraw =
+      view.browser.run("return Number(new URLSearchParams(window.pbsView.shown.query).get('overdraw'));").get<double>();
   EXPECT_LT(overdraw, 16.0);
   EXPECT_NE(shown["stats"]["surfels"].get<double>(), surfelsBefore);
   EXPECT_TRUE(view.fetchShown(shown) == view.rendered(" --overdraw " + number(overdraw)));
@@ -123,6 +124,51 @@ TEST(ViewBrowser, DraggingTogglingAndSlidingChangeTheFramesAsPbsRenderWould) {
   const nlohmann::json stop = view.browser.run("return window.pbsView.camera();");
   EXPECT_LT(stop["dist"].get<double>(), 10.0);
   EXPECT_NE(stop["tx"], after["tx"]);
+
+  // The overlays: node boxes drawn over the frame, and each pixel tinted by what drew it.
+  view.browser.click("#boxes");
+  view.refined();
+  EXPECT_TRUE(view.browser.waitFor(
+      "(() => { const c = document.getElementById('overlay'); const d = c.getContext('2d').getImageData(0, 0, "
+      "c.width, c.height).data; for (let i = 3; i < d.length; i += 4) if (d[i]) return true; return false; })()",
+      30.0))
+      << "no node box was drawn";
+  view.browser.click("input[name=show][value=source]");
+  shown = view.refined();
+  EXPECT_EQ(shown["query"].get<std::string>().find("show=source") != std::string::npos, true);
+  EXPECT_TRUE(view.fetchShown(shown) != view.rendered(""));
+
+  // A click picks the node under it: its panel, its ρ(k) curve and capture views; the prefix slider then
+  // draws its first k surfels alone.
+  view.browser.click("input[name=show][value=surfels]");
+  view.refined();
+  const nlohmann::json hit = view.browser.run(
+      "const f = document.getElementById('frame'); const c = document.createElement('canvas'); c.width = "
+      "f.naturalWidth;"
+      "c.height = f.naturalHeight; const g = c.getContext('2d'); g.drawImage(f, 0, 0);"
+      "const d = g.getImageData(0, 0, c.width, c.height).data;"
+      "for (let i = 0; i < d.length; i += 4) if (d[i + 3] === 255) return [(i / 4) % c.width, Math.floor(i / 4 / "
+      "c.width)];"
+      "return null;");
+  ASSERT_TRUE(hit.is_array()) << "the frame covers no pixel";
+  view.browser.clickAt("#frame", hit[0].get<int>(), hit[1].get<int>());
+  ASSERT_TRUE(view.browser.waitFor("window.pbsView.node && !document.getElementById('node-panel').hidden", 30.0));
+  const nlohmann::json picked = view.browser.run("return window.pbsView.node;");
+  EXPECT_TRUE(picked.contains("path"));
+  // The groups' leaves are drawn from their own arrays at this size.
+  ASSERT_TRUE(picked.contains("array")) << picked.dump();
+  EXPECT_TRUE(view.browser.waitFor("document.querySelector('#rho polyline')", 30.0));
+  EXPECT_TRUE(view.browser.waitFor("document.getElementById('node-views').naturalWidth > 0", 30.0));
+  view.browser.click("#prefix");
+  shown = view.refined();
+  const std::string query = shown["query"].get<std::string>();
+  EXPECT_NE(query.find("show=prefix"), std::string::npos);
+  EXPECT_NE(query.find("node=" + std::to_string(picked["node"].get<int>())), std::string::npos);
+  const double prefix = view.browser.run("return window.pbsView.shownPrefix();").get<double>();
+  EXPECT_EQ(shown["stats"]["surfels"].get<double>(), prefix);
+  view.browser.type({kArrowLeft, kArrowLeft, kArrowLeft});
+  const nlohmann::json fewer = view.refined();
+  EXPECT_LT(fewer["stats"]["surfels"].get<double>(), prefix);
 
   if (const char* folder = std::getenv("PBS_VIEW_SCREENSHOT")) writeFile(folder, view.browser.screenshot());
   const std::string screenshot = view.browser.screenshot();

@@ -108,16 +108,30 @@ class Browser {
     const nlohmann::json found = command("POST", path("/element"), {{"using", "css selector"}, {"value", css}});
     return found.is_object() && !found.empty() ? found.begin().value().get<std::string>() : "";
   }
-  void click(const std::string& css) { command("POST", path("/element/" + element(css) + "/click"), nlohmann::json::object()); }
+  void click(const std::string& css) {
+    command("POST", path("/element/" + element(css) + "/click"), nlohmann::json::object());
+  }
   // Presses the mouse on `css`'s centre, moves by (dx, dy) in `steps` and releases: a real drag.
   void drag(const std::string& css, int dx, int dy, int steps) {
     nlohmann::json moves = nlohmann::json::array();
     moves.push_back({{"type", "pointerMove"}, {"origin", {{kElementKey, element(css)}}}, {"x", 0}, {"y", 0}});
     moves.push_back({{"type", "pointerDown"}, {"button", 0}});
     for (int s = 0; s < steps; ++s)
-      moves.push_back({{"type", "pointerMove"}, {"origin", "pointer"}, {"duration", 20}, {"x", dx / steps}, {"y", dy / steps}});
+      moves.push_back(
+          {{"type", "pointerMove"}, {"origin", "pointer"}, {"duration", 20}, {"x", dx / steps}, {"y", dy / steps}});
     moves.push_back({{"type", "pointerUp"}, {"button", 0}});
     perform({{"type", "pointer"}, {"id", "mouse"}, {"parameters", {{"pointerType", "mouse"}}}, {"actions", moves}});
+  }
+  // Presses and releases the mouse at (x, y) from `css`'s top-left corner: a click without a drag.
+  void clickAt(const std::string& css, int x, int y) {
+    const nlohmann::json rect = command("GET", path("/element/" + element(css) + "/rect"), nullptr);
+    const int centerX = int(rect["width"].get<double>() / 2), centerY = int(rect["height"].get<double>() / 2);
+    nlohmann::json presses = nlohmann::json::array();
+    presses.push_back(
+        {{"type", "pointerMove"}, {"origin", {{kElementKey, element(css)}}}, {"x", x - centerX}, {"y", y - centerY}});
+    presses.push_back({{"type", "pointerDown"}, {"button", 0}});
+    presses.push_back({{"type", "pointerUp"}, {"button", 0}});
+    perform({{"type", "pointer"}, {"id", "mouse"}, {"parameters", {{"pointerType", "mouse"}}}, {"actions", presses}});
   }
   // Presses and releases each key of `keys` (UTF-8; WebDriver's special keys are code points U+E000…).
   void type(const std::vector<std::string>& keys) {

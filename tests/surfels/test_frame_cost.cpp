@@ -129,7 +129,7 @@ TEST(FrameCosts, SplatsNearTheEyeTouchMorePixelsAndNoneBehindIt) {
   const std::uint32_t node = s.scene.roots[0];
   const std::uint32_t array = s.surfels.arrayOfNode[node];
   ASSERT_NE(array, kNoSurfels);
-  const LodDraws::Surfels draw{node, array, 1000, s.surfels.arrays[array].spacing(1000), 0.0};
+  const LodDraws::Surfels draw{node, array, 1000, s.surfels.arrays[array].spacing(1000), 0.0, 1000};
   const double far = splatPixels(cameras.front(), s.hierarchy.world[node], s.surfels.arrays[array], draw);
   const double nearer = splatPixels(cameras[2], s.hierarchy.world[node], s.surfels.arrays[array], draw);
   EXPECT_GT(far, 1000.0) << "at least a pixel a splat";

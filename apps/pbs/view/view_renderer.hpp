@@ -30,6 +30,18 @@ struct ViewFrame {
   std::optional<double> foregroundFlip;
 };
 
+// What a visible node drew in a frame, for the page's overlay of node boxes.
+enum class DrawKind { Geometry, Surfels, Band };  // Band: a prefix a transition thins (count < full)
+const char* drawKindName(DrawKind kind);
+struct NodeDraw {
+  std::uint32_t node = 0;
+  DrawKind kind = DrawKind::Geometry;
+  glm::dvec4 rect{0.0};  // x0, y0, x1, y1: the projected box's bounding rectangle, clipped to the frame
+  double size = 0.0;     // projected size, pixels (the threshold's measure)
+  std::uint32_t surfels = 0, full = 0;
+  std::uint64_t triangles = 0;
+};
+
 class ViewRenderer {
  public:
   // `scene` must outlive the renderer; `maxMemory` (0: the machine's) bounds the rays' BVH.
@@ -38,6 +50,7 @@ class ViewRenderer {
   glm::dvec3 center() const { return center_; }
   double radius() const { return radius_; }
   bool hasSurfels() const { return scene_.surfels.has_value(); }
+  FrameScene& scene() { return scene_; }
   // The request's camera: `pbs render --orbit`'s when the target is the centre.
   Camera camera(const ViewRequest& request) const;
 
@@ -45,6 +58,16 @@ class ViewRenderer {
   // whether the client has asked for a newer frame meanwhile: then nothing is rendered (nullopt). Throws
   // std::invalid_argument for surfels without a file, std::runtime_error for rays whose BVH would not fit.
   std::optional<ViewFrame> render(const ViewRequest& request, const std::function<bool()>& superseded);
+  // The nodes the request's frame draws, largest on screen first, at most `limit`.
+  std::vector<NodeDraw> nodeDraws(const ViewRequest& request, std::size_t limit);
+  // The node that drew pixel (request.x, request.y) of the request's surfel frame, if any.
+  std::optional<std::uint32_t> pick(const ViewRequest& request);
+  // Runs `work` with the renderer's lock held (a node's inspection reads the caches frames use).
+  template <typename Work>
+  auto locked(Work&& work) {
+    const std::lock_guard lock(mutex_);
+    return work();
+  }
 
  private:
   // The whole scene's BVH, built on first use. Meshes read on demand are all read for it, and kept.
@@ -52,6 +75,13 @@ class ViewRenderer {
   FrameResult renderFrame(RenderMode mode, std::uint32_t samples, FrameImage image, const ViewRequest& request);
   // Difference or FLIP map of the surfel (else exact) frame against a 16-sample exact reference.
   ViewFrame renderComparison(const ViewRequest& request);
+  // `draws` (with their prefixes loaded and their meshes leased here) into a G-buffer with node ids.
+  Framebuffer drawWithIds(const LodDraws& draws, const ViewRequest& request);
+  // The surfel frame tinted by what drew each pixel.
+  ViewFrame renderSources(const ViewRequest& request);
+  // Node request.node's first request.prefix surfels alone, at the size that prefix closes the surface.
+  ViewFrame renderPrefix(const ViewRequest& request);
+  LodDraws traverse(const ViewRequest& request);
 
   struct Kept {
     RenderMode mode;

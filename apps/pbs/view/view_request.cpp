@@ -12,11 +12,13 @@
 namespace pbs::cli {
 namespace {
 
-constexpr ValueNames<ViewShow, 5> kShowNames{{{{ViewShow::Surfels, "surfels"},
+constexpr ValueNames<ViewShow, 7> kShowNames{{{{ViewShow::Surfels, "surfels"},
                                                {ViewShow::Exact, "exact"},
                                                {ViewShow::Embree, "embree"},
                                                {ViewShow::Difference, "difference"},
-                                               {ViewShow::Flip, "flip"}}}};
+                                               {ViewShow::Flip, "flip"},
+                                               {ViewShow::Source, "source"},
+                                               {ViewShow::Prefix, "prefix"}}}};
 constexpr ValueNames<ViewEncoding, 2> kEncodingNames{{{{ViewEncoding::Jpeg, "jpeg"}, {ViewEncoding::Png, "png"}}}};
 
 [[noreturn]] void refuse(const std::string& name, const std::string& value, const std::string& expected) {
@@ -84,7 +86,7 @@ ViewRequest parseViewRequest(const std::multimap<std::string, std::string>& para
       {"dist", [&](auto& name, auto& value) { request.orbit.distance = number(name, value, 1e-6, 1e6); }},
       {"show",
        [&](auto& name, auto& value) {
-         request.show = choice(name, value, kShowNames, "surfels, exact, embree, difference or flip");
+         request.show = choice(name, value, kShowNames, "surfels, exact, embree, difference, flip, source or prefix");
        }},
       {"samples",
        [&](auto& name, auto& value) {
@@ -106,6 +108,10 @@ ViewRequest parseViewRequest(const std::multimap<std::string, std::string>& para
       // 0 turns a budget off: the thresholds decide.
       {"budget",
        [&](auto& name, auto& value) { request.lod.budget = LodBudget::primitives(number(name, value, 0, 1e10)); }},
+      {"node", [&](auto& name, auto& value) { request.node = std::uint32_t(whole(name, value, 0, INT32_MAX)); }},
+      {"prefix", [&](auto& name, auto& value) { request.prefix = std::uint32_t(whole(name, value, 1, UINT32_MAX)); }},
+      {"x", [&](auto& name, auto& value) { request.x = std::uint32_t(whole(name, value, 0, kMaxViewWidth - 1)); }},
+      {"y", [&](auto& name, auto& value) { request.y = std::uint32_t(whole(name, value, 0, kMaxViewHeight - 1)); }},
       {"budget_ms",
        [&](auto& name, auto& value) { request.lod.budget = LodBudget::seconds(number(name, value, 0, 1e5) / 1e3); }},
   };
@@ -119,6 +125,11 @@ ViewRequest parseViewRequest(const std::multimap<std::string, std::string>& para
   if (request.lod.pointSize > 0.0f && request.lod.splat != SplatMode::Nearest)
     throw std::invalid_argument("point: a fixed point size is for splat=nearest (0 sizes discs from the prefix)");
   if (seen.count("budget") && seen.count("budget_ms")) throw std::invalid_argument("budget and budget_ms: give one");
+  if (request.show == ViewShow::Prefix && (!request.node || !seen.count("prefix")))
+    throw std::invalid_argument("show=prefix: needs node and prefix");
+  if (request.x >= request.width || request.y >= request.height)
+    throw std::invalid_argument("x, y: outside the " + std::to_string(request.width) + "x" +
+                                std::to_string(request.height) + " frame");
   return request;
 }
 

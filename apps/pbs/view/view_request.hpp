@@ -9,13 +9,15 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace pbs::cli {
 
-// Surfels, the rasterizer, rays; or the surfel frame against a 16-sample ray-cast reference, as the
-// absolute difference (×4) or as its FLIP map.
-enum class ViewShow { Surfels, Exact, Embree, Difference, Flip };
+// Surfels, the rasterizer, rays; the surfel frame against a 16-sample ray-cast reference, as the absolute
+// difference (×4) or as its FLIP map; the surfel frame tinted by what drew each pixel (geometry, surfels,
+// a prefix thinned by a transition band); or one node's first `prefix` surfels alone (the paper's Fig. 2).
+enum class ViewShow { Surfels, Exact, Embree, Difference, Flip, Source, Prefix };
 const char* viewShowName(ViewShow show);
 
 enum class ViewEncoding { Jpeg, Png };  // JPEG while moving (small, fast), PNG once still (exact pixels)
@@ -36,6 +38,9 @@ struct ViewRequest {
   std::uint32_t samples = 1;  // 1, 4, 16 or 64 (supersampling.hpp)
   ViewEncoding encoding = ViewEncoding::Png;
   LodOptions lod;  // threshold, overdraw, splat, point size and budget from the request; the rest default
+  std::optional<std::uint32_t> node;  // show=prefix's node, and the node /api/node describes
+  std::uint32_t prefix = 0;           // show=prefix: surfels drawn (clamped to the array)
+  std::uint32_t x = 0, y = 0;         // /api/pick: a pixel of the frame
 };
 
 // Parses a query's parameters (each at most once); `defaults` gives the target (the scene's centre) and

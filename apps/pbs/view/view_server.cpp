@@ -3,6 +3,7 @@
 
 #include "../png_writer.hpp"
 #include "jpeg_encoder.hpp"
+#include "node_inspection.hpp"
 #include "view_page.hpp"
 
 #include <httplib.h>
@@ -17,7 +18,10 @@ namespace pbs::cli {
 namespace {
 
 constexpr int kJpegQuality = 85;
-constexpr std::size_t kMaxClients = 4096;  // the table of newest frames starts afresh beyond it
+constexpr std::size_t kMaxClients = 4096;          // the table of newest frames starts afresh beyond it
+constexpr std::size_t kMaxDrawsListed = 2000;      // /api/draws: the largest nodes on screen
+constexpr std::size_t kRhoCurvePoints = 120;       // /api/node/rho: log-spaced prefix lengths
+constexpr std::uint32_t kCaptureViewPixels = 160;  // /api/node/views: each view's side
 
 // Each client's newest frame number: an older request still waiting for the renderer is dropped.
 class NewestFrames {
@@ -67,6 +71,15 @@ std::multimap<std::string, std::string> parameters(const httplib::Request& reque
   return {request.params.begin(), request.params.end()};
 }
 
+std::uint32_t requiredNode(const ViewRequest& request) {
+  if (!request.node) throw std::invalid_argument("node: missing");
+  return *request.node;
+}
+
+void sendBytes(httplib::Response& response, const std::vector<std::uint8_t>& bytes, const char* type) {
+  response.set_content(reinterpret_cast<const char*>(bytes.data()), bytes.size(), type);
+}
+
 }  // namespace
 
 struct ViewServer::State {
@@ -95,32 +108,73 @@ ViewServer::ViewServer(ViewRenderer& renderer, nlohmann::json scene, const LodOp
     response.set_header("Cache-Control", "no-store");
     response.set_content(state.scene.dump(), "application/json");
   });
-  http.Get("/api/frame", [&state](const httplib::Request& http_request, httplib::Response& response) {
-    response.set_header("Cache-Control", "no-store");
-    try {
-      const ViewRequest request = parseViewRequest(parameters(http_request), state.defaults);
-      state.newest.note(request.client, request.sequence);
-      const std::optional<ViewFrame> frame =
-          state.renderer.render(request, [&] { return state.newest.superseded(request.client, request.sequence); });
-      if (!frame) {
-        response.status = 204;  // a newer frame of this client is on its way
-        response.set_header("X-Pbs-Dropped", "superseded");
-        return;
+  // Every API route: the request parsed and validated, the answer uncached, a refusal a 400 with the reason.
+  const auto route = [&http, &state](const char* path, auto answer) {
+    http.Get(path, [&state, answer](const httplib::Request& http_request, httplib::Response& response) {
+      response.set_header("Cache-Control", "no-store");
+      try {
+        answer(parseViewRequest(parameters(http_request), state.defaults), response);
+      } catch (const std::invalid_argument& error) {
+        response.status = 400;
+        response.set_content(std::string("error: ") + error.what() + "\n", "text/plain; charset=utf-8");
       }
-      // Encoded outside the renderer's lock: the next frame renders meanwhile.
-      const auto start = std::chrono::steady_clock::now();
-      const std::vector<std::uint8_t> bytes =
-          request.encoding == ViewEncoding::Jpeg
-              ? encodeJpeg(overWhite(frame->rgba8), request.width, request.height, kJpegQuality)
-              : encodePng8(request.width, request.height, 4, frame->rgba8.data());
-      const double encodeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      response.set_header("X-Pbs-Stats", frameStats(*frame, encodeSeconds, bytes.size()).dump());
-      response.set_content(reinterpret_cast<const char*>(bytes.data()), bytes.size(),
-                           request.encoding == ViewEncoding::Jpeg ? "image/jpeg" : "image/png");
-    } catch (const std::invalid_argument& error) {
-      response.status = 400;
-      response.set_content(std::string("error: ") + error.what() + "\n", "text/plain; charset=utf-8");
+    });
+  };
+  route("/api/frame", [&state](const ViewRequest& request, httplib::Response& response) {
+    state.newest.note(request.client, request.sequence);
+    const std::optional<ViewFrame> frame =
+        state.renderer.render(request, [&] { return state.newest.superseded(request.client, request.sequence); });
+    if (!frame) {
+      response.status = 204;  // a newer frame of this client is on its way
+      response.set_header("X-Pbs-Dropped", "superseded");
+      return;
     }
+    // Encoded outside the renderer's lock: the next frame renders meanwhile.
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<std::uint8_t> bytes =
+        request.encoding == ViewEncoding::Jpeg
+            ? encodeJpeg(overWhite(frame->rgba8), request.width, request.height, kJpegQuality)
+            : encodePng8(request.width, request.height, 4, frame->rgba8.data());
+    const double encodeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    response.set_header("X-Pbs-Stats", frameStats(*frame, encodeSeconds, bytes.size()).dump());
+    sendBytes(response, bytes, request.encoding == ViewEncoding::Jpeg ? "image/jpeg" : "image/png");
+  });
+  // The nodes a frame draws, for the page's overlay of boxes.
+  route("/api/draws", [&state](const ViewRequest& request, httplib::Response& response) {
+    nlohmann::json nodes = nlohmann::json::array();
+    for (const NodeDraw& draw : state.renderer.nodeDraws(request, kMaxDrawsListed))
+      nodes.push_back({{"node", draw.node},
+                       {"kind", drawKindName(draw.kind)},
+                       {"rect", {draw.rect.x, draw.rect.y, draw.rect.z, draw.rect.w}},
+                       {"size", draw.size},
+                       {"surfels", draw.surfels},
+                       {"full", draw.full},
+                       {"triangles", draw.triangles}});
+    response.set_content(nodes.dump(), "application/json");
+  });
+  // The node that drew a pixel, described.
+  route("/api/pick", [&state](const ViewRequest& request, httplib::Response& response) {
+    const std::optional<std::uint32_t> node = state.renderer.pick(request);
+    const nlohmann::json answer =
+        node ? state.renderer.locked([&] { return describeNode(state.renderer.scene(), *node); }) : nullptr;
+    response.set_content(answer.dump(), "application/json");
+  });
+  route("/api/node", [&state](const ViewRequest& request, httplib::Response& response) {
+    const std::uint32_t node = requiredNode(request);
+    response.set_content(state.renderer.locked([&] { return describeNode(state.renderer.scene(), node); }).dump(),
+                         "application/json");
+  });
+  route("/api/node/rho", [&state](const ViewRequest& request, httplib::Response& response) {
+    const std::uint32_t node = requiredNode(request);
+    const nlohmann::json curve =
+        state.renderer.locked([&] { return rhoCurve(state.renderer.scene(), node, kRhoCurvePoints); });
+    response.set_content(curve.dump(), "application/json");
+  });
+  route("/api/node/views", [&state](const ViewRequest& request, httplib::Response& response) {
+    const std::uint32_t node = requiredNode(request);
+    sendBytes(response,
+              state.renderer.locked([&] { return captureViewsPng(state.renderer.scene(), node, kCaptureViewPixels); }),
+              "image/png");
   });
   // Anything else the server could not do (an allocation refused, a renderer's failure) is a 500 with the
   // reason, never a crash of the server.

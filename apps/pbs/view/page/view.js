@@ -19,6 +19,9 @@ const view = {
   budget: 0,
   size: params.get('size') || 'fit',
   movingScale: 1,     // the share of the overdraw moving frames draw, adapted to keep them fast
+  node: null,         // the clicked node's description (/api/pick), or null
+  prefix: 1,          // show=prefix: the node's first surfels drawn
+  boxes: false,       // the overlay of node boxes
 };
 
 // What tests and scripts/view-fps.mjs read: the last frame shown (with when, in performance.now()
@@ -53,6 +56,7 @@ function frameQuery(overrides) {
     threshold: view.lod.threshold, overdraw: view.lod.overdraw, splat: view.lod.splat,
   };
   if (view.lod.splat === 'nearest') q.point = view.lod.point;
+  if (view.show === 'prefix') Object.assign(q, { node: view.node.node, prefix: view.prefix });
   if (view.budgetKind && view.budget > 0) q[view.budgetKind] = view.budget;
   Object.assign(q, overrides);
   return new URLSearchParams(q).toString();
@@ -64,7 +68,8 @@ function movingQuery() {
     return frameQuery({ show: view.scene.surfels ? 'surfels' : 'embree', format: 'jpeg',
                         overdraw: view.lod.overdraw * view.movingScale });
   }
-  const overdraw = view.show === 'surfels' ? view.lod.overdraw * view.movingScale : view.lod.overdraw;
+  const overdraw = view.show === 'surfels' || view.show === 'source' ? view.lod.overdraw * view.movingScale
+                                                                     : view.lod.overdraw;
   return frameQuery({ format: 'jpeg', overdraw });
 }
 
@@ -143,6 +148,8 @@ function showFrame(frame) {
     if (window.pbsView.deliveredMs.length > 1000) window.pbsView.deliveredMs.shift();
   }
   window.pbsView.refined = frame.still && stillStages.length === 0;
+  if (frame.still && frame.label === view.show) drawBoxes(frame.query);
+  else if (!frame.still) clearBoxes();
   const label = frame.still ? frame.label + (stillStages.length ? ' (refining…)' : '') : 'moving';
   $('status').textContent = label;
   const s = frame.stats;
@@ -202,6 +209,84 @@ function settingsChanged() {
   next();
 }
 
+function clearBoxes() {
+  const canvas = $('overlay');
+  canvas.getContext('2d').clearRect(0, 0, canvas.width, canvas.height);
+}
+
+// The nodes the still frame draws, as their projected boxes' rectangles in the overlay, coloured by what
+// they draw, with their projected size (the threshold's measure) where there is room.
+async function drawBoxes(query) {
+  const canvas = $('overlay');
+  const [w, h] = frameSize();
+  canvas.width = w;
+  canvas.height = h;
+  if (!view.boxes || !view.scene.surfels || view.show === 'prefix') return;
+  const response = await fetch('/api/draws?' + query.replace(/(^|&)(show|format|samples|node|prefix)=[^&]*/g, ''));
+  if (!response.ok) return;
+  const nodes = await response.json();
+  const context = canvas.getContext('2d');
+  const colors = { geometry: '#3378f5', surfels: '#f58c1f', band: '#cc29cc' };
+  context.font = '10px system-ui, sans-serif';
+  for (const node of nodes) {
+    const [x0, y0, x1, y1] = node.rect;
+    context.strokeStyle = colors[node.kind];
+    context.strokeRect(x0 + 0.5, y0 + 0.5, Math.max(0, x1 - x0 - 1), Math.max(0, y1 - y0 - 1));
+    if (x1 - x0 > 30 && y1 - y0 > 14) {
+      context.fillStyle = colors[node.kind];
+      context.fillText(Math.round(node.size) + ' px', x0 + 2, y0 + 11);
+    }
+  }
+}
+
+// The prefix slider runs on a log scale from 1 surfel to the whole array.
+function prefixFromSlider() {
+  const length = view.node.array.surfels;
+  return Math.max(1, Math.round(Math.pow(length, Number($('prefix').value))));
+}
+
+function drawRho(curve) {
+  const svg = $('rho');
+  const length = view.node.array.surfels;
+  const x = (k) => 8 + 264 * Math.log(k) / Math.log(length);
+  const y = (rho) => 110 - 100 * Math.max(0, Math.min(1, rho));
+  const points = curve.k.map((k, i) => x(k).toFixed(1) + ',' + y(curve.rho[i]).toFixed(1)).join(' ');
+  const marker = x(view.prefix).toFixed(1);
+  svg.innerHTML =
+    `<line x1="8" y1="110" x2="272" y2="110" stroke="#999"/><line x1="8" y1="10" x2="8" y2="110" stroke="#999"/>` +
+    `<polyline points="${points}" fill="none" stroke="#333"/>` +
+    `<line x1="${marker}" y1="10" x2="${marker}" y2="110" stroke="#f58c1f"/>` +
+    `<text x="12" y="20" font-size="10">ρ(k), min ${curve.rho_min.toFixed(3)}, mean ${curve.rho_mean.toFixed(3)}</text>` +
+    `<text x="12" y="106" font-size="9">k = 1</text><text x="236" y="106" font-size="9">${length}</text>`;
+  view.rhoCurve = curve;
+}
+
+async function pick(x, y) {
+  const query = frameQuery({ x, y }).replace(/(^|&)(show|format|samples|node|prefix)=[^&]*/g, '');
+  const response = await fetch('/api/pick?' + query);
+  if (!response.ok) { $('status').textContent = (await response.text()).trim(); return; }
+  const node = await response.json();
+  if (!node) return;
+  view.node = node;
+  window.pbsView.node = node;
+  $('node-panel').hidden = false;
+  const facts = [node.path.join(' / ') || '(unnamed)', node.subtree_triangles.toLocaleString() + ' triangles below'];
+  const prefixRadio = document.querySelector('input[name=show][value=prefix]');
+  prefixRadio.disabled = !node.array;
+  $('prefix').disabled = !node.array;
+  $('rho').innerHTML = '';
+  if (node.array) {
+    facts.push(`array ${node.array.index}: ${node.array.surfels.toLocaleString()} surfels, coverage ` +
+               node.array.coverage.toFixed(3));
+    view.prefix = node.array.surfels;
+    $('prefix').value = 1;
+    $('prefix-value').textContent = view.prefix;
+    fetch('/api/node/rho?node=' + node.node).then((r) => r.json()).then(drawRho);
+  }
+  $('node-facts').replaceChildren(...facts.map((fact) => Object.assign(document.createElement('div'), { textContent: fact })));
+  $('node-views').src = '/api/node/views?node=' + node.node;
+}
+
 function orbitDirection(c) {
   const az = c.az * Math.PI / 180, el = Math.max(-89.9, Math.min(89.9, c.el)) * Math.PI / 180;
   return [Math.cos(el) * Math.cos(az), Math.sin(el), Math.cos(el) * Math.sin(az)];
@@ -235,7 +320,7 @@ function bindControls() {
   const stage = $('stage');
   let drag = null;
   stage.addEventListener('pointerdown', (e) => {
-    drag = { x: e.clientX, y: e.clientY };
+    drag = { x: e.clientX, y: e.clientY, startX: e.clientX, startY: e.clientY };
     stage.setPointerCapture(e.pointerId);
     stage.focus();
   });
@@ -244,10 +329,19 @@ function bindControls() {
     const c = view.camera;
     c.az += (e.clientX - drag.x) * 0.4;
     c.el = Math.max(-89, Math.min(89, c.el + (e.clientY - drag.y) * 0.4));
-    drag = { x: e.clientX, y: e.clientY };
-    changed();
+    drag = { x: e.clientX, y: e.clientY, startX: drag.startX, startY: drag.startY };
+    if (Math.abs(e.clientX - drag.startX) + Math.abs(e.clientY - drag.startY) >= 3) changed();
   });
-  stage.addEventListener('pointerup', () => { drag = null; });
+  stage.addEventListener('pointerup', (e) => {
+    // A click (no drag): the node under it.
+    if (drag && Math.abs(e.clientX - drag.startX) + Math.abs(e.clientY - drag.startY) < 3) {
+      const box = $('frame').getBoundingClientRect();
+      const [w, h] = frameSize();
+      const x = Math.floor(e.clientX - box.left), y = Math.floor(e.clientY - box.top);
+      if (x >= 0 && y >= 0 && x < w && y < h && view.scene.surfels) pick(x, y);
+    }
+    drag = null;
+  });
   stage.addEventListener('wheel', (e) => {
     e.preventDefault();
     const c = view.camera;
@@ -267,6 +361,30 @@ function bindControls() {
     input.disabled = input.value === 'surfels' && !view.scene.surfels;
     input.addEventListener('change', () => { view.show = input.value; settingsChanged(); });
   }
+  $('boxes').checked = view.boxes;
+  $('boxes').addEventListener('change', () => { view.boxes = $('boxes').checked; settingsChanged(); });
+  $('node-close').addEventListener('click', () => {
+    $('node-panel').hidden = true;
+    if (view.show === 'prefix') { view.show = 'surfels'; document.querySelector('input[value=surfels]').checked = true; }
+    document.querySelector('input[name=show][value=prefix]').disabled = true;
+    view.node = null;
+    settingsChanged();
+  });
+  $('prefix').addEventListener('input', () => {
+    view.prefix = prefixFromSlider();
+    $('prefix-value').textContent = view.prefix;
+    if (view.rhoCurve) drawRho(view.rhoCurve);
+    view.show = 'prefix';
+    document.querySelector('input[name=show][value=prefix]').checked = true;
+    settingsChanged();
+  });
+  $('node-look').addEventListener('click', () => {
+    const node = view.node;
+    if (!node || !node.center) return;
+    Object.assign(view.camera, { tx: node.center[0], ty: node.center[1], tz: node.center[2],
+                                 dist: Math.max(1e-4, 2.5 * node.radius / view.scene.radius) });
+    changed();
+  });
   $('refine').checked = view.refine;
   $('refine').addEventListener('change', () => { view.refine = $('refine').checked; settingsChanged(); });
 
@@ -315,6 +433,8 @@ function bindControls() {
       goToPathFrame();
     }, 100);
   });
+  if (![...$('size').options].some((option) => option.value === view.size))
+    $('size').append(Object.assign(document.createElement('option'), { value: view.size, textContent: view.size }));
   $('size').value = view.size;
   $('size').addEventListener('change', () => { view.size = $('size').value; settingsChanged(); });
   window.addEventListener('resize', () => { if (view.size === 'fit') settingsChanged(); });
@@ -336,5 +456,6 @@ async function start() {
 // For tests and scripts: set the camera as the page's own controls would.
 window.pbsView.setCamera = (camera) => { Object.assign(view.camera, camera); changed(); };
 window.pbsView.camera = () => Object.assign({}, view.camera);
+window.pbsView.shownPrefix = () => view.prefix;
 
 start().catch((error) => { $('status').textContent = 'cannot reach the server: ' + error; });

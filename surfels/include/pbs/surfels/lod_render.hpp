@@ -150,6 +150,8 @@ struct LodDraws {
     // for (before a transition thins it): √(packing / k).
     double radius = 0.0;
     double pointSize = 0.0;  // 2 × radius in pixels at the node's centre
+    // The prefix the node's size asks for before a transition thins it: above `count` inside a band.
+    std::uint32_t full = 0;
   };
   std::vector<std::uint32_t> geometryNodes;  // nodes whose own mesh is drawn as triangles, in traversal order
   std::vector<Surfels> surfels;              // in traversal order

@@ -55,8 +55,9 @@ class SurfelCache {
   void keep(const LodDraws& draws);
 
   const SurfelCacheStats& stats() const { return stats_; }
-  const SurfelFileOptions& options() const { return reader_.options(); }  // what the arrays were made with
-  std::uint64_t tablesBytes() const { return reader_.tablesBytes(); }     // what opening the file read
+  const SurfelFileOptions& options() const { return reader_.options(); }        // what the arrays were made with
+  std::span<const SurfelArrayInfo> arrays() const { return reader_.arrays(); }  // the file's array table
+  std::uint64_t tablesBytes() const { return reader_.tablesBytes(); }           // what opening the file read
   // The file's bytes for `surfels` surfels of `array` from a chunk's start (storedSurfelBytes with the
   // array's colour encoding).
   std::uint64_t storedBytes(std::uint32_t array, std::uint64_t surfels) const {
