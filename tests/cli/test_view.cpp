@@ -121,6 +121,82 @@ TEST(View, ComparisonsAndSettingsChangeTheFrame) {
   EXPECT_NE(flip->body, difference->body);
 }
 
+TEST(View, NodesAreListedPickedAndInspected) {
+  ViewedGroups view;
+  ASSERT_GT(view.server.port, 0);
+  const std::string camera = view.orbitQuery(10, 20, 2.5, "").substr(std::string("/api/frame?").size());
+  const auto draws = view.client.Get("/api/draws?" + camera);
+  ASSERT_TRUE(draws && draws->status == 200);
+  const nlohmann::json nodes = nlohmann::json::parse(draws->body);
+  ASSERT_FALSE(nodes.empty());
+  double largest = 1e300;
+  for (const nlohmann::json& node : nodes) {
+    EXPECT_LE(node["size"].get<double>(), largest) << "listed largest first";
+    largest = node["size"].get<double>();
+    const nlohmann::json& rect = node["rect"];
+    EXPECT_LE(rect[0].get<double>(), rect[2].get<double>());
+    EXPECT_GE(rect[0].get<double>(), 0.0);
+    EXPECT_LE(rect[2].get<double>(), 160.0);
+    const std::string kind = node["kind"];
+    EXPECT_TRUE(kind == "geometry" || kind == "surfels" || kind == "band") << kind;
+    if (kind != "geometry") {
+      EXPECT_GT(node["surfels"].get<int>(), 0);
+    }
+  }
+  // The centre pixel of the largest surfel node's rectangle is drawn by a node the list names.
+  std::optional<nlohmann::json> drawn;
+  for (const nlohmann::json& node : nodes)
+    if (node["kind"] == "surfels" && !drawn) drawn = node;
+  ASSERT_TRUE(drawn);
+  const int x = int(((*drawn)["rect"][0].get<double>() + (*drawn)["rect"][2].get<double>()) / 2);
+  const int y = int(((*drawn)["rect"][1].get<double>() + (*drawn)["rect"][3].get<double>()) / 2);
+  const auto picked = view.client.Get("/api/pick?" + camera + "&x=" + std::to_string(x) + "&y=" + std::to_string(y));
+  ASSERT_TRUE(picked && picked->status == 200) << (picked ? picked->body : "");
+  const nlohmann::json node = nlohmann::json::parse(picked->body);
+  if (!node.is_null()) {
+    bool listed = false;
+    for (const nlohmann::json& entry : nodes) listed |= entry["node"] == node["node"];
+    EXPECT_TRUE(listed) << node.dump();
+  }
+  const std::string id = std::to_string((*drawn)["node"].get<int>());
+  const auto described = view.client.Get("/api/node?node=" + id);
+  ASSERT_TRUE(described && described->status == 200);
+  const nlohmann::json facts = nlohmann::json::parse(described->body);
+  ASSERT_TRUE(facts.contains("array"));
+  const int length = facts["array"]["surfels"].get<int>();
+  const auto rho = view.client.Get("/api/node/rho?node=" + id);
+  ASSERT_TRUE(rho && rho->status == 200);
+  const nlohmann::json curve = nlohmann::json::parse(rho->body);
+  ASSERT_GT(curve["k"].size(), 10u);
+  EXPECT_EQ(curve["k"].back().get<int>(), length);
+  for (const nlohmann::json& value : curve["rho"]) EXPECT_GT(value.get<double>(), 0.0);
+  const auto views = view.client.Get("/api/node/views?node=" + id);
+  ASSERT_TRUE(views && views->status == 200);
+  EXPECT_EQ(views->body.substr(1, 3), "PNG");
+  // A prefix alone draws exactly its surfels; the overlay of sources tints the surfel frame.
+  for (const int k : {1, 50, length}) {
+    const auto prefix =
+        view.client.Get(view.orbitQuery(10, 20, 2.5, "&show=prefix&node=" + id + "&prefix=" + std::to_string(k)));
+    ASSERT_TRUE(prefix && prefix->status == 200) << (prefix ? prefix->body : "");
+    EXPECT_EQ(nlohmann::json::parse(prefix->get_header_value("X-Pbs-Stats"))["surfels"].get<int>(), k);
+  }
+  const auto source = view.client.Get(view.orbitQuery(10, 20, 2.5, "&show=source"));
+  const auto plain = view.client.Get(view.orbitQuery(10, 20, 2.5, ""));
+  ASSERT_TRUE(source && source->status == 200 && plain && plain->status == 200);
+  EXPECT_NE(source->body, plain->body);
+  // Refusals name what is wrong.
+  for (const auto& [query, reason] : std::vector<std::pair<std::string, std::string>>{
+           {"/api/node?node=100000", "node: the scene has"},
+           {"/api/node", "node: missing"},
+           {"/api/frame?show=prefix", "show=prefix: needs node and prefix"},
+           {"/api/pick?w=64&h=64&x=64&y=0", "x, y: outside the 64x64 frame"}}) {
+    const auto refused = view.client.Get(query);
+    ASSERT_TRUE(refused) << query;
+    EXPECT_EQ(refused->status, 400) << query;
+    EXPECT_NE(refused->body.find(reason), std::string::npos) << query << ": " << refused->body;
+  }
+}
+
 TEST(View, BadRequestsAreRefusedWithTheReasonAndTheServerGoesOn) {
   ViewedGroups view;
   ASSERT_GT(view.server.port, 0);
@@ -228,6 +304,10 @@ TEST(View, WithoutSurfelsItShowsTheSceneExactly) {
   ASSERT_TRUE(surfels);
   EXPECT_EQ(surfels->status, 400);
   EXPECT_NE(surfels->body.find("no .surfels file"), std::string::npos) << surfels->body;
+  const auto rho = client.Get("/api/node/rho?node=0");
+  ASSERT_TRUE(rho);
+  EXPECT_EQ(rho->status, 400);
+  EXPECT_NE(rho->body.find("no surfel array"), std::string::npos) << rho->body;
   const auto exact = client.Get("/api/frame?w=64&h=64&show=embree");
   ASSERT_TRUE(exact);
   EXPECT_EQ(exact->status, 200);

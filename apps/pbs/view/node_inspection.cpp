@@ -40,13 +40,12 @@ nlohmann::json describeNode(const FrameScene& scene, std::uint32_t node) {
     path.push_back(graph.nodes[std::size_t(at)].name);
   std::reverse(path.begin(), path.end());
   const std::int32_t mesh = graph.nodes[node].mesh;
-  nlohmann::json description = {
-      {"node", node},
-      {"name", graph.nodes[node].name},
-      {"path", path},
-      {"triangles", mesh >= 0 ? graph.meshes[std::size_t(mesh)].triangleCount() : 0},
-      {"subtree_triangles", hierarchy.subtreeTriangles[node]},
-      {"children", graph.nodes[node].children.size()}};
+  nlohmann::json description = {{"node", node},
+                                {"name", graph.nodes[node].name},
+                                {"path", path},
+                                {"triangles", mesh >= 0 ? graph.meshes[std::size_t(mesh)].triangleCount() : 0},
+                                {"subtree_triangles", hierarchy.subtreeTriangles[node]},
+                                {"children", graph.nodes[node].children.size()}};
   const Bounds& box = hierarchy.worldBounds[node];
   if (!box.empty()) {
     const glm::dvec3 center = box.center();
@@ -55,7 +54,7 @@ nlohmann::json describeNode(const FrameScene& scene, std::uint32_t node) {
   }
   if (const std::uint32_t array = arrayOf(scene, node); array != kNoSurfels) {
     const SurfelArrayInfo& info = scene.surfels->arrays()[array];
-    description["array"] = {{"index", array},         {"surfels", info.count},         {"coverage", info.coverage},
+    description["array"] = {{"index", array},          {"surfels", info.count},          {"coverage", info.coverage},
                             {"packing", info.packing}, {"packing_end", info.packingEnd}, {"area", info.area}};
   }
   return description;
