@@ -8,11 +8,15 @@
 
 #include <pbs/raster/thread_arena.hpp>
 
+#include <stdlib.h>  // mkdtemp
+
 #include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <pthread.h>
+#include <filesystem>
+#include <optional>
 #include <thread>
 
 namespace pbs::cli {
@@ -21,6 +25,7 @@ namespace {
 struct ViewOptions {
   std::string scene;
   std::string surfels;
+  std::string makeSurfels;  // where surfels made from the page go; empty: a temporary folder
   int port = 8080;
   std::string bind = "127.0.0.1";
   LodOptions lod;
@@ -30,6 +35,26 @@ struct ViewOptions {
 };
 
 constexpr std::uint32_t kPathFrames = 24;  // the page's "go to" stops along each named path
+
+// A fresh folder under the system's temporary one, removed with everything in it when this goes away.
+class TemporaryFolder {
+ public:
+  TemporaryFolder() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "pbs-view-XXXXXX").string();
+    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot make a temporary folder under " + pattern);
+    path_ = pattern;
+  }
+  ~TemporaryFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  TemporaryFolder(const TemporaryFolder&) = delete;
+  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
 
 bool isLoopback(const std::string& host) { return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0; }
 
@@ -60,7 +85,6 @@ nlohmann::json sceneJson(const LoadedScene& loaded, const ViewRenderer& renderer
           {"nodes", loaded.scene.nodes.size()},
           {"center", {c.x, c.y, c.z}},
           {"radius", renderer.radius()},
-          {"surfels", renderer.hasSurfels()},
           {"orbit", {start.azimuthDegrees, start.elevationDegrees, start.distance}},
           {"lod",
            {{"threshold", lod.threshold},
@@ -81,7 +105,19 @@ void run(const ViewOptions& options) {
        .what = "viewing frames up to " + std::to_string(kMaxViewWidth) + "x" + std::to_string(kMaxViewHeight),
        .maxMemory = options.maxMemory});
   ViewRenderer renderer(scene, options.maxMemory);
-  ViewServer server(renderer, sceneJson(scene.loaded, renderer, options.lod), options.lod);
+  // Without a .surfels file the page may ask for one to be made: declared after the renderer it hands
+  // the file to, so that it stops first.
+  std::optional<TemporaryFolder> temporary;
+  std::optional<BackgroundSurfelize> background;
+  if (options.surfels.empty()) {
+    if (options.makeSurfels.empty()) temporary.emplace();
+    const std::filesystem::path file =
+        temporary ? temporary->path() / "scene.surfels" : std::filesystem::path(options.makeSurfels);
+    background.emplace(scene.loaded.scene, scene.loaded.hierarchy, file,
+                       [&renderer](const std::filesystem::path& made) { renderer.attachSurfels(made); });
+  }
+  ViewServer server(renderer, sceneJson(scene.loaded, renderer, options.lod), options.lod,
+                    background ? &*background : nullptr);
   const int port = server.bind(options.bind, options.port);
   if (!isLoopback(options.bind))
     std::fprintf(stderr, "warning: listening on %s: anyone who can reach this machine can view the scene\n",
@@ -115,6 +151,11 @@ void addViewCommand(CLI::App& app) {
       app.add_subcommand("view", "Serve the scene to a browser: orbit, fly and compare, rendered on this CPU");
   command->add_option("scene", options->scene, "a .gltf/.glb file, or 'default'")->required();
   command->add_option("--surfels", options->surfels, "the scene's .surfels file (from pbs surfelize)");
+  command
+      ->add_option("--make-surfels", options->makeSurfels,
+                   "without --surfels: where the surfels the page asks for are written (default: a temporary "
+                   "file, removed when the viewer stops)")
+      ->excludes("--surfels");
   command->add_option("--port", options->port, "TCP port (0: any free one)")
       ->check(CLI::Range(0, 65535))
       ->capture_default_str();

@@ -6,7 +6,7 @@
 
 namespace pbs::cli {
 
-FrameScene::FrameScene(const FrameSceneOptions& options) {
+FrameScene::FrameScene(const FrameSceneOptions& options) : cacheBytes(options.cacheBytes) {
   // The file holds the exact box of every instance and, from version 4, the fingerprints that let a glTF
   // scene be opened without its mesh arrays, each read when a frame first draws it as geometry (a scene
   // rebuilt as a loose octree is read whole, its meshes split).

@@ -37,6 +37,7 @@ class FrameScene {
   std::optional<LazyMeshes> meshes;    // set when the meshes are read as frames draw them
   std::optional<SurfelCache> surfels;  // set with a .surfels file
   std::uint64_t foreseenBytes = 0;     // `alongside` plus the caches' budgets
+  std::uint64_t cacheBytes = 0;        // each cache's budget (FrameSceneOptions::cacheBytes)
 };
 
 }  // namespace pbs::cli

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <thread>
 
@@ -311,6 +312,36 @@ TEST(View, WithoutSurfelsItShowsTheSceneExactly) {
   const auto exact = client.Get("/api/frame?w=64&h=64&show=embree");
   ASSERT_TRUE(exact);
   EXPECT_EQ(exact->status, 200);
+}
+
+TEST(View, SurfelsMadeInTheBackgroundAreSurfelizesAndAreDrawn) {
+  ScratchDir scratch;
+  groupsFile(scratch);
+  const std::filesystem::path scene = scratch / "groups.glb", made = scratch / "made.surfels";
+  ViewServer server({"view", scene.string(), "--make-surfels", made.string()});
+  ASSERT_GT(server.port, 0);
+  httplib::Client client("127.0.0.1", server.port);
+  const auto idle = client.Get("/api/surfelize");
+  ASSERT_TRUE(idle && idle->status == 200);
+  EXPECT_EQ(nlohmann::json::parse(idle->body)["state"], "idle");
+  const auto started = client.Post("/api/surfelize", "", "text/plain");
+  ASSERT_TRUE(started && started->status == 200);
+  nlohmann::json status = nlohmann::json::parse(started->body);
+  for (int poll = 0; poll < 600 && status["state"] == "running"; ++poll) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    status = nlohmann::json::parse(client.Get("/api/surfelize")->body);
+  }
+  ASSERT_EQ(status["state"], "done") << status.dump();
+  EXPECT_EQ(status["fraction"].get<double>(), 1.0);
+  EXPECT_TRUE(nlohmann::json::parse(client.Get("/api/scene")->body)["surfels"].get<bool>());
+  // The file is `pbs surfelize`'s at its defaults, and frames draw it.
+  const std::filesystem::path reference = scratch / "reference.surfels";
+  const CommandResult surfelize = runPbs("surfelize " + quoted(scene) + " -o " + quoted(reference) + " --quiet");
+  ASSERT_EQ(surfelize.status, 0) << surfelize.err;
+  EXPECT_TRUE(readFile(made) == readFile(reference)) << "the background's file differs from pbs surfelize's";
+  const auto frame = client.Get("/api/frame?w=64&h=64&show=surfels");
+  ASSERT_TRUE(frame);
+  EXPECT_EQ(frame->status, 200) << frame->body;
 }
 
 TEST(View, BadCommandLinesAreOneErrorLine) {

@@ -180,5 +180,29 @@ TEST(ViewBrowser, DraggingTogglingAndSlidingChangeTheFramesAsPbsRenderWould) {
   EXPECT_EQ(*status, 0);
 }
 
+TEST(ViewBrowser, WithoutSurfelsThePageShowsTheSceneExactlyAndMakesThem) {
+  if (!std::filesystem::exists(kChromium) || !std::filesystem::exists(kChromedriver))
+    GTEST_SKIP() << "Chromium or chromedriver not installed (apt-get install chromium chromium-driver; "
+                    "scripts/setup.sh installs them)";
+  ScratchDir scratch;
+  groupsFile(scratch);
+  ViewServer server({"view", (scratch / "groups.glb").string()});
+  ASSERT_GT(server.port, 0);
+  Browser browser(900, 500);
+  ASSERT_TRUE(browser.started());
+  browser.open("http://127.0.0.1:" + std::to_string(server.port) + "/?size=320x180&refine=0");
+  ASSERT_TRUE(browser.waitFor("window.pbsView && window.pbsView.refined", 60.0));
+  EXPECT_EQ(browser.run("return window.pbsView.shown.stats.drawn_by;"), "embree");
+  EXPECT_EQ(browser.run("return document.querySelector('input[value=surfels]').disabled;"), true);
+  browser.click("#make-surfels-button");
+  ASSERT_TRUE(browser.waitFor("window.pbsView.surfelsMade && window.pbsView.refined", 120.0))
+      << browser.run("return document.getElementById('make-surfels-progress').textContent;").dump();
+  EXPECT_EQ(browser.run("return window.pbsView.shown.stats.drawn_by;"), "surfels");
+  EXPECT_NE(browser.run("return document.getElementById('make-surfels-progress').textContent;")
+                .get<std::string>()
+                .find("made in"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace pbs::test

@@ -71,7 +71,8 @@ const char* drawKindName(DrawKind kind) {
   return kind == DrawKind::Geometry ? "geometry" : kind == DrawKind::Surfels ? "surfels" : "band";
 }
 
-ViewRenderer::ViewRenderer(FrameScene& scene, std::uint64_t maxMemory) : scene_(scene), maxMemory_(maxMemory) {
+ViewRenderer::ViewRenderer(FrameScene& scene, std::uint64_t maxMemory)
+    : scene_(scene), maxMemory_(maxMemory), hasSurfels_(scene.surfels.has_value()) {
   // The orbit paths' centre and radius, so that a camera at the centre is `pbs render --orbit`'s.
   const Bounds bounds = sceneBounds(scene.loaded.hierarchy, scene.loaded.scene.roots);
   if (!bounds.empty()) center_ = bounds.center();
@@ -80,6 +81,17 @@ ViewRenderer::ViewRenderer(FrameScene& scene, std::uint64_t maxMemory) : scene_(
 
 Camera ViewRenderer::camera(const ViewRequest& request) const {
   return orbitCamera(request.target, center_, radius_, request.orbit, request.width, request.height);
+}
+
+void ViewRenderer::requireSurfels() const {
+  if (!hasSurfels())
+    throw std::invalid_argument("no .surfels file (start pbs view with --surfels FILE, or make them from the page)");
+}
+
+void ViewRenderer::attachSurfels(const std::filesystem::path& file) {
+  const std::lock_guard lock(mutex_);
+  scene_.surfels.emplace(file, scene_.loaded.scene, scene_.loaded.hierarchy, scene_.cacheBytes);
+  hasSurfels_ = true;
 }
 
 const EmbreeScene& ViewRenderer::rays() {
@@ -99,8 +111,7 @@ const EmbreeScene& ViewRenderer::rays() {
 
 FrameResult ViewRenderer::renderFrame(RenderMode mode, std::uint32_t samples, FrameImage image,
                                       const ViewRequest& request) {
-  if (mode == RenderMode::Surfels && !hasSurfels())
-    throw std::invalid_argument("show=surfels: no .surfels file (start pbs view with --surfels FILE)");
+  if (mode == RenderMode::Surfels) requireSurfels();
   const SplatMode splat = request.lod.splat;
   auto kept = std::find_if(kept_.begin(), kept_.end(), [&](const Kept& k) {
     return k.mode == mode && (mode != RenderMode::Surfels || k.splat == splat) && k.samples == samples &&
@@ -153,7 +164,7 @@ ViewFrame ViewRenderer::renderComparison(const ViewRequest& request) {
 }
 
 LodDraws ViewRenderer::traverse(const ViewRequest& request) {
-  if (!hasSurfels()) throw std::invalid_argument("no .surfels file (start pbs view with --surfels FILE)");
+  requireSurfels();
   return traverseLod(scene_.loaded.scene, scene_.loaded.hierarchy, scene_.surfels->surfels(), camera(request),
                      request.lod);
 }
@@ -202,7 +213,7 @@ ViewFrame ViewRenderer::renderSources(const ViewRequest& request) {
 
 ViewFrame ViewRenderer::renderPrefix(const ViewRequest& request) {
   const auto start = std::chrono::steady_clock::now();
-  if (!hasSurfels()) throw std::invalid_argument("no .surfels file (start pbs view with --surfels FILE)");
+  requireSurfels();
   const std::uint32_t node = *request.node;
   if (node >= scene_.loaded.scene.nodes.size())
     throw std::invalid_argument("node: the scene has " + std::to_string(scene_.loaded.scene.nodes.size()) + " nodes");

@@ -11,7 +11,9 @@
 
 #include <glm/glm.hpp>
 
+#include <atomic>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -49,7 +51,9 @@ class ViewRenderer {
 
   glm::dvec3 center() const { return center_; }
   double radius() const { return radius_; }
-  bool hasSurfels() const { return scene_.surfels.has_value(); }
+  bool hasSurfels() const { return hasSurfels_; }
+  // Draws with `file` (made for this scene) from the next frame on: surfels made in the background.
+  void attachSurfels(const std::filesystem::path& file);
   FrameScene& scene() { return scene_; }
   // The request's camera: `pbs render --orbit`'s when the target is the centre.
   Camera camera(const ViewRequest& request) const;
@@ -82,6 +86,7 @@ class ViewRenderer {
   // Node request.node's first request.prefix surfels alone, at the size that prefix closes the surface.
   ViewFrame renderPrefix(const ViewRequest& request);
   LodDraws traverse(const ViewRequest& request);
+  void requireSurfels() const;  // std::invalid_argument without surfels
 
   struct Kept {
     RenderMode mode;
@@ -103,6 +108,7 @@ class ViewRenderer {
   double radius_ = 1.0;
   std::mutex mutex_;  // one frame at a time: renderers, caches and BVHs are not shared between threads
   std::uint64_t maxMemory_;
+  std::atomic<bool> hasSurfels_;     // scene_.surfels is set (read without the lock by the server)
   LazyMeshes::Lease everyMesh_;      // with meshes read on demand: what the rays hold
   std::optional<EmbreeScene> rays_;  // built for the first frame that casts rays at the whole scene
   std::vector<Kept> kept_;

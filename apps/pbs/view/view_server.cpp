@@ -84,14 +84,16 @@ void sendBytes(httplib::Response& response, const std::vector<std::uint8_t>& byt
 
 struct ViewServer::State {
   ViewRenderer& renderer;
+  BackgroundSurfelize* background;
   nlohmann::json scene;
   ViewRequest defaults;
   NewestFrames newest;
   httplib::Server http;
 };
 
-ViewServer::ViewServer(ViewRenderer& renderer, nlohmann::json scene, const LodOptions& defaults)
-    : state_(new State{renderer, std::move(scene), {}, {}, {}}) {
+ViewServer::ViewServer(ViewRenderer& renderer, nlohmann::json scene, const LodOptions& defaults,
+                       BackgroundSurfelize* background)
+    : state_(new State{renderer, background, std::move(scene), {}, {}, {}}) {
   state_->defaults.target = renderer.center();
   state_->defaults.lod = defaults;
   httplib::Server& http = state_->http;
@@ -106,8 +108,24 @@ ViewServer::ViewServer(ViewRenderer& renderer, nlohmann::json scene, const LodOp
   State& state = *state_;
   http.Get("/api/scene", [&state](const httplib::Request&, httplib::Response& response) {
     response.set_header("Cache-Control", "no-store");
-    response.set_content(state.scene.dump(), "application/json");
+    nlohmann::json scene = state.scene;
+    scene["surfels"] = state.renderer.hasSurfels();  // surfels made in the background arrive
+    scene["can_make_surfels"] = state.background != nullptr;
+    response.set_content(scene.dump(), "application/json");
   });
+  // Surfels made in the background: POST starts, GET tells how far it is.
+  const auto surfelizing = [&state](const httplib::Request& request, httplib::Response& response) {
+    response.set_header("Cache-Control", "no-store");
+    if (!state.background) {
+      response.status = 400;
+      response.set_content("error: this view was started with its surfels\n", "text/plain; charset=utf-8");
+      return;
+    }
+    if (request.method == "POST") state.background->start();
+    response.set_content(state.background->status().dump(), "application/json");
+  };
+  http.Get("/api/surfelize", surfelizing);
+  http.Post("/api/surfelize", surfelizing);
   // Every API route: the request parsed and validated, the answer uncached, a refusal a 400 with the reason.
   const auto route = [&http, &state](const char* path, auto answer) {
     http.Get(path, [&state, answer](const httplib::Request& http_request, httplib::Response& response) {

@@ -3,6 +3,7 @@
 // superseded are dropped rather than rendered, and nothing but the page and the frames is served.
 #pragma once
 
+#include "background_surfelize.hpp"
 #include "view_renderer.hpp"
 
 #include <nlohmann/json.hpp>
@@ -16,8 +17,9 @@ namespace pbs::cli {
 class ViewServer {
  public:
   // `renderer` must outlive the server; `scene` describes it to the page (/api/scene). `defaults` are the
-  // LOD options frames start from (the command line's).
-  ViewServer(ViewRenderer& renderer, nlohmann::json scene, const LodOptions& defaults);
+  // LOD options frames start from (the command line's). `background`, if any, makes surfels on request
+  // (/api/surfelize) and must outlive the server.
+  ViewServer(ViewRenderer& renderer, nlohmann::json scene, const LodOptions& defaults, BackgroundSurfelize* background);
   ~ViewServer();
 
   // Binds `host`:`port` (0: any free port) and returns the port; throws std::runtime_error when it cannot.

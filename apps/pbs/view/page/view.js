@@ -440,6 +440,32 @@ function bindControls() {
   window.addEventListener('resize', () => { if (view.size === 'fit') settingsChanged(); });
 }
 
+// Surfels made on the server in the background: started here, polled until written, then drawn.
+async function makeSurfels() {
+  $('make-surfels-button').disabled = true;
+  let status = await (await fetch('/api/surfelize', { method: 'POST' })).json();
+  while (status.state === 'running') {
+    $('make-surfels-progress').textContent = `${(100 * status.fraction).toFixed(0)} % ` +
+      `(${status.arrays_done} of ${status.arrays_total || '?'} arrays, ${status.seconds.toFixed(0)} s)`;
+    await new Promise((resolve) => setTimeout(resolve, 500));
+    status = await (await fetch('/api/surfelize')).json();
+  }
+  if (status.state !== 'done') {
+    $('make-surfels-progress').textContent = 'failed: ' + (status.error || status.state);
+    $('make-surfels-button').disabled = false;
+    return;
+  }
+  $('make-surfels-progress').textContent = `made in ${status.seconds.toFixed(1)} s`;
+  view.scene.surfels = true;
+  window.pbsView.surfelsMade = true;
+  for (const input of document.querySelectorAll('input[name=show][value=surfels]')) {
+    input.disabled = false;
+    input.checked = true;
+  }
+  view.show = 'surfels';
+  settingsChanged();
+}
+
 async function start() {
   const response = await fetch('/api/scene');
   view.scene = await response.json();
@@ -449,6 +475,10 @@ async function start() {
   resetCamera();
   $('path-frame').max = view.scene.paths.orbit.length - 1;
   bindControls();
+  if (!view.scene.surfels && view.scene.can_make_surfels) {
+    $('make-surfels').hidden = false;
+    $('make-surfels-button').addEventListener('click', makeSurfels);
+  }
   window.pbsView.ready = true;
   settingsChanged();
 }
