@@ -49,8 +49,9 @@ ShardChoice parseShard(const std::string& text) {
 void addShardOption(CLI::App& command, std::optional<ShardChoice>& shard, const std::string& help) {
   command.add_option_function<std::string>(
       "--shard", [&shard](const std::string& text) { shard = parseShard(text); },
-      help + "; I/N (0 <= I < N), or auto/N for I from $SLURM_ARRAY_TASK_ID, $JOB_COMPLETION_INDEX, "
-             "$AWS_BATCH_JOB_ARRAY_INDEX or $BATCH_TASK_INDEX");
+      help +
+          "; I/N (0 <= I < N), or auto/N for I from $SLURM_ARRAY_TASK_ID, $JOB_COMPLETION_INDEX, "
+          "$AWS_BATCH_JOB_ARRAY_INDEX or $BATCH_TASK_INDEX");
 }
 
 }  // namespace pbs::cli

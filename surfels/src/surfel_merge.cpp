@@ -48,8 +48,7 @@ void requireSamePlan(const SurfelFileReader& part, const SurfelFileReader& first
                      "made for another scene (fingerprint " + hex(part.sceneFingerprint()) + ", " + firstName +
                          "'s is " + hex(first.sceneFingerprint()) + ")");
   if (const std::string difference = optionDifference(part.options(), first.options()); !difference.empty())
-    throw InputError(part.path().string(), name,
-                     "made with other options than " + firstName + " (" + difference + ")");
+    throw InputError(part.path().string(), name, "made with other options than " + firstName + " (" + difference + ")");
   if (shard.count != first.shard()->count || shard.plan != first.shard()->plan ||
       part.arrays().size() != first.arrays().size())
     throw InputError(part.path().string(), name,
@@ -101,8 +100,8 @@ void mergeSurfelParts(std::span<const std::filesystem::path> parts, const std::f
     if (!holder[a]) throw InputError(first.path().string(), "shard table", "no part holds array " + std::to_string(a));
 
   SurfelFileWriter writer(output, first.sceneFingerprint(), first.options(),
-                          std::vector<SurfelNodeRecord>(first.nodes().begin(), first.nodes().end()),
-                          first.sceneTable(), std::uint32_t(arrays));
+                          std::vector<SurfelNodeRecord>(first.nodes().begin(), first.nodes().end()), first.sceneTable(),
+                          std::uint32_t(arrays));
   for (std::uint32_t a = 0; a < arrays; ++a) writer.addStored(a, holder[a]->arrays()[a], holder[a]->readStored(a));
   writer.finish();
 }
