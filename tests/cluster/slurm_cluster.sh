@@ -62,6 +62,13 @@ munged --key-file="$work"/munge/munge.key --socket="$work"/munge/munge.socket --
   skip "munged did not start: $(tail -n 3 "$work"/munged.log 2>/dev/null)"
 
 host=$(hostname -s)
+# slurmctld must be named by this host's name, and with NoCtldInAddrAny it listens on the address that name
+# resolves to: only where that is a loopback address does nothing listen beyond this machine.
+address=$(getent hosts "$host" | awk '{print $1; exit}')
+case "$address" in
+  127.*) ;;
+  *) skip "$host resolves to '${address:-nothing}', not a loopback address: slurmctld would listen beyond 127.0.0.1" ;;
+esac
 ctld_port=$(free_port)
 slurmd_port=$(free_port)
 [ "$slurmd_port" != "$ctld_port" ] || slurmd_port=$((ctld_port + 1))
@@ -72,7 +79,7 @@ SlurmUser=root
 AuthType=auth/munge
 AuthInfo=socket=$work/munge/munge.socket
 CredType=cred/munge
-CommunicationParameters=NoInAddrAny
+CommunicationParameters=NoInAddrAny,NoCtldInAddrAny
 SlurmctldPort=$ctld_port
 SlurmdPort=$slurmd_port
 StateSaveLocation=$work/state
@@ -138,4 +145,5 @@ for shards in $shard_counts; do
       tr '\n' ' ' | sed "s|^|  $(basename "$log" .log): |"
     echo
   done
+  sed "s|^|  |" "$work/merge-$shards.log"
 done
