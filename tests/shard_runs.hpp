@@ -16,11 +16,10 @@ namespace pbs::test {
 
 // Makes shard `index` of `count` of `scene` into `dir`/part-count-index.surfels; returns the path.
 inline std::filesystem::path makePart(const std::string& scene, const std::filesystem::path& dir, std::uint32_t index,
-                               std::uint32_t count, const std::string& options) {
-  const std::filesystem::path part =
-      dir / ("part-" + std::to_string(count) + "-" + std::to_string(index) + ".surfels");
-  const CommandResult made = runPbs("surfelize " + scene + " -o " + quoted(part) + " --shard " +
-                                          std::to_string(index) + "/" + std::to_string(count) + options);
+                                      std::uint32_t count, const std::string& options) {
+  const std::filesystem::path part = dir / ("part-" + std::to_string(count) + "-" + std::to_string(index) + ".surfels");
+  const CommandResult made = runPbs("surfelize " + scene + " -o " + quoted(part) + " --shard " + std::to_string(index) +
+                                    "/" + std::to_string(count) + options);
   EXPECT_EQ(made.status, 0) << made.err;
   return part;
 }
@@ -32,7 +31,8 @@ inline std::string quotedAll(const std::vector<std::filesystem::path>& files) {
 }
 
 // For 1, 2, 3 and 7 shards: every shard's part, merged, is the one-machine file.
-inline void expectShardsMergeToTheSingleRun(const std::string& scene, const ScratchDir& scratch, const std::string& options) {
+inline void expectShardsMergeToTheSingleRun(const std::string& scene, const ScratchDir& scratch,
+                                            const std::string& options) {
   const std::filesystem::path single = scratch / "single.surfels";
   const CommandResult whole = runPbs("surfelize " + scene + " -o " + quoted(single) + options);
   ASSERT_EQ(whole.status, 0) << whole.err;

@@ -31,7 +31,8 @@ using test::ScratchDir;
 // three levels, some shared between instances.
 std::string cityFile(const ScratchDir& scratch) {
   std::vector<Scene> prototypes;
-  for (std::uint32_t n : {6u, 10u, 14u}) prototypes.push_back(test::sceneOf(test::tessellatedBox(n), {glm::dmat4(1.0)}));
+  for (std::uint32_t n : {6u, 10u, 14u})
+    prototypes.push_back(test::sceneOf(test::tessellatedBox(n), {glm::dmat4(1.0)}));
   writeGlb(generateCity(prototypes, {.levels = 3, .fanout = 4, .seed = 3}), scratch / "city.glb");
   return quoted(scratch / "city.glb");
 }
@@ -143,8 +144,8 @@ TEST(MergeRefuses, AShardOfAnotherScene) {
 TEST(MergeRefuses, AShardOfOtherOptions) {
   CityParts city;
   const std::filesystem::path other = city.scratch / "other-options.surfels";
-  const test::CommandResult made = runPbs("surfelize " + city.city + " -o " + quoted(other) + " --shard 1/3" +
-                                          kSmall + " --seed 7");
+  const test::CommandResult made =
+      runPbs("surfelize " + city.city + " -o " + quoted(other) + " --shard 1/3" + kSmall + " --seed 7");
   ASSERT_EQ(made.status, 0) << made.err;
   city.expectRefused({city.parts[0], other, city.parts[2]}, {other.string(), "shard 1/3", "other options", "seed 7"});
 }
@@ -186,8 +187,8 @@ TEST(MergeRefuses, AWholeFileForAPart) {
 TEST(MergeRefuses, AndLeavesAnOldFileAsItWas) {
   CityParts city;
   test::writeFile(city.output, "the old file");
-  const test::CommandResult merge = runPbs("merge" + quotedAll({city.parts[0], city.parts[1]}) + " -o " +
-                                           quoted(city.output));
+  const test::CommandResult merge =
+      runPbs("merge" + quotedAll({city.parts[0], city.parts[1]}) + " -o " + quoted(city.output));
   EXPECT_EQ(merge.status, 1);
   EXPECT_EQ(test::readFile(city.output), "the old file");
 }
@@ -200,23 +201,23 @@ TEST(RenderShards, ThreeShardsFillTheFolderOneRunFills) {
   const test::CommandResult single = runPbs(common + quoted(scratch / "single"));
   ASSERT_EQ(single.status, 0) << single.err;
   for (int shard = 0; shard < 3; ++shard) {
-    const test::CommandResult part = runPbs(common + quoted(scratch / "sharded") + " --shard " +
-                                            std::to_string(shard) + "/3 --json");
+    const test::CommandResult part =
+        runPbs(common + quoted(scratch / "sharded") + " --shard " + std::to_string(shard) + "/3 --json");
     ASSERT_EQ(part.status, 0) << part.err;
-    EXPECT_EQ(nlohmann::json::parse(part.out)["frames"].size(), shard == 0 ? 3u : 2u) << "frames " << shard << ", +3, …";
+    EXPECT_EQ(nlohmann::json::parse(part.out)["frames"].size(), shard == 0 ? 3u : 2u)
+        << "frames " << shard << ", +3, …";
   }
   std::size_t frames = 0;
   for (const auto& entry : std::filesystem::directory_iterator(scratch / "single")) {
     ++frames;
-    EXPECT_TRUE(test::readFile(entry.path()) ==
-                test::readFile(scratch / "sharded" / entry.path().filename()))
+    EXPECT_TRUE(test::readFile(entry.path()) == test::readFile(scratch / "sharded" / entry.path().filename()))
         << entry.path().filename();
   }
   EXPECT_EQ(frames, 7u);
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(scratch / "sharded"), {}), 7);
 
-  const test::CommandResult noFrames = runPbs("render " + scene + " --surfels " + surfels + " --shard 0/2 -o " +
-                                              quoted(scratch / "one.png"));
+  const test::CommandResult noFrames =
+      runPbs("render " + scene + " --surfels " + surfels + " --shard 0/2 -o " + quoted(scratch / "one.png"));
   EXPECT_EQ(noFrames.status, 2);
   EXPECT_NE(noFrames.err.find("give --frames N"), std::string::npos) << noFrames.err;
   const test::CommandResult streamed = runPbs(common + quoted(scratch / "s") + " --shard 0/2 --stream 1");

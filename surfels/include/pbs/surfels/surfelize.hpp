@@ -74,8 +74,9 @@ struct SurfelizeStats {
 
 // Every node above options.file.threshold gets an array of at most options.file.maxSurfels surfels in
 // its own frame (see analyzeSubtree). Nodes of one subtree class (subtreeClasses) share one array,
-// captured for the first of them in preorder. Arrays are independent and made in parallel, largest
-// subtree first (when children's surfels may be drawn, children before parents). Each array's ordering
+// captured for the first of them in preorder. Arrays are made in parallel, an array captured from its
+// children's surfels after them (which captures do is decided before any array is made: the children's
+// drawing counted with every child array at options.file.maxSurfels surfels). Each array's ordering
 // seed mixes options.file.seed with the node's stable path, so the result is the same for any thread
 // count and any schedule. A scene with no node above the threshold gives a file with no arrays.
 // options.file.colors picks the kept surfels' colours: their own pixel's (Pixel) or, by default, each
