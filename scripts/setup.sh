@@ -10,7 +10,8 @@ packages=(cmake ninja-build g++ pkg-config libglm-dev libembree-dev libopenimage
           chromium chromium-driver                 # pbs view's browser test (headless Chromium)
           libosmesa6   # libosmesa6: Mesa llvmpipe, the peer `pbs bench raster` measures against
           clang libclang-rt-14-dev   # scripts/fuzz.sh: clang with libFuzzer (-fsanitize=fuzzer)
-          clang-format)              # scripts/format.sh: the formatting CI checks
+          clang-format               # scripts/format.sh: the formatting CI checks
+          slurm-wlm munge)           # tests/cluster: a one-node Slurm on localhost runs the surfelize job array
 missing=()
 for package in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")

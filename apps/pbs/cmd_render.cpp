@@ -8,6 +8,7 @@
 #include <pbs/evaluation/report_numbers.hpp>
 #include "orbit_views.hpp"
 #include "scene_report.hpp"
+#include "shard_option.hpp"
 
 #include <pbs/raster/headlight_shading.hpp>
 #include <pbs/raster/thread_arena.hpp>
@@ -43,8 +44,15 @@ struct RenderOptions {
   double streamMBps = 0.0;  // 0: read from the file as frames need it
   double streamFps = 30.0;
   std::string streamOrder = "prefixes";
+  std::optional<ShardChoice> shard;
   int threads = 0;
 };
+
+// Whether frame f is this run's: with --shard I/N, the frames f with f mod N = I (neighbouring frames of
+// a path cost about the same, so taking every N-th balances the shards better than blocks would).
+bool rendersFrame(const RenderOptions& options, std::uint32_t f) {
+  return !options.shard || f % options.shard->count == options.shard->index;
+}
 
 // Where frame f goes: the -o file itself for one view, else frame_NNNN.png in the -o folder.
 std::filesystem::path frameFile(const RenderOptions& options, std::uint32_t f) {
@@ -122,6 +130,12 @@ void run(const RenderOptions& options) {
   const Orbit orbit = parseOrbit(options.orbit);
   const auto [width, height] = parseSize(options.size);
   const std::string modeName = !options.mode.empty() ? options.mode : options.surfels.empty() ? "exact" : "surfels";
+  // A shard's frames must not depend on the frames other shards render.
+  if (options.shard && options.frames == 0) throw CLI::ValidationError("--shard", "shares frames out: give --frames N");
+  if (options.shard && (options.streamMBps > 0.0 || options.budgetFeedback))
+    throw CLI::ValidationError("--shard", std::string("not with ") +
+                                              (options.streamMBps > 0.0 ? "--stream" : "--budget-feedback") +
+                                              ", whose frames depend on every frame before them");
   const RenderMode mode = *renderModeFromName(modeName);
   if (mode == RenderMode::Surfels && options.surfels.empty())
     throw CLI::ValidationError("--mode surfels", "needs --surfels FILE (make one with pbs surfelize)");
@@ -197,6 +211,7 @@ void run(const RenderOptions& options) {
     throw CLI::ValidationError("--budget-feedback", "corrects --budget-ms: give it, in surfels mode");
   BudgetFeedback feedback(options.lod.budget.limit);
   for (std::uint32_t f = 0; f < frames; ++f) {
+    if (!rendersFrame(options, f)) continue;
     // Frame f shows what the link delivered by (f + 1) / fps.
     if (stream) stream->advance(views[f].camera, 1.0 / options.streamFps);
     const double limit = feedback.limit();
@@ -241,7 +256,10 @@ void run(const RenderOptions& options) {
   if (options.frames > 0) {
     const double medianSeconds = median(seconds);
     report["median_seconds"] = medianSeconds;
-    if (!options.json) std::printf("%u frames: median %.1f ms\n", frames, medianSeconds * 1e3);
+    if (options.shard) report["shard"] = {{"index", options.shard->index}, {"count", options.shard->count}};
+    if (!options.json)
+      std::printf("%zu frames%s: median %.1f ms\n", seconds.size(),
+                  options.shard ? (" of " + std::to_string(frames)).c_str() : "", medianSeconds * 1e3);
   }
   if (surfels) {
     report["surfel_bytes_read"] = surfels->stats().bytesRead;
@@ -308,6 +326,9 @@ void addRenderCommand(CLI::App& app) {
                    "one, each drawn once complete")
       ->check(CLI::IsMember({"prefixes", "arrays"}))
       ->capture_default_str();
+  addShardOption(*command, options->shard,
+                 "with --frames: render only the frames f with f mod N = I, into the same folder under the same "
+                 "names");
   addMaxMemoryOption(*command, options->maxMemory);
   addThreadsOption(*command, options->threads);
   command->callback([options] { runWithThreads(options->threads, [&] { run(*options); }); });

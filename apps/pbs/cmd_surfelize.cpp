@@ -5,6 +5,7 @@
 #include "progress_meter.hpp"
 #include <pbs/evaluation/report_numbers.hpp>
 #include "scene_report.hpp"
+#include "shard_option.hpp"
 
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/surfels/capture.hpp>
@@ -33,6 +34,34 @@ std::string progressDetail(const SurfelizeProgress& p) {
          " surfels";
 }
 
+// `--shard-plan N`: per shard, the arrays held and made and the estimated seconds, and how far the
+// slowest shard is from an even split.
+void printShardPlan(const LoadedScene& loaded, const SurfelizeOptions& settings, std::uint32_t count, bool json) {
+  const std::vector<SurfelizeShardEstimate> shards =
+      planSurfelizeShards(loaded.scene, loaded.hierarchy, settings, count);
+  double total = 0.0, slowest = 0.0;
+  for (const SurfelizeShardEstimate& shard : shards) slowest = std::max(slowest, shard.estimatedSeconds);
+  const SurfelizeShardEstimate whole = planSurfelizeShards(loaded.scene, loaded.hierarchy, settings, 1).front();
+  total = whole.estimatedSeconds;
+  if (json) {
+    nlohmann::json report = {{"scene", loaded.name}, {"shards", count}, {"estimated_seconds_one_shard", total}};
+    for (const SurfelizeShardEstimate& shard : shards)
+      report["per_shard"].push_back({{"arrays_held", shard.arraysHeld},
+                                     {"arrays_made", shard.arraysMade},
+                                     {"estimated_seconds", shard.estimatedSeconds}});
+    std::cout << report.dump(2) << "\n";
+    return;
+  }
+  std::printf("%s: %s arrays over %u shards (estimated seconds on one core; one shard: %.1f s)\n", loaded.name.c_str(),
+              withThousands(whole.arraysHeld).c_str(), count, total);
+  for (std::uint32_t s = 0; s < count; ++s)
+    std::printf("shard %u/%u: holds %s arrays, makes %s, %.1f s\n", s, count,
+                withThousands(shards[s].arraysHeld).c_str(), withThousands(shards[s].arraysMade).c_str(),
+                shards[s].estimatedSeconds);
+  std::printf("slowest shard %.1f s: %.2fx faster than one shard (%u at best)\n", slowest,
+              slowest > 0.0 ? total / slowest : 1.0, count);
+}
+
 }  // namespace
 
 void addSurfelizeCommand(CLI::App& app) {
@@ -45,6 +74,8 @@ void addSurfelizeCommand(CLI::App& app) {
     std::uint64_t maxMemory = 0;
     std::uint64_t cacheMb = 1024;
     OctreeChoice octree;
+    std::optional<ShardChoice> shard;
+    std::uint32_t shardPlan = 0;
     int threads = 0;
   };
   auto options = std::make_shared<Options>();
@@ -72,6 +103,14 @@ void addSurfelizeCommand(CLI::App& app) {
                          "what an inner node's capture draws: its subtree's triangles (exact) or its children's "
                          "surfels (fast)");
   command->add_option("--seed", file.seed, "seed of the orderings")->capture_default_str();
+  addShardOption(*command, options->shard,
+                 "write only the arrays of shard I of N (a part, which pbs merge puts together with the others "
+                 "into the whole file), shards balanced by estimated cost");
+  command
+      ->add_option("--shard-plan", options->shardPlan,
+                   "print how N shards would split the arrays (held, made, estimated seconds each) and exit: "
+                   "nothing is captured, -o is not written")
+      ->check(CLI::Range(1u, 1u << 20));
   command->add_flag("--json", options->json, "print JSON instead of text");
   command->add_flag("-q,--quiet", options->quiet, "no progress on stderr");
   addCacheOption(*command, options->cacheMb,
@@ -88,11 +127,16 @@ void addSurfelizeCommand(CLI::App& app) {
       LoadedScene loaded =
           meshesOnDemand ? openWithoutMeshes(options->scene) : loadAndAnalyze(options->scene, LoadOptions{});
       SurfelizeOptions settings = options->surfelize;
+      if (options->shard) settings.shard = SurfelizeShard{options->shard->index, options->shard->count};
       // A flat scene is rebuilt as a loose octree, read whole (its meshes are split), and the file says so.
       settings.file.octreeLeafTriangles = options->octree.leavesFor(loaded.scene);
       if (settings.file.octreeLeafTriangles > 0) {
         meshesOnDemand = false;
         loaded = loadAndAnalyze(options->scene, LoadOptions{settings.file.octreeLeafTriangles});
+      }
+      if (options->shardPlan > 0) {
+        printShardPlan(loaded, settings, options->shardPlan, options->json);
+        return;
       }
       const int workers = resolveThreadCount(options->threads);
       const std::uint64_t cacheBytes = options->cacheMb << 20;
@@ -122,11 +166,11 @@ void addSurfelizeCommand(CLI::App& app) {
       for (const SurfelArrayInfo& info : written.arrays()) ++encodings[colorEncodingName(info.colorEncoding)];
 
       if (options->json) {
-        const nlohmann::json report = {
+        nlohmann::json report = {
             {"scene", loaded.name},
             {"output", options->output},
             {"nodes_with_surfels", stats.nodesWithSurfels},
-            {"arrays", stats.arrays},
+            {"arrays", written.arrays().size()},
             {"captures", stats.arrays},
             {"surfels", stats.surfels},
             {"candidates", stats.candidates},
@@ -150,7 +194,10 @@ void addSurfelizeCommand(CLI::App& app) {
             {"capture_from", captureSourceName(settings.source)},
             {"seed", settings.file.seed},
             {"octree_leaf_triangles", settings.file.octreeLeafTriangles},
+            {"arrays_written", stats.arraysWritten},
+            {"estimated_seconds", stats.estimatedSeconds},
         };
+        if (options->shard) report["shard"] = {{"index", options->shard->index}, {"count", options->shard->count}};
         std::cout << report.dump(2) << "\n";
         return;
       }
@@ -165,9 +212,13 @@ void addSurfelizeCommand(CLI::App& app) {
                     withThousands(settings.file.octreeLeafTriangles).c_str());
       std::printf("%s: %s nodes above %s triangles share %s arrays (%s captures): %s surfels from %s candidates\n",
                   loaded.name.c_str(), withThousands(stats.nodesWithSurfels).c_str(),
-                  withThousands(settings.file.threshold).c_str(), withThousands(stats.arrays).c_str(),
+                  withThousands(settings.file.threshold).c_str(), withThousands(written.arrays().size()).c_str(),
                   withThousands(stats.arrays).c_str(), withThousands(stats.surfels).c_str(),
                   withThousands(stats.candidates).c_str());
+      if (options->shard)
+        std::printf("shard %u/%u: %s of the %s arrays are this part's (estimated %.1f s on one core for all it made)\n",
+                    options->shard->index, options->shard->count, withThousands(stats.arraysWritten).c_str(),
+                    withThousands(written.arrays().size()).c_str(), stats.estimatedSeconds);
       std::printf("wrote %s: %s bytes (%.2f per surfel; colours of %s arrays constant, %s RGB, %s RGBA) in %.2f s\n",
                   options->output.c_str(), withThousands(bytes).c_str(),
                   stats.surfels > 0 ? double(bytes) / double(stats.surfels) : 0.0,

@@ -30,6 +30,7 @@ void addCaptureCommand(CLI::App& app);
 void addAnalyzeCommand(CLI::App& app);
 void addPrefixesCommand(CLI::App& app);
 void addSurfelizeCommand(CLI::App& app);
+void addMergeCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addViewCommand(CLI::App& app);
 void addCalibrateCommand(CLI::App& app);

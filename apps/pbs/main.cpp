@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   pbs::cli::addAnalyzeCommand(app);
   pbs::cli::addPrefixesCommand(app);
   pbs::cli::addSurfelizeCommand(app);
+  pbs::cli::addMergeCommand(app);
   pbs::cli::addRenderCommand(app);
   pbs::cli::addViewCommand(app);
   pbs::cli::addCalibrateCommand(app);

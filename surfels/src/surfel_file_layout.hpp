@@ -5,7 +5,7 @@
 //   header (112 bytes at offset 0)
 //     0  magic "PBSURFEL"          8 bytes
 //     8  version                   u32
-//    12  reserved (0)              u32
+//    12  flags                     u32 (version 5: kShardPartFlag; reserved, 0, before)
 //    16  scene fingerprint         u64
 //    24  options.threshold         u64
 //    32  options.maxSurfels        u32
@@ -32,6 +32,9 @@
 //     structure fingerprint u64, per mesh its fingerprint u64, then per scene node in index order its mesh
 //     instance's exact world box, min xyz f64×3 and max xyz f64×3 (an empty box, +inf then -inf, for a node
 //     without a mesh), then u64 checksum
+//   shard table (a part made by one shard, kShardPartFlag), right after the scene table's checksum: shard
+//     index u32, shard count u32, plan identity u64, held array count u32, the held arrays' indices u32 each
+//     (ascending), then u64 checksum; the arrays a part does not hold are empty in it (no surfels)
 //   data, per array at its data offset: count × surfelBytes(encoding) surfels (chunks of kSurfelsPerChunk), then
 //     one u64 checksum per chunk (Hash64 of the chunk's bytes, seeded by the chunk's index); a surfel is
 //     position u64, normal 2 × i16, then its colour: RGBA u8×4, RGB u8×3 or nothing
@@ -70,6 +73,12 @@ inline constexpr std::uint64_t kBoxBytes = 48;
 inline constexpr std::uint64_t sceneTableBytes(std::uint64_t nodes, std::uint64_t meshes) {
   return kSceneTableHeadBytes + meshes * 8 + nodes * kBoxBytes + kChecksumBytes;
 }
+// The header flag of a shard's part, and its shard table of `arrays` held arrays with its checksum.
+inline constexpr std::uint32_t kShardPartFlag = 1;
+inline constexpr std::uint64_t kShardTableHeadBytes = 20;  // index, count, plan, held array count
+inline constexpr std::uint64_t shardTableBytes(std::uint64_t arrays) {
+  return kShardTableHeadBytes + arrays * 4 + kChecksumBytes;
+}
 
 // Distinct seeds, so that a table's bytes never pass for another element's.
 inline constexpr std::uint64_t kHeaderSeed = 0x50425348'45414452ull;
@@ -77,11 +86,12 @@ inline constexpr std::uint64_t kArrayTableSeed = 0x50425341'52524159ull;
 inline constexpr std::uint64_t kNodeTableSeed = 0x5042534E'4F444553ull;
 inline constexpr std::uint64_t kChunkSeed = 0x50425344'41544100ull;
 inline constexpr std::uint64_t kSceneTableSeed = 0x50425353'43454E45ull;
+inline constexpr std::uint64_t kShardTableSeed = 0x50425353'48415244ull;
 
 struct Header {
   std::array<std::uint8_t, 8> magic = kMagic;
   std::uint32_t version = kSurfelFileVersion;
-  std::uint32_t reserved = 0;
+  std::uint32_t flags = 0;  // version 5 (0 before: a reserved field)
   std::uint64_t fingerprint = 0;
   std::uint64_t threshold = 0;
   std::uint32_t maxSurfels = 0;
@@ -104,7 +114,7 @@ template <class Io>
 void layoutHeader(Io& io, Header& h) {
   io.raw(h.magic);
   io.u32(h.version);
-  io.u32(h.reserved);
+  io.u32(h.flags);
   io.u64(h.fingerprint);
   io.u64(h.threshold);
   io.u32(h.maxSurfels);
@@ -144,6 +154,15 @@ void layoutArray(Io& io, SurfelArrayInfo& a, std::uint32_t& encoding, std::uint3
   if (version < 3) return;
   for (int i = 0; i < 4; ++i) io.u8(a.constantColor[i]);
   io.u32(reserved);
+}
+
+// A shard table's fields before its held arrays' indices.
+template <class Io>
+void layoutShardHead(Io& io, SurfelShardTable& shard, std::uint32_t& arrays) {
+  io.u32(shard.index);
+  io.u32(shard.count);
+  io.u64(shard.plan);
+  io.u32(arrays);
 }
 
 // A node record as stored: version 3 keeps of its path only what differs from the previous node's.

@@ -77,6 +77,8 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
   if (header.colors > static_cast<std::uint32_t>(SurfelColors::Prefiltered)) {
     throw InputError(file, "header", "unknown colour filter " + number(header.colors));
   }
+  if (header.version >= 5 && (header.flags & ~kShardPartFlag) != 0)
+    throw InputError(file, "header", "unknown flags " + number(header.flags));
   if (header.fileBytes > fileSize) throw InputError(file, "header", beyond(header.fileBytes, 0, fileSize));
   if (header.fileBytes < fileSize) {
     throw InputError(
@@ -175,6 +177,31 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
     tablesBytes_ += table.size();
   }
 
+  // Shard table (a part of one shard): right after the scene table, its count bounded by the arrays'.
+  if (header.version >= 5 && (header.flags & kShardPartFlag) != 0) {
+    const std::uint64_t offset = tablesEnd;
+    const std::vector<std::uint8_t> head = readRange("shard table", offset, kShardTableHeadBytes);
+    SurfelShardTable shard;
+    std::uint32_t held = 0;
+    ByteSource counts{head};
+    layoutShardHead(counts, shard, held);
+    if (held > header.arrayCount)
+      throw InputError(file, "shard table", "holds " + number(held) + " arrays of " + number(header.arrayCount));
+    const std::vector<std::uint8_t> table = readRange("shard table", offset, shardTableBytes(held));
+    checkTable("shard table", table, kShardTableSeed);
+    ByteSource source{std::span(table).subspan(kShardTableHeadBytes)};
+    shard.arrays.resize(held);
+    for (std::uint32_t& array : shard.arrays) source.u32(array);
+    if (shard.count == 0 || shard.index >= shard.count)
+      throw InputError(file, "shard table", "shard " + number(shard.index) + " of " + number(shard.count));
+    for (std::size_t i = 0; i < shard.arrays.size(); ++i)
+      if (shard.arrays[i] >= header.arrayCount || (i > 0 && shard.arrays[i] <= shard.arrays[i - 1]))
+        throw InputError(file, "shard table", "held arrays not ascending below " + number(header.arrayCount));
+    shard_ = std::move(shard);
+    tablesEnd += table.size();
+    tablesBytes_ += table.size();
+  }
+
   // Every array's data inside the file, after the tables.
   const std::uint64_t dataStart = tablesEnd;
   // Errors name the first node using the array: one pass finds them all (a search per array would be
@@ -251,6 +278,37 @@ std::vector<Surfel> SurfelFileReader::readRange(std::uint32_t array, std::uint32
   const std::uint32_t wanted = std::min(count, info.count - first);
   if (wanted == 0) return {};
 
+  // Whole chunks, since a checksum covers a whole chunk; the last chunk of an array may be short.
+  const std::uint64_t surfelsRead = std::min<std::uint64_t>(chunkCount(wanted) * kSurfelsPerChunk, info.count - first);
+  const std::vector<std::uint8_t> data = readChunks(array, first, std::uint32_t(surfelsRead)).data;
+
+  // A packed surfel gets the stored bytes over the colour the array's encoding leaves out (bytes 12–15).
+  const std::uint64_t stored = surfelBytes(info.colorEncoding);
+  PackedSurfel packed{};
+  if (info.colorEncoding == SurfelColorEncoding::Constant)
+    for (int c = 0; c < 4; ++c) packed[std::size_t(12 + c)] = info.constantColor[c];
+  if (info.colorEncoding == SurfelColorEncoding::Rgb) packed[15] = 255;
+  std::vector<Surfel> surfels(wanted);
+  for (std::uint32_t i = 0; i < wanted; ++i) {
+    std::copy_n(data.begin() + std::ptrdiff_t(i * stored), stored, packed.begin());
+    surfels[i] = decodeSurfel(packed, info.box);
+  }
+  return surfels;
+}
+
+std::vector<std::uint8_t> SurfelFileReader::readStored(std::uint32_t array) {
+  if (array >= arrays_.size()) {
+    throw std::out_of_range("surfel file " + path_.string() + ": array " + number(array) + " of " +
+                            number(arrays_.size()));
+  }
+  StoredChunks chunks = readChunks(array, 0, arrays_[array].count);
+  chunks.data.insert(chunks.data.end(), chunks.checksums.begin(), chunks.checksums.end());
+  return std::move(chunks.data);
+}
+
+SurfelFileReader::StoredChunks SurfelFileReader::readChunks(std::uint32_t array, std::uint32_t first,
+                                                            std::uint32_t surfels) {
+  const SurfelArrayInfo& info = arrays_[array];
   auto element = [&] {
     for (const SurfelNodeRecord& node : nodes_) {
       if (node.array == array) return "node " + node.path;
@@ -265,38 +323,25 @@ std::vector<Surfel> SurfelFileReader::readRange(std::uint32_t array, std::uint32
     dataBytesRead_ += bytes.size();
   };
 
-  // Whole chunks, since a checksum covers a whole chunk; the last chunk of an array may be short.
   const std::uint64_t firstChunk = first / kSurfelsPerChunk;
-  const std::uint64_t chunks = chunkCount(wanted);
-  const std::uint64_t surfelsRead = std::min<std::uint64_t>(chunks * kSurfelsPerChunk, info.count - first);
+  const std::uint64_t chunks = chunkCount(surfels);
   const std::uint64_t stored = surfelBytes(info.colorEncoding);
-  std::vector<std::uint8_t> data(surfelsRead * stored);
-  std::vector<std::uint8_t> checksums(chunks * kChecksumBytes);
-  read(info.dataOffset + std::uint64_t(first) * stored, data);
-  read(info.dataOffset + std::uint64_t(info.count) * stored + firstChunk * kChecksumBytes, checksums);
+  StoredChunks result{std::vector<std::uint8_t>(std::uint64_t(surfels) * stored),
+                      std::vector<std::uint8_t>(chunks * kChecksumBytes)};
+  read(info.dataOffset + std::uint64_t(first) * stored, result.data);
+  read(info.dataOffset + std::uint64_t(info.count) * stored + firstChunk * kChecksumBytes, result.checksums);
 
   for (std::uint64_t c = 0; c < chunks; ++c) {
     const std::uint64_t at = c * kSurfelsPerChunk * stored;
-    const std::uint64_t size = std::min<std::uint64_t>(kSurfelsPerChunk * stored, data.size() - at);
-    if (chunkChecksum(std::span(data).subspan(at, size), firstChunk + c) !=
-        readU64(checksums.data() + c * kChecksumBytes)) {
+    const std::uint64_t size = std::min<std::uint64_t>(kSurfelsPerChunk * stored, result.data.size() - at);
+    if (chunkChecksum(std::span(result.data).subspan(at, size), firstChunk + c) !=
+        readU64(result.checksums.data() + c * kChecksumBytes)) {
       throw InputError(
           path_.string(), element(),
           "checksum mismatch in surfel chunk " + number(firstChunk + c) + " (array " + number(array) + ")");
     }
   }
-
-  // A packed surfel gets the stored bytes over the colour the array's encoding leaves out (bytes 12–15).
-  PackedSurfel packed{};
-  if (info.colorEncoding == SurfelColorEncoding::Constant)
-    for (int c = 0; c < 4; ++c) packed[std::size_t(12 + c)] = info.constantColor[c];
-  if (info.colorEncoding == SurfelColorEncoding::Rgb) packed[15] = 255;
-  std::vector<Surfel> surfels(wanted);
-  for (std::uint32_t i = 0; i < wanted; ++i) {
-    std::copy_n(data.begin() + std::ptrdiff_t(i * stored), stored, packed.begin());
-    surfels[i] = decodeSurfel(packed, info.box);
-  }
-  return surfels;
+  return result;
 }
 
 SurfelFile readSurfelFile(const std::filesystem::path& path) {

@@ -66,12 +66,22 @@ void checkSceneTable(const SurfelSceneTable& table) {
                                   " is neither empty nor finite with min <= max");
 }
 
-// Where the data begins: after the header and the three tables with their checksums.
+void checkShardTable(const SurfelShardTable& shard, std::uint64_t arrayCount) {
+  if (shard.count == 0 || shard.index >= shard.count)
+    throw std::invalid_argument("surfel file: shard " + std::to_string(shard.index) + " of " +
+                                std::to_string(shard.count));
+  for (std::size_t i = 0; i < shard.arrays.size(); ++i)
+    if (shard.arrays[i] >= arrayCount || (i > 0 && shard.arrays[i] <= shard.arrays[i - 1]))
+      throw std::invalid_argument("surfel file: a shard's arrays must be ascending and below the array count");
+}
+
+// Where the data begins: after the header and the tables with their checksums.
 std::uint64_t dataStart(std::uint64_t arrayCount, std::span<const SurfelNodeRecord> nodes,
-                        const SurfelSceneTable& scene) {
+                        const SurfelSceneTable& scene, const std::optional<SurfelShardTable>& shard) {
   return kHeaderBytes + arrayCount * arrayRecordBytes(kSurfelFileVersion) + kChecksumBytes +
          nodeTableBytes(storedNodes(nodes)) + kChecksumBytes +
-         sceneTableBytes(scene.instanceBounds.size(), scene.meshes.size());
+         sceneTableBytes(scene.instanceBounds.size(), scene.meshes.size()) +
+         (shard ? shardTableBytes(shard->arrays.size()) : 0);
 }
 
 // The smallest colour encoding that keeps every surfel's colour: one colour for all, or no alpha where
@@ -114,21 +124,24 @@ std::vector<std::uint8_t> encodeArrayData(const SurfelArray& array, SurfelColorE
 
 SurfelFileWriter::SurfelFileWriter(const std::filesystem::path& path, std::uint64_t sceneFingerprint,
                                    const SurfelFileOptions& options, std::vector<SurfelNodeRecord> nodes,
-                                   SurfelSceneTable sceneTable, std::uint32_t arrayCount)
+                                   SurfelSceneTable sceneTable, std::uint32_t arrayCount,
+                                   std::optional<SurfelShardTable> shard)
     : path_(path),
       fingerprint_(sceneFingerprint),
       options_(options),
       nodes_(std::move(nodes)),
       sceneTable_(std::move(sceneTable)),
+      shard_(std::move(shard)),
       infos_(arrayCount),
       waiting_(arrayCount) {
   checkNodes(nodes_, arrayCount);
   checkSceneTable(sceneTable_);
+  if (shard_) checkShardTable(*shard_, arrayCount);
   temporary_ = path_;
   temporary_ += ".tmp-" + std::to_string(::getpid());
   out_.open(temporary_, std::ios::binary | std::ios::trunc);
   if (!out_) fail(path_, "cannot create " + temporary_.string());
-  dataEnd_ = dataStart(arrayCount, nodes_, sceneTable_);
+  dataEnd_ = dataStart(arrayCount, nodes_, sceneTable_, shard_);
   out_.seekp(std::streamoff(dataEnd_));
   if (!out_) fail(path_, "cannot seek in " + temporary_.string());
 }
@@ -141,11 +154,9 @@ SurfelFileWriter::~SurfelFileWriter() {
 }
 
 void SurfelFileWriter::add(std::uint32_t index, const SurfelArray& array) {
-  if (index >= infos_.size() || index < written_ || waiting_[index])
-    throw std::invalid_argument("surfel file: array " + std::to_string(index) + " added twice or out of range");
   checkArray(index, array);
   const SurfelColorEncoding encoding = colorEncodingOf(array.surfels);
-  infos_[index] = {
+  const SurfelArrayInfo info{
       .box = array.box,
       .coverage = array.coverage,
       .packing = array.packing,
@@ -155,8 +166,19 @@ void SurfelFileWriter::add(std::uint32_t index, const SurfelArray& array) {
       .dataOffset = 0,
       .colorEncoding = encoding,
       .constantColor = encoding == SurfelColorEncoding::Constant ? array.surfels.front().color : glm::u8vec4(0)};
-  waiting_[index] = encodeArrayData(array, encoding);
-  bytesWaiting_ += waiting_[index]->size();
+  addStored(index, info, encodeArrayData(array, encoding));
+}
+
+void SurfelFileWriter::addStored(std::uint32_t index, const SurfelArrayInfo& info, std::vector<std::uint8_t> data) {
+  if (index >= infos_.size() || index < written_ || waiting_[index])
+    throw std::invalid_argument("surfel file: array " + std::to_string(index) + " added twice or out of range");
+  if (data.size() != storedSurfelBytes(info.count, info.colorEncoding))
+    throw std::invalid_argument("surfel file: array " + std::to_string(index) + ": " + std::to_string(data.size()) +
+                                " bytes of data for " + std::to_string(info.count) + " surfels");
+  infos_[index] = info;
+  infos_[index].dataOffset = 0;
+  bytesWaiting_ += data.size();
+  waiting_[index] = std::move(data);
   writeReadyArrays();
 }
 
@@ -184,6 +206,7 @@ void SurfelFileWriter::finish() {
   header.colors = static_cast<std::uint32_t>(options_.colors);
   header.seed = options_.seed;
   header.octreeLeafTriangles = options_.octreeLeafTriangles;
+  header.flags = shard_ ? kShardPartFlag : 0;
   header.arrayCount = static_cast<std::uint32_t>(infos_.size());
   header.nodeCount = static_cast<std::uint32_t>(nodes_.size());
   header.arrayTableOffset = kHeaderBytes;
@@ -211,6 +234,13 @@ void SurfelFileWriter::finish() {
   for (const std::uint64_t mesh : sceneTable_.meshes) sink.u64(mesh);
   for (Bounds& box : sceneTable_.instanceBounds) layoutBox(sink, box);
   appendChecksum(sink, sceneTable, kSceneTableSeed);
+  if (shard_) {
+    const std::size_t shardTable = sink.bytes.size();
+    auto held = std::uint32_t(shard_->arrays.size());
+    layoutShardHead(sink, *shard_, held);
+    for (const std::uint32_t array : shard_->arrays) sink.u32(array);
+    appendChecksum(sink, shardTable, kShardTableSeed);
+  }
 
   out_.seekp(0);
   out_.write(reinterpret_cast<const char*>(sink.bytes.data()), std::streamsize(sink.bytes.size()));

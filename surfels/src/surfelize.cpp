@@ -3,6 +3,7 @@
 
 #include "capture_from_children.hpp"
 #include "surfelize_plan.hpp"
+#include "surfelize_shards.hpp"
 
 #include "pbs/raster/hash64.hpp"
 #include "pbs/scene/scene_draws.hpp"
@@ -20,6 +21,7 @@
 #include <algorithm>
 #include <functional>
 #include <mutex>
+#include <numeric>
 #include <queue>
 
 namespace pbs {
@@ -34,34 +36,18 @@ double packingValue(std::span<const glm::vec3> positions, std::span<const std::u
   return spacing * spacing * double(k);
 }
 
-// Whether `node`'s capture draws its children's surfels (see CaptureSource).
-bool captureFromChildren(const Scene& scene, const Hierarchy& frame, std::uint32_t node, CaptureSource source,
-                         const detail::SurfelPlan& plan, std::span<const SurfelArray> arrays) {
-  if (source == CaptureSource::Triangles) return false;
-  std::uint64_t childDrawing = 0;  // splats and triangles the children's drawing would hold
-  bool anyArray = false;
-  for (std::uint32_t child : scene.nodes[node].children) {
-    const std::uint32_t array = plan.arrayOfNode[child];
-    anyArray |= array != kNoSurfels;
-    childDrawing += array != kNoSurfels ? arrays[array].surfels.size() : frame.subtreeTriangles[child];
-  }
-  if (!anyArray) return false;
-  return source == CaptureSource::ChildSurfels ||
-         double(frame.subtreeTriangles[node]) > kAutoChildSurfelRatio * double(childDrawing);
-}
-
 struct MadeArray {
   SurfelArray array;
   std::uint64_t candidates = 0;
 };
 
-// The capture of `node` in its subtree's frame `frame`. With `meshes` (a scene opened without its mesh
-// arrays), the meshes it draws as triangles are leased for the capture alone.
-CaptureResult captureArray(const Scene& scene, const Hierarchy& frame, std::uint32_t node,
+// The capture of `node` (from its children's surfels or not, as the plan says) in its subtree's frame
+// `frame`. With `meshes` (a scene opened without its mesh arrays), the meshes it draws as triangles are
+// leased for the capture alone.
+CaptureResult captureArray(const Scene& scene, const Hierarchy& frame, std::uint32_t node, bool fromChildren,
                            const SurfelizeOptions& options, const detail::SurfelPlan& plan,
                            std::span<const SurfelArray> arrays, LazyMeshes* meshes) {
   const CaptureOptions capture{.resolution = options.file.resolution, .directions = options.file.directions};
-  const bool fromChildren = captureFromChildren(scene, frame, node, options.source, plan, arrays);
   LazyMeshes::Lease lease;
   if (meshes) {
     std::vector<std::uint32_t> drawn;
@@ -74,12 +60,14 @@ CaptureResult captureArray(const Scene& scene, const Hierarchy& frame, std::uint
                       : captureNode(scene, frame, node, capture);
 }
 
-// The array for `node`, whose path seeds its ordering and whose subtree has `area` in its own frame.
-MadeArray makeArray(const Scene& scene, std::uint32_t node, std::span<const Bounds> boxes, const std::string& path,
+// Array `a`, captured for its representative, whose path seeds its ordering and whose subtree has `area`
+// in its own frame.
+MadeArray makeArray(const Scene& scene, std::uint32_t a, std::span<const Bounds> boxes, const std::string& path,
                     double area, const SurfelizeOptions& options, const detail::SurfelPlan& plan,
                     std::span<const SurfelArray> arrays, LazyMeshes* meshes) {
+  const std::uint32_t node = plan.representative[a];
   const Hierarchy frame = analyzeSubtree(scene, node, boxes);
-  const CaptureResult captured = captureArray(scene, frame, node, options, plan, arrays, meshes);
+  const CaptureResult captured = captureArray(scene, frame, node, plan.fromChildren[a], options, plan, arrays, meshes);
   if (meshes) meshes->unloadOverBudget();
 
   const std::vector<glm::vec3> positions = orderingPositions(captured.surfels);
@@ -106,21 +94,6 @@ MadeArray makeArray(const Scene& scene, std::uint32_t node, std::span<const Boun
   array.packing = packingValue(positions, order, std::min(kPackingSample, order.size()));
   array.packingEnd = packingValue(positions, order, order.size());
   return made;
-}
-
-// Per array: the distinct arrays of its representative's children, which its capture may draw (none when
-// captures draw triangles only). Their indices are lower (planSurfelArrays).
-std::vector<std::vector<std::uint32_t>> childArrays(const Scene& scene, const detail::SurfelPlan& plan,
-                                                    CaptureSource source) {
-  std::vector<std::vector<std::uint32_t>> children(plan.representative.size());
-  if (source == CaptureSource::Triangles) return children;
-  for (std::size_t a = 0; a < children.size(); ++a) {
-    for (std::uint32_t child : scene.nodes[plan.representative[a]].children)
-      if (plan.arrayOfNode[child] != kNoSurfels) children[a].push_back(plan.arrayOfNode[child]);
-    std::sort(children[a].begin(), children[a].end());
-    children[a].erase(std::unique(children[a].begin(), children[a].end()), children[a].end());
-  }
-  return children;
 }
 
 // The most arrays held at once when they are made one at a time in index order, as the schedule below
@@ -155,7 +128,7 @@ struct ArrayMaker {
       : scene(scene),
         hierarchy(hierarchy),
         options(options),
-        plan(detail::planSurfelArrays(scene, hierarchy, options.file.threshold)),
+        plan(detail::planSurfelArrays(scene, hierarchy, options)),
         paths(plan.nodes.empty() ? std::vector<std::string>() : nodePaths(scene, hierarchy)),
         scan(scanScene(
             scene, hierarchy,
@@ -183,32 +156,40 @@ struct ArrayMaker {
     return records;
   }
 
-  // Workers take the lowest-numbered array whose children's arrays are made (children first, so in
-  // about index order: few finished arrays wait for their parents or for the file). Each array is made
-  // by one worker (its capture runs in parallel inside) into its own slot, so the schedule cannot
-  // change the arrays.
+  // Every array's index, in order: what a whole run makes.
+  std::vector<std::uint32_t> allArrays() const {
+    std::vector<std::uint32_t> all(plan.representative.size());
+    std::iota(all.begin(), all.end(), 0u);
+    return all;
+  }
+
+  // The arrays `wanted`, which must hold every array a wanted one's capture draws. Workers take the lowest-numbered
+  // array whose children's arrays are made (children first, so in about index order: few finished arrays wait for their
+  // parents or for the file). Each array is made by one worker (its capture runs in parallel inside) into its own slot,
+  // so the schedule cannot change the arrays.
   template <class Finished>
-  std::vector<SurfelArray> make(bool release, SurfelizeStats* stats, const Finished& finished) {
+  std::vector<SurfelArray> make(std::span<const std::uint32_t> wanted, bool release, SurfelizeStats* stats,
+                                const Finished& finished) {
     const std::size_t count = plan.representative.size();
     std::vector<SurfelArray> arrays(count);
     const std::vector<double>& areas = scan.ownFrameAreas;
-    const std::vector<std::vector<std::uint32_t>> children = childArrays(scene, plan, options.source);
+    const std::vector<std::vector<std::uint32_t>>& children = plan.childArrays;
     std::vector<std::vector<std::uint32_t>> parents(count);
     std::vector<std::uint32_t> childrenLeft(count), capturesLeft(count, 0);
-    for (std::uint32_t a = 0; a < count; ++a) {
+    for (std::uint32_t a : wanted) {
       childrenLeft[a] = std::uint32_t(children[a].size());
       for (std::uint32_t child : children[a]) parents[child].push_back(a), ++capturesLeft[child];
     }
     std::priority_queue<std::uint32_t, std::vector<std::uint32_t>, std::greater<>> ready;
-    for (std::uint32_t a = 0; a < count; ++a)
+    for (std::uint32_t a : wanted)
       if (childrenLeft[a] == 0) ready.push(a);
     const auto releaseIfDone = [&](std::uint32_t a) {
       if (release && capturesLeft[a] == 0) std::vector<Surfel>().swap(arrays[a].surfels);
     };
 
     SurfelizeProgress progress;
-    progress.arraysTotal = std::uint32_t(count);
-    for (std::uint32_t node : plan.representative) progress.trianglesTotal += hierarchy.subtreeTriangles[node];
+    progress.arraysTotal = std::uint32_t(wanted.size());
+    for (std::uint32_t a : wanted) progress.trianglesTotal += hierarchy.subtreeTriangles[plan.representative[a]];
     std::uint64_t candidates = 0;
     // Under `mutex`: the ready queue, the counts above, the progress, `finished`. No task ever waits
     // on another (a thread waiting inside a capture's parallel loop may run a task on top of it): a
@@ -241,7 +222,7 @@ struct ArrayMaker {
         try {
           const std::uint32_t node = plan.representative[a];
           MadeArray made =
-              makeArray(scene, node, scan.subtreeBounds[a], paths[node], areas[node], options, plan, arrays, meshes);
+              makeArray(scene, a, scan.subtreeBounds[a], paths[node], areas[node], options, plan, arrays, meshes);
           const std::lock_guard lock(mutex);
           arrays[a] = std::move(made.array);
           candidates += made.candidates;
@@ -274,9 +255,13 @@ struct ArrayMaker {
 
     if (stats) {
       stats->nodesWithSurfels = plan.nodes.size();
-      stats->arrays = arrays.size();
+      stats->arrays = wanted.size();
       stats->surfels = progress.surfels;
       stats->candidates = candidates;
+      stats->arraysWritten = wanted.size();
+      stats->estimatedSeconds = 0.0;
+      for (std::uint32_t a : wanted)
+        stats->estimatedSeconds += detail::estimatedArraySeconds(options, plan.primitivesDrawn[a]);
     }
     return arrays;
   }
@@ -298,7 +283,7 @@ std::vector<glm::vec3> orderingPositions(std::span<const Surfel> surfels) {
 
 std::uint64_t surfelizeMemoryEstimate(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options,
                                       int workers) {
-  const detail::SurfelPlan plan = detail::planSurfelArrays(scene, hierarchy, options.file.threshold);
+  const detail::SurfelPlan plan = detail::planSurfelArrays(scene, hierarchy, options);
   const std::uint64_t pixels = std::uint64_t(options.file.resolution) * options.file.resolution;
   constexpr std::uint64_t kGBufferBytes = 4 + 4 + 12 + 12;  // depth, colour, position, normal per pixel
   // A candidate: the surfel, its position for the ordering, and the ordering's grid and heap entries
@@ -309,11 +294,23 @@ std::uint64_t surfelizeMemoryEstimate(const Scene& scene, const Hierarchy& hiera
   // An array decoded and encoded for the file. Besides the arrays being made, held are those that
   // parents still to come capture from, and those finished ahead of an earlier one the file waits for.
   const std::uint64_t array = std::uint64_t(options.file.maxSurfels) * (sizeof(Surfel) + kSurfelBytes);
-  const std::uint64_t held =
-      arraysHeldInIndexOrder(childArrays(scene, plan, options.source)) + std::uint64_t(std::max(workers, 1));
+  const std::uint64_t held = arraysHeldInIndexOrder(plan.childArrays) + std::uint64_t(std::max(workers, 1));
   const std::uint64_t arrays = std::min<std::uint64_t>(held, plan.representative.size()) * array;
   return std::uint64_t(std::max(workers, 1)) * (capture + frame) + arrays +
          plan.representative.size() * sizeof(SurfelArray);
+}
+
+std::vector<SurfelizeShardEstimate> planSurfelizeShards(const Scene& scene, const Hierarchy& hierarchy,
+                                                        const SurfelizeOptions& options, std::uint32_t count) {
+  const detail::SurfelPlan plan = detail::planSurfelArrays(scene, hierarchy, options);
+  const detail::ShardPlan shards = detail::planShards(plan, options, count);
+  std::vector<SurfelizeShardEstimate> estimates(count);
+  for (std::uint32_t owner : shards.owner) ++estimates[owner].arraysHeld;
+  for (std::uint32_t s = 0; s < count; ++s) {
+    estimates[s].arraysMade = shards.made[s].size();
+    estimates[s].estimatedSeconds = shards.shardSeconds[s];
+  }
+  return estimates;
 }
 
 std::string_view captureSourceName(CaptureSource source) {
@@ -333,19 +330,43 @@ SurfelFile surfelize(const Scene& scene, const Hierarchy& hierarchy, const Surfe
   file.options = options.file;
   file.nodes = maker.nodeRecords();
   file.sceneTable = maker.sceneTable(hierarchy.instanceBounds);
-  file.arrays = maker.make(false, stats, [](std::uint32_t, const SurfelArray&) {});
+  file.arrays = maker.make(maker.allArrays(), false, stats, [](std::uint32_t, const SurfelArray&) {});
   return file;
 }
 
 namespace {
 
-// The streaming writer fed by `maker`, with the scene table's world boxes `instanceBounds`.
+// The streaming writer fed by `maker`, with the scene table's world boxes `instanceBounds`: the whole
+// file, or with options.shard that shard's part (the arrays of other shards empty, those it makes again
+// for its own captures left out).
 void writeArrays(ArrayMaker& maker, std::span<const Bounds> instanceBounds, const std::filesystem::path& path,
                  SurfelizeStats* stats) {
+  const auto arrays = std::uint32_t(maker.plan.representative.size());
+  if (!maker.options.shard) {
+    SurfelFileWriter writer(path, maker.scan.sceneFingerprint, maker.options.file, maker.nodeRecords(),
+                            maker.sceneTable(instanceBounds), arrays);
+    maker.make(maker.allArrays(), true, stats,
+               [&](std::uint32_t a, const SurfelArray& array) { writer.add(a, array); });
+    writer.finish();
+    return;
+  }
+  const SurfelizeShard shard = *maker.options.shard;
+  const detail::ShardPlan plan = detail::planShards(maker.plan, maker.options, shard.count);
+  SurfelShardTable table{.index = shard.index, .count = shard.count, .plan = plan.identity, .arrays = {}};
+  for (std::uint32_t a = 0; a < arrays; ++a)
+    if (plan.owner[a] == shard.index) table.arrays.push_back(a);
+  const std::size_t held = table.arrays.size();
   SurfelFileWriter writer(path, maker.scan.sceneFingerprint, maker.options.file, maker.nodeRecords(),
-                          maker.sceneTable(instanceBounds), std::uint32_t(maker.plan.representative.size()));
-  maker.make(true, stats, [&](std::uint32_t a, const SurfelArray& array) { writer.add(a, array); });
+                          maker.sceneTable(instanceBounds), arrays, std::move(table));
+  SurfelArray empty;  // what a part holds of another shard's array: no surfels, a box that is finite
+  empty.box = Bounds{glm::dvec3(0.0), glm::dvec3(0.0)};
+  for (std::uint32_t a = 0; a < arrays; ++a)
+    if (plan.owner[a] != shard.index) writer.add(a, empty);
+  maker.make(plan.made[shard.index], true, stats, [&](std::uint32_t a, const SurfelArray& array) {
+    if (plan.owner[a] == shard.index) writer.add(a, array);
+  });
   writer.finish();
+  if (stats) stats->arraysWritten = held;
 }
 
 }  // namespace

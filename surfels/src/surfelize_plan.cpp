@@ -1,4 +1,5 @@
-// planSurfelArrays: nodes above the threshold, grouped into shared arrays by subtree class.
+// planSurfelArrays: nodes above the threshold, grouped into shared arrays by subtree class, and what
+// each array's capture draws.
 #include "surfelize_plan.hpp"
 
 #include "pbs/scene/subtree_classes.hpp"
@@ -7,10 +8,37 @@
 #include <algorithm>
 
 namespace pbs::detail {
+namespace {
 
-SurfelPlan planSurfelArrays(const Scene& scene, const Hierarchy& hierarchy, std::uint64_t threshold) {
+// What `node`'s capture from its children would draw: each child array at `arrayLength` splats, the
+// triangles of children without one; and whether any child has an array.
+struct ChildDrawing {
+  std::uint64_t primitives = 0;
+  bool anyArray = false;
+};
+ChildDrawing childDrawing(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node,
+                          const std::vector<std::uint32_t>& arrayOfNode, std::uint64_t arrayLength) {
+  ChildDrawing drawing;
+  for (std::uint32_t child : scene.nodes[node].children) {
+    const bool hasArray = arrayOfNode[child] != kNoSurfels;
+    drawing.anyArray |= hasArray;
+    drawing.primitives += hasArray ? arrayLength : hierarchy.subtreeTriangles[child];
+  }
+  return drawing;
+}
+
+// Whether a capture draws the children's surfels (see CaptureSource) rather than the subtree's triangles.
+bool capturesFromChildren(CaptureSource source, std::uint64_t subtreeTriangles, const ChildDrawing& children) {
+  if (source == CaptureSource::Triangles || !children.anyArray) return false;
+  return source == CaptureSource::ChildSurfels ||
+         double(subtreeTriangles) > kAutoChildSurfelRatio * double(children.primitives);
+}
+
+}  // namespace
+
+SurfelPlan planSurfelArrays(const Scene& scene, const Hierarchy& hierarchy, const SurfelizeOptions& options) {
   SurfelPlan plan;
-  plan.nodes = nodesNeedingSurfels(hierarchy, threshold);
+  plan.nodes = nodesNeedingSurfels(hierarchy, options.file.threshold);
   plan.arrayOfNode.assign(scene.nodes.size(), kNoSurfels);
   if (plan.nodes.empty()) return plan;  // nothing to share, nothing to classify
 
@@ -28,6 +56,22 @@ SurfelPlan planSurfelArrays(const Scene& scene, const Hierarchy& hierarchy, std:
     const std::uint32_t array = arrayOfClass[classes[node]];
     if (plan.representative[array] == kNoSurfels) plan.representative[array] = node;
     plan.arrayOfNode[node] = array;
+  }
+
+  plan.childArrays.resize(arrays);
+  plan.fromChildren.resize(arrays);
+  plan.primitivesDrawn.resize(arrays);
+  for (std::uint32_t a = 0; a < arrays; ++a) {
+    const std::uint32_t node = plan.representative[a];
+    const ChildDrawing drawing = childDrawing(scene, hierarchy, node, plan.arrayOfNode, options.file.maxSurfels);
+    plan.fromChildren[a] = capturesFromChildren(options.source, hierarchy.subtreeTriangles[node], drawing);
+    plan.primitivesDrawn[a] = plan.fromChildren[a] ? drawing.primitives : hierarchy.subtreeTriangles[node];
+    if (!plan.fromChildren[a]) continue;
+    std::vector<std::uint32_t>& children = plan.childArrays[a];
+    for (std::uint32_t child : scene.nodes[node].children)
+      if (plan.arrayOfNode[child] != kNoSurfels) children.push_back(plan.arrayOfNode[child]);
+    std::sort(children.begin(), children.end());
+    children.erase(std::unique(children.begin(), children.end()), children.end());
   }
   return plan;
 }

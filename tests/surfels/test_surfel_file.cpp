@@ -832,6 +832,50 @@ TEST(SurfelFileWriter, ArraysInAnyOrderGiveTheSameBytes) {
   EXPECT_EQ(test::readFile(dir / "streamed.surfels"), test::readFile(dir / "whole.surfels"));
 }
 
+// A shard's part: its shard table read back as written, the arrays it holds read back whole and the others
+// empty; what readStored returns, copied with addStored, gives the whole file byte for byte.
+TEST(SurfelFileWriter, ShardPartsRoundTripAndStoredArraysCopyExactly) {
+  ScratchDir dir;
+  const SurfelFile file = sampleFile();
+  writeSurfelFile(dir / "whole.surfels", file);
+  const SurfelShardTable table{.index = 1, .count = 2, .plan = 0xABCDull, .arrays = {0, 2}};
+  {
+    SurfelFileWriter part(dir / "part.surfels", file.sceneFingerprint, file.options, file.nodes, file.sceneTable, 3,
+                          table);
+    SurfelArray empty;
+    empty.box = makeBox({0, 0, 0}, {0, 0, 0});
+    for (std::uint32_t a : {0u, 1u, 2u}) part.add(a, a == 1 ? empty : file.arrays[a]);
+    part.finish();
+  }
+  SurfelFileReader part(dir / "part.surfels");
+  ASSERT_TRUE(part.shard());
+  EXPECT_EQ(part.shard()->index, 1u);
+  EXPECT_EQ(part.shard()->count, 2u);
+  EXPECT_EQ(part.shard()->plan, 0xABCDull);
+  EXPECT_EQ(part.shard()->arrays, table.arrays);
+  EXPECT_EQ(part.arrays()[1].count, 0u);
+  EXPECT_EQ(part.readPrefix(0, 4000).size(), 2500u);
+  EXPECT_FALSE(SurfelFileReader(dir / "whole.surfels").shard()) << "a whole file has no shard table";
+
+  SurfelFileReader whole(dir / "whole.surfels");
+  {
+    SurfelFileWriter copy(dir / "copy.surfels", file.sceneFingerprint, file.options, file.nodes, file.sceneTable, 3);
+    for (std::uint32_t a : {2u, 0u, 1u}) copy.addStored(a, whole.arrays()[a], whole.readStored(a));
+    EXPECT_THROW(copy.addStored(1, whole.arrays()[1], {1, 2, 3}), std::invalid_argument) << "added twice";
+    copy.finish();
+  }
+  EXPECT_EQ(test::readFile(dir / "copy.surfels"), test::readFile(dir / "whole.surfels"));
+  EXPECT_EQ(part.readStored(2), whole.readStored(2)) << "an array's stored bytes do not depend on where it is";
+
+  SurfelFileWriter badSize(dir / "bad.surfels", file.sceneFingerprint, file.options, file.nodes, file.sceneTable, 3);
+  EXPECT_THROW(badSize.addStored(0, whole.arrays()[0], {1, 2, 3}), std::invalid_argument);
+  EXPECT_THROW(SurfelFileWriter(dir / "bad2.surfels", 1, {}, {}, {}, 3,
+                                SurfelShardTable{.index = 2, .count = 2, .plan = 0, .arrays = {}}),
+               std::invalid_argument);
+  EXPECT_THROW(SurfelFileWriter(dir / "bad3.surfels", 1, {}, {}, {}, 3, SurfelShardTable{.arrays = {2, 1}}),
+               std::invalid_argument);
+}
+
 // A run that stops before finish (an exception, a missing array) leaves neither file nor temporary.
 TEST(SurfelFileWriter, UnfinishedWritersLeaveNothing) {
   ScratchDir dir;

@@ -2,6 +2,7 @@
 // determinism across thread counts, capturing from children's surfels, and `pbs surfelize`.
 #include "test_fixtures.hpp"
 #include "cli_scenes.hpp"
+#include "shard_runs.hpp"
 #include "test_support.hpp"
 
 #include <pbs/raster/box_view.hpp>
@@ -564,6 +565,14 @@ TEST(SurfelizeCli, BadInputGivesOneErrorLine) {
       test::runPbs("surfelize " + groupsFile(scratch) + " -o '" + (scratch / "missing" / "x.surfels").string() + "'");
   EXPECT_EQ(noDir.status, 1);
   EXPECT_NE(noDir.err.find("missing"), std::string::npos) << noDir.err;
+}
+
+// The default scene in 1, 2, 3 and 7 shards, merged: the one-machine file. Options small enough for a
+// test (2.5 s a run) and such that most arrays are captured from triangles, so the shards share them out.
+TEST(SurfelizeShards, DefaultSceneMergesToTheSingleRunFor1237Shards) {
+  ScratchDir scratch;
+  test::expectShardsMergeToTheSingleRun("default", scratch,
+                                        " --min-triangles 100000 --resolution 32 --max-surfels 100000 --quiet");
 }
 
 }  // namespace

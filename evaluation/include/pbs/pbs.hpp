@@ -17,5 +17,6 @@
 #include "pbs/surfels/frame_renderer.hpp"
 #include "pbs/surfels/surfel_cache.hpp"
 #include "pbs/surfels/surfel_file.hpp"
+#include "pbs/surfels/surfel_merge.hpp"
 #include "pbs/surfels/surfelize.hpp"
 #include "pbs/version.hpp"

@@ -120,6 +120,16 @@ struct SurfelSceneTable {
   std::vector<Bounds> instanceBounds;
 };
 
+// What makes a .surfels file one part of a file made by several machines (pbs surfelize --shard I/N): the
+// arrays of shard `index` of a plan of `count` shards. A part holds every table of the whole file, and the
+// arrays of other shards are empty in it; pbs merge puts the parts of all shards together.
+struct SurfelShardTable {
+  std::uint32_t index = 0;
+  std::uint32_t count = 1;
+  std::uint64_t plan = 0;             // the shard plan's identity: parts of one plan have the same
+  std::vector<std::uint32_t> arrays;  // the arrays this part holds, ascending
+};
+
 struct SurfelFile {
   std::uint64_t sceneFingerprint = 0;  // sceneFingerprint() of the scene the arrays belong to
   SurfelFileOptions options;
@@ -156,16 +166,22 @@ void writeSurfelFile(const std::filesystem::path& path, const SurfelFile& file);
 // as writeSurfelFile's (which is this writer fed every array in order). One call at a time. Errors as
 // for writeSurfelFile: std::invalid_argument for a bad node or instance box (constructor) or array (add),
 // then nothing more is written; std::runtime_error for I/O.
+// With `shard`, the file is that shard's part (its table goes after the scene table).
 class SurfelFileWriter {
  public:
   SurfelFileWriter(const std::filesystem::path& path, std::uint64_t sceneFingerprint, const SurfelFileOptions& options,
-                   std::vector<SurfelNodeRecord> nodes, SurfelSceneTable sceneTable, std::uint32_t arrayCount);
+                   std::vector<SurfelNodeRecord> nodes, SurfelSceneTable sceneTable, std::uint32_t arrayCount,
+                   std::optional<SurfelShardTable> shard = std::nullopt);
   ~SurfelFileWriter();
   SurfelFileWriter(const SurfelFileWriter&) = delete;
   SurfelFileWriter& operator=(const SurfelFileWriter&) = delete;
 
   // Array `index` (each index once, in any order).
   void add(std::uint32_t index, const SurfelArray& array);
+  // Array `index` as another file stores it: its record (the data offset is this file's own) and its data
+  // as SurfelFileReader::readStored returns it, copied as it is (std::invalid_argument for data of
+  // another size than the record says).
+  void addStored(std::uint32_t index, const SurfelArrayInfo& info, std::vector<std::uint8_t> data);
   // Throws std::logic_error unless every array was added.
   void finish();
 
@@ -181,6 +197,7 @@ class SurfelFileWriter {
   SurfelFileOptions options_;
   std::vector<SurfelNodeRecord> nodes_;
   SurfelSceneTable sceneTable_;
+  std::optional<SurfelShardTable> shard_;
   std::vector<SurfelArrayInfo> infos_;
   std::vector<std::optional<std::vector<std::uint8_t>>> waiting_;  // encoded data by index, until written
   std::uint32_t written_ = 0;                                      // arrays [0, written_) are in the file
@@ -204,6 +221,8 @@ class SurfelFileReader {
   std::span<const SurfelArrayInfo> arrays() const { return arrays_; }
   std::span<const SurfelNodeRecord> nodes() const { return nodes_; }
   const SurfelSceneTable& sceneTable() const { return sceneTable_; }
+  // The shard table of a part (see SurfelShardTable), or nothing for a whole file.
+  const std::optional<SurfelShardTable>& shard() const { return shard_; }
 
   // Throws InputError naming the file and "header" unless the file was made for the scene with this
   // sceneFingerprint(): surfels of another scene (or an edited one) must never be drawn in its place.
@@ -222,6 +241,9 @@ class SurfelFileReader {
   // kSurfelsPerChunk; std::invalid_argument otherwise). Reads and checks only the chunks holding them:
   // a prefix that grows reads only its new chunks.
   std::vector<Surfel> readRange(std::uint32_t array, std::uint32_t first, std::uint32_t count);
+  // An array's data as stored, its chunks then their checksums, every checksum checked: what
+  // SurfelFileWriter::addStored copies into another file.
+  std::vector<std::uint8_t> readStored(std::uint32_t array);
 
   // Bytes read from the file by readPrefix calls so far (the data of the chunks and their checksums):
   // lets a test check that a prefix costs only its own bytes.
@@ -230,6 +252,13 @@ class SurfelFileReader {
   std::uint64_t tablesBytes() const { return tablesBytes_; }
 
  private:
+  // Surfels [first, first + surfels) of `array` as stored (`first` starts a chunk, the range ends at a
+  // chunk's end or the array's) and their chunks' checksums, each chunk checked.
+  struct StoredChunks {
+    std::vector<std::uint8_t> data, checksums;
+  };
+  StoredChunks readChunks(std::uint32_t array, std::uint32_t first, std::uint32_t surfels);
+
   std::filesystem::path path_;
   std::ifstream stream_;
   std::uint64_t fingerprint_ = 0;
@@ -238,6 +267,7 @@ class SurfelFileReader {
   std::vector<SurfelArrayInfo> arrays_;
   std::vector<SurfelNodeRecord> nodes_;
   SurfelSceneTable sceneTable_;
+  std::optional<SurfelShardTable> shard_;
   bool sceneRequired_ = false;
   std::uint64_t dataBytesRead_ = 0;
   std::uint64_t tablesBytes_ = 0;

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -39,9 +40,19 @@ struct SurfelizeProgress {
   std::uint64_t trianglesTotal = 0;  // (what captures cost, so time-left estimates follow it)
 };
 
+// One of `count` machines sharing a surfelize run: shard `index` (0 ≤ index < count).
+struct SurfelizeShard {
+  std::uint32_t index = 0;
+  std::uint32_t count = 1;
+};
+
 struct SurfelizeOptions {
   SurfelFileOptions file;  // threshold, max surfels, resolution, directions, ordering, colours, seed
   CaptureSource source = CaptureSource::Auto;
+  // surfelizeToFile only: write this shard's part (SurfelShardTable) instead of the whole file. Which
+  // arrays each shard holds is a pure function of the scene, `file`, `source` and the shard count;
+  // mergeSurfelParts puts the parts of every shard together into the whole file, byte for byte.
+  std::optional<SurfelizeShard> shard;
   // Called after every finished array, one call at a time (never concurrently), from whichever
   // thread finished it.
   std::function<void(const SurfelizeProgress&)> onProgress{};
@@ -52,6 +63,10 @@ struct SurfelizeStats {
   std::uint64_t arrays = 0;            // distinct arrays after sharing = captures made
   std::uint64_t surfels = 0;           // summed over the distinct arrays
   std::uint64_t candidates = 0;        // covered capture pixels, summed over the captures
+  std::uint64_t arraysWritten = 0;     // arrays in the file: all of them, or a shard's own
+  // The estimated seconds of the arrays made, on one core of the machine the estimate was measured on
+  // (what balances shards; arrays are made on several cores at once, so a run takes less).
+  double estimatedSeconds = 0.0;
   // A scene opened without its mesh arrays: the captures' decoding (the scan reads every mesh once more).
   std::uint64_t meshesDecoded = 0;
   std::uint64_t meshPeakBytesLoaded = 0;
@@ -59,8 +74,9 @@ struct SurfelizeStats {
 
 // Every node above options.file.threshold gets an array of at most options.file.maxSurfels surfels in
 // its own frame (see analyzeSubtree). Nodes of one subtree class (subtreeClasses) share one array,
-// captured for the first of them in preorder. Arrays are independent and made in parallel, largest
-// subtree first (when children's surfels may be drawn, children before parents). Each array's ordering
+// captured for the first of them in preorder. Arrays are made in parallel, an array captured from its
+// children's surfels after them (which captures do is decided before any array is made: the children's
+// drawing counted with every child array at options.file.maxSurfels surfels). Each array's ordering
 // seed mixes options.file.seed with the node's stable path, so the result is the same for any thread
 // count and any schedule. A scene with no node above the threshold gives a file with no arrays.
 // options.file.colors picks the kept surfels' colours: their own pixel's (Pixel) or, by default, each
@@ -94,6 +110,22 @@ void surfelizeToFile(Scene& scene, const LazyMeshes::Decode& decode, std::uint64
 // other out. A closed surface is split into two halves the same way, at the cost of a seam of double
 // density. Stored positions stay the captured ones.
 std::vector<glm::vec3> orderingPositions(std::span<const Surfel> candidates);
+
+// One shard of a run split over machines, as planned (SurfelizeOptions::shard).
+struct SurfelizeShardEstimate {
+  std::uint64_t arraysHeld = 0;  // the arrays its part holds
+  // The arrays it makes: its own, and those their captures draw that other shards hold (made again, so
+  // that no shard waits on another). An array whose capture draws its children's surfels needs them, down
+  // to captures of triangles: that whole group is made on one shard, and the largest such group (often the
+  // root's) bounds how far a run can be split.
+  std::uint64_t arraysMade = 0;
+  double estimatedSeconds = 0.0;  // of the arrays made, on one core (SurfelizeStats::estimatedSeconds)
+};
+
+// How `count` shards split the arrays of surfelize(scene, hierarchy, options): per shard. `hierarchy`
+// needs no boxes. Nothing is captured.
+std::vector<SurfelizeShardEstimate> planSurfelizeShards(const Scene& scene, const Hierarchy& hierarchy,
+                                                        const SurfelizeOptions& options, std::uint32_t count);
 
 // An estimate of the memory surfelizeToFile needs beyond the scene itself, with `workers` arrays made
 // at once: per worker a capture (G-buffer, every candidate surfel, the ordering's working set) and the
