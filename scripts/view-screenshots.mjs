@@ -3,8 +3,9 @@
 //
 //   node scripts/view-screenshots.mjs default --surfels d.surfels -o images/view
 //
-// writes nodes.png (node boxes with their projected size, a clicked node's panel with its capture views,
-// ρ(k) and a prefix of 200 of its surfels drawn alone) and sources.png (each pixel tinted by what drew it).
+// writes sources.png (each pixel tinted by what drew it: geometry, surfels, a transition band's thinned
+// prefixes) and nodes.png (node boxes with their projected size, and a clicked node seen close, its first
+// 300 surfels drawn alone, with its panel: path, array, ρ(k) and capture views).
 import { mkdirSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { withViewInBrowser } from './view-browser.mjs';
@@ -22,8 +23,8 @@ if (!scene || !output) {
 }
 mkdirSync(output, { recursive: true });
 
-await withViewInBrowser({ scene, surfels: option('--surfels', ''), width: 1280, height: 760 }, async (page) => {
-  await page.open('?size=960x540&refine=0');
+await withViewInBrowser({ scene, surfels: option('--surfels', ''), width: 1300, height: 1300 }, async (page) => {
+  await page.open('?size=980x760&refine=0');
   await page.waitFor('window.pbsView && window.pbsView.refined');
   await page.click('input[name=show][value=source]');
   await page.waitFor('window.pbsView.refined && window.pbsView.shown.label === "source"');
@@ -47,6 +48,13 @@ await withViewInBrowser({ scene, surfels: option('--surfels', ''), width: 1280, 
   await page.clickAt('#frame', x, y);
   await page.waitFor('window.pbsView.node && document.getElementById("node-views").naturalWidth > 0');
   await page.waitFor('document.querySelector("#rho polyline")');
+  await page.click('#node-look');
+  await page.waitFor('window.pbsView.refined');
+  // The prefix slider (log scale) moved as a user's drag would leave it, at 300 surfels.
+  await page.run(`const slider = document.getElementById('prefix');
+    slider.value = Math.log(300) / Math.log(window.pbsView.node.array.surfels);
+    slider.dispatchEvent(new Event('input'));`);
+  await page.waitFor('window.pbsView.refined && window.pbsView.shown.label === "prefix"');
   writeFileSync(join(output, 'nodes.png'), await page.screenshot());
 });
 console.log('wrote ' + join(output, 'sources.png') + ' and ' + join(output, 'nodes.png'));

@@ -49,6 +49,7 @@ class ServerProcess {
   ServerProcess& operator=(const ServerProcess&) = delete;
 
   bool started() const { return pid_ > 0; }
+  pid_t pid() const { return pid_; }
   bool running() const { return pid_ > 0 && !status_; }
   std::string out() const { return readFile(scratch_ / "stdout"); }
   std::string err() const { return readFile(scratch_ / "stderr"); }

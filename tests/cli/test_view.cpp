@@ -7,9 +7,12 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <mutex>
 #include <thread>
 
 namespace pbs::test {
@@ -248,33 +251,66 @@ TEST(View, AFrameSupersededByTheSameClientIsDropped) {
   EXPECT_EQ(other->status, 200);
 }
 
+// The server's resident memory, from /proc (Linux), in bytes.
+std::uint64_t residentBytes(pid_t pid) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmRSS:", 0) == 0) return std::stoull(line.substr(6)) * 1024;
+  return 0;
+}
+
 // A bounded load test: several clients orbiting at once, each with its own sequence. Every answer is a
-// frame or a drop, never an error, and the server serves on afterwards.
+// frame or a drop, never an error; a second round leaves the server's memory where the first did (no
+// leak grows with frames); the frames' times are reported.
 TEST(View, SeveralClientsMovingAtOnce) {
   ViewedGroups view;
   ASSERT_GT(view.server.port, 0);
   constexpr int kClients = 4, kFrames = 12;
   std::atomic<int> frames{0}, dropped{0}, failed{0};
-  std::vector<std::thread> clients;
-  for (int c = 0; c < kClients; ++c)
-    clients.emplace_back([&, c] {
-      httplib::Client client("127.0.0.1", view.server.port);
-      for (int f = 0; f < kFrames; ++f) {
-        const std::string query = "/api/frame?w=320&h=180&format=jpeg&client=load" + std::to_string(c) +
-                                  "&seq=" + std::to_string(f) + "&az=" + std::to_string(30 * c + 15 * f);
-        const auto response = client.Get(query);
-        if (response && response->status == 200)
-          ++frames;
-        else if (response && response->status == 204)
-          ++dropped;
-        else
-          ++failed;
-      }
-    });
-  for (std::thread& client : clients) client.join();
+  std::mutex timesMutex;
+  std::vector<double> renderMs, deliveredMs;
+  const auto round = [&](int first) {
+    std::vector<std::thread> clients;
+    for (int c = 0; c < kClients; ++c)
+      clients.emplace_back([&, c] {
+        httplib::Client client("127.0.0.1", view.server.port);
+        for (int f = first; f < first + kFrames; ++f) {
+          const std::string query = "/api/frame?w=320&h=180&format=jpeg&client=load" + std::to_string(c) +
+                                    "&seq=" + std::to_string(f) + "&az=" + std::to_string(30 * c + 15 * f);
+          const auto start = std::chrono::steady_clock::now();
+          const auto response = client.Get(query);
+          const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+          if (response && response->status == 200) {
+            ++frames;
+            const std::lock_guard lock(timesMutex);
+            renderMs.push_back(nlohmann::json::parse(response->get_header_value("X-Pbs-Stats"))["render_ms"]);
+            deliveredMs.push_back(ms);
+          } else if (response && response->status == 204) {
+            ++dropped;
+          } else {
+            ++failed;
+          }
+        }
+      });
+    for (std::thread& client : clients) client.join();
+  };
+  round(0);
+  const std::uint64_t afterFirst = residentBytes(view.server.process.pid());
+  round(kFrames);
+  const std::uint64_t afterSecond = residentBytes(view.server.process.pid());
   EXPECT_EQ(failed.load(), 0);
-  EXPECT_EQ(frames.load() + dropped.load(), kClients * kFrames);
+  EXPECT_EQ(frames.load() + dropped.load(), 2 * kClients * kFrames);
   EXPECT_GT(frames.load(), 0);
+  EXPECT_LE(afterSecond, afterFirst + afterFirst / 4 + (16u << 20)) << "resident memory grew with frames";
+  const auto median = [](std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    return values.empty() ? 0.0 : values[values.size() / 2];
+  };
+  std::printf(
+      "load: %d clients, %d frames, %d dropped; render %.1f ms, delivered %.1f ms (medians); resident "
+      "%.1f then %.1f MB\n",
+      kClients, frames.load(), dropped.load(), median(renderMs), median(deliveredMs), afterFirst / 1e6,
+      afterSecond / 1e6);
   const auto after = view.client.Get("/api/frame?w=64&h=64");
   ASSERT_TRUE(after);
   EXPECT_EQ(after->status, 200);

@@ -37,8 +37,9 @@ bool BackgroundSurfelize::start() {
 
 nlohmann::json BackgroundSurfelize::status() const {
   const std::lock_guard lock(mutex_);
-  nlohmann::json status = {{"state", state_},     {"fraction", fraction_}, {"arrays_done", arraysDone_},
-                           {"arrays_total", arraysTotal_}, {"seconds", seconds_},   {"file", path_.string()}};
+  nlohmann::json status = {
+      {"state", state_},     {"fraction", fraction_}, {"arrays_done", arraysDone_}, {"arrays_total", arraysTotal_},
+      {"seconds", seconds_}, {"file", path_.string()}};
   if (!error_.empty()) status["error"] = error_;
   return status;
 }

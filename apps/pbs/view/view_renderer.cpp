@@ -245,6 +245,8 @@ std::vector<NodeDraw> ViewRenderer::nodeDraws(const ViewRequest& request, std::s
   const Camera view = camera(request);
   const Scene& scene = scene_.loaded.scene;
   const Hierarchy& hierarchy = scene_.loaded.hierarchy;
+  std::unordered_map<std::uint32_t, const LodDraws::Surfels*> prefixes;
+  for (const LodDraws::Surfels& draw : draws.surfels) prefixes[draw.node] = &draw;
   std::vector<NodeDraw> nodes;
   for (const auto& [node, kind] : kindsOf(draws)) {
     NodeDraw entry{.node = node, .kind = kind};
@@ -253,14 +255,12 @@ std::vector<NodeDraw> ViewRenderer::nodeDraws(const ViewRequest& request, std::s
     entry.size = std::sqrt(projectedBoxPixels(view, box));
     if (const std::int32_t mesh = scene.nodes[node].mesh; mesh >= 0 && kind != DrawKind::Surfels)
       entry.triangles = scene.meshes[std::size_t(mesh)].triangleCount();
+    if (const auto prefix = prefixes.find(node); prefix != prefixes.end()) {
+      entry.surfels = prefix->second->count;
+      entry.full = prefix->second->full;
+    }
     nodes.push_back(entry);
   }
-  for (const LodDraws::Surfels& draw : draws.surfels)
-    for (NodeDraw& entry : nodes)
-      if (entry.node == draw.node) {
-        entry.surfels = draw.count;
-        entry.full = draw.full;
-      }
   // Largest first; ties by node, so the list is the same every time.
   std::sort(nodes.begin(), nodes.end(),
             [](const NodeDraw& a, const NodeDraw& b) { return a.size != b.size ? a.size > b.size : a.node < b.node; });
