@@ -35,6 +35,7 @@ const result = await withViewInBrowser({ scene, surfels: option('--surfels', '')
       const view = window.pbsView;
       const movingBefore = view.movingShown;
       view.deliveredMs.length = 0;
+      view.renderMs.length = 0;
       const start = performance.now();
       const turn = setInterval(() => {
         if (performance.now() - start < seconds * 1000) {
@@ -45,6 +46,7 @@ const result = await withViewInBrowser({ scene, surfels: option('--surfels', '')
         const stopped = performance.now();
         const moving = view.movingShown - movingBefore;
         const delivered = view.deliveredMs.slice().sort((a, b) => a - b);
+        const rendered = view.renderMs.slice().sort((a, b) => a - b);
         const stills = [];
         const watch = setInterval(() => {
           const shown = view.shown;
@@ -55,6 +57,7 @@ const result = await withViewInBrowser({ scene, surfels: option('--surfels', '')
             done({ seconds: (stopped - start) / 1000, moving_frames: moving, fps: moving / ((stopped - start) / 1000),
                    delivered_ms_median: delivered[Math.floor(delivered.length / 2)] || 0,
                    delivered_ms_p90: delivered[Math.floor(delivered.length * 0.9)] || 0,
+                   render_ms_median: rendered[Math.floor(rendered.length / 2)] || 0,
                    stills, errors: view.errors });
           }
         }, 2);
@@ -66,7 +69,8 @@ if (args.includes('--json')) {
 } else {
   console.log(`${size}, ${result.seconds.toFixed(1)} s orbiting: ${result.moving_frames} frames shown, ` +
               `${result.fps.toFixed(1)} a second; delivered in ${result.delivered_ms_median.toFixed(1)} ms (median), ` +
-              `${result.delivered_ms_p90.toFixed(1)} ms (90th percentile)`);
+              `${result.delivered_ms_p90.toFixed(1)} ms (90th percentile), rendered in ` +
+              `${result.render_ms_median.toFixed(1)} ms (median)`);
   for (const still of result.stills)
     console.log(`  still: ${still.label} shown ${still.ms.toFixed(0)} ms after the camera stopped ` +
                 `(rendered in ${still.render_ms.toFixed(0)} ms)`);

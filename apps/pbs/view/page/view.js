@@ -26,8 +26,9 @@ const view = {
 
 // What tests and scripts/view-fps.mjs read: the last frame shown (with when, in performance.now()
 // milliseconds), whether the still view is fully refined, the moving frames shown so far and how long the
-// last ones took from request to picture.
-window.pbsView = { ready: false, shown: null, refined: false, framesShown: 0, movingShown: 0, deliveredMs: [], errors: [] };
+// last ones took from request to picture and to render on the server.
+window.pbsView = { ready: false, shown: null, refined: false, framesShown: 0, movingShown: 0, deliveredMs: [], renderMs: [],
+                   errors: [] };
 
 let sequence = 0;
 const kMovingInFlight = 2;
@@ -133,11 +134,12 @@ function showFrame(frame) {
   if (!frame.still) {
     movingTimes.push(now);
     while (movingTimes.length && movingTimes[0] < now - 1000) movingTimes.shift();
-    // Moving surfel frames are kept to 40 ms of rendering (with two in flight, 25 a second): fewer
-    // surfels when slower, more when fast.
+    // Moving surfel frames are kept to 30 ms of rendering (with two in flight and the browser's own
+    // work beside them on the same cores, about 20 a second on two): fewer surfels when slower, more
+    // when fast.
     if (view.show !== 'exact' && view.show !== 'embree') {
-      if (frame.stats.render_ms > 40) view.movingScale = Math.max(1 / 16, view.movingScale / 2);
-      else if (frame.stats.render_ms < 15) view.movingScale = Math.min(1, view.movingScale * 2);
+      if (frame.stats.render_ms > 30) view.movingScale = Math.max(1 / 16, view.movingScale / 2);
+      else if (frame.stats.render_ms < 12) view.movingScale = Math.min(1, view.movingScale * 2);
     }
   }
   window.pbsView.shown = { query: frame.query, still: frame.still, label: frame.label, stats: frame.stats, at: now };
@@ -145,7 +147,9 @@ function showFrame(frame) {
   if (!frame.still) {
     window.pbsView.movingShown++;
     window.pbsView.deliveredMs.push(frame.total);
+    window.pbsView.renderMs.push(frame.stats.render_ms);
     if (window.pbsView.deliveredMs.length > 1000) window.pbsView.deliveredMs.shift();
+    if (window.pbsView.renderMs.length > 1000) window.pbsView.renderMs.shift();
   }
   window.pbsView.refined = frame.still && stillStages.length === 0;
   if (frame.still && frame.label === view.show) drawBoxes(frame.query);
