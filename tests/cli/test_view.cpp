@@ -387,6 +387,14 @@ TEST(View, BadCommandLinesAreOneErrorLine) {
   EXPECT_EQ(missing.err.rfind("error: ", 0), 0u) << missing.err;
   const CommandResult port = runPbs("view default --port 70000");
   EXPECT_EQ(port.status, 2);
+  // A port another server holds: one error line naming the address.
+  groupsFile(scratch);
+  ViewServer first({"view", (scratch / "groups.glb").string()});
+  ASSERT_GT(first.port, 0);
+  const CommandResult taken =
+      runPbs("view " + quoted(scratch / "groups.glb") + " --port " + std::to_string(first.port));
+  EXPECT_EQ(taken.status, 1);
+  EXPECT_EQ(taken.err, "error: cannot listen on 127.0.0.1:" + std::to_string(first.port) + "\n");
 }
 
 }  // namespace

@@ -97,6 +97,12 @@ ViewServer::ViewServer(ViewRenderer& renderer, nlohmann::json scene, const LodOp
   state_->defaults.target = renderer.center();
   state_->defaults.lod = defaults;
   httplib::Server& http = state_->http;
+  // SO_REUSEADDR (a restarted viewer gets its port back at once) without httplib's default SO_REUSEPORT,
+  // with which a second server would share a port that is taken instead of being refused.
+  http.set_socket_options([](socket_t socket) {
+    const int yes = 1;
+    setsockopt(socket, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
   // Requests carry their parameters in the URL: nothing has a body.
   http.set_payload_max_length(1024);
   http.set_read_timeout(5, 0);
