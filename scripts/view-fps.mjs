@@ -8,15 +8,10 @@
 //
 // The camera turns by --step degrees every 16 ms (a drag at 60 events a second), as the page's own drag
 // handler would turn it. Everything listens on 127.0.0.1 and is stopped by its process id at the end.
-import { withViewInBrowser } from './view-browser.mjs';
+import { commandLine, withViewInBrowser } from './view-browser.mjs';
 
-const args = process.argv.slice(2);
-const option = (name, fallback) => {
-  const at = args.indexOf(name);
-  return at >= 0 ? args[at + 1] : fallback;
-};
-const scene = args[0];
-if (!scene || scene.startsWith('--')) {
+const { args, scene, option } = commandLine();
+if (!scene) {
   console.error('usage: node scripts/view-fps.mjs SCENE [--surfels F] [--size WxH] [--seconds S] [--step DEG] [--json]');
   process.exit(2);
 }

@@ -8,14 +8,9 @@
 // 300 surfels drawn alone, with its panel: path, array, ρ(k) and capture views).
 import { mkdirSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { withViewInBrowser } from './view-browser.mjs';
+import { commandLine, withViewInBrowser } from './view-browser.mjs';
 
-const args = process.argv.slice(2);
-const option = (name, fallback) => {
-  const at = args.indexOf(name);
-  return at >= 0 ? args[at + 1] : fallback;
-};
-const scene = args[0];
+const { scene, option } = commandLine();
 const output = option('-o', '');
 if (!scene || !output) {
   console.error('usage: node scripts/view-screenshots.mjs SCENE [--surfels F] -o FOLDER');

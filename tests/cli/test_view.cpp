@@ -1,8 +1,7 @@
 // `pbs view` as a client sees it: the page and the scene served, frames equal to `pbs render`'s for the
 // same camera, bad requests answered 400 with the reason, superseded frames dropped, several clients at
 // once, and Ctrl-C ending it cleanly. The server listens on 127.0.0.1 and is stopped by its process id.
-#include "cli_scenes.hpp"
-#include "server_process.hpp"
+#include "viewed_groups.hpp"
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
@@ -17,33 +16,6 @@
 
 namespace pbs::test {
 namespace {
-
-std::string number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.17g", value);
-  return text;
-}
-
-// A view of the groups scene with its surfels, and a client of it.
-struct ViewedGroups {
-  ScratchDir scratch;
-  std::pair<std::string, std::string> files = groupsWithSurfels(scratch);
-  std::filesystem::path scene = scratch / "groups.glb";
-  std::filesystem::path surfels = scratch / "groups.surfels";
-  ViewServer server{{"view", scene.string(), "--surfels", surfels.string()}};
-  httplib::Client client{"127.0.0.1", server.port};
-  nlohmann::json description() {
-    const auto response = client.Get("/api/scene");
-    EXPECT_TRUE(response && response->status == 200);
-    return response ? nlohmann::json::parse(response->body) : nlohmann::json{};
-  }
-  // The frame query for an orbit around the scene's centre, as `pbs render --orbit AZ,EL,DIST` sees it.
-  std::string orbitQuery(double az, double el, double dist, const std::string& more) {
-    const nlohmann::json center = description()["center"];
-    return "/api/frame?w=160&h=96&az=" + number(az) + "&el=" + number(el) + "&dist=" + number(dist) +
-           "&tx=" + number(center[0]) + "&ty=" + number(center[1]) + "&tz=" + number(center[2]) + more;
-  }
-};
 
 TEST(View, ServesThePageAndDescribesTheScene) {
   ViewedGroups view;

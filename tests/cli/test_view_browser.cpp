@@ -2,8 +2,7 @@
 // dragging, flies with the keys, moves a slider, switches to the FLIP map and goes to a path's view; after
 // each, the frame the page shows must be the one `pbs render` makes for the page's camera. Skips where
 // Chromium or chromedriver is absent (the README's test command installs both).
-#include "cli_scenes.hpp"
-#include "server_process.hpp"
+#include "viewed_groups.hpp"
 #include "webdriver.hpp"
 
 #include <nlohmann/json.hpp>
@@ -15,18 +14,8 @@
 namespace pbs::test {
 namespace {
 
-std::string number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.17g", value);
-  return text;
-}
-
-struct BrowserView {
-  ScratchDir scratch;
-  std::pair<std::string, std::string> files = groupsWithSurfels(scratch);
-  std::filesystem::path scene = scratch / "groups.glb";
-  std::filesystem::path surfels = scratch / "groups.surfels";
-  ViewServer server{{"view", scene.string(), "--surfels", surfels.string()}};
+// The groups scene's view, and a browser to look at it with.
+struct BrowserView : ViewedGroups {
   Browser browser{900, 500};
 
   // Waits for the page's still view to be fully refined, then returns what it shows.
@@ -37,7 +26,6 @@ struct BrowserView {
   }
   // The shown frame's query asked again (as another client, so that it is not dropped as superseded).
   std::string fetchShown(const nlohmann::json& shown) {
-    httplib::Client client("127.0.0.1", server.port);
     const std::string query =
         std::regex_replace(shown["query"].get<std::string>(), std::regex("client=[^&]*"), "client=check");
     const auto frame = client.Get("/api/frame?" + query);
@@ -48,18 +36,17 @@ struct BrowserView {
   std::string rendered(const std::string& more) {
     const nlohmann::json camera = browser.run("return window.pbsView.camera();");
     const std::filesystem::path file = scratch / "rendered.png";
-    const CommandResult render = runPbs("render " + quoted(scene) + " --surfels " + quoted(surfels) +
-                                        " --size 320x180 --orbit " + number(camera["az"]) + "," + number(camera["el"]) +
-                                        "," + number(camera["dist"]) + more + " -o " + quoted(file));
+    const CommandResult render =
+        runPbs("render " + quoted(scene) + " --surfels " + quoted(surfels) + " --size 320x180 --orbit " +
+               exactDecimal(camera["az"]) + "," + exactDecimal(camera["el"]) + "," + exactDecimal(camera["dist"]) +
+               more + " -o " + quoted(file));
     EXPECT_EQ(render.status, 0) << render.err;
     return readFile(file);
   }
 };
 
 TEST(ViewBrowser, DraggingTogglingAndSlidingChangeTheFramesAsPbsRenderWould) {
-  if (!std::filesystem::exists(kChromium) || !std::filesystem::exists(kChromedriver))
-    GTEST_SKIP() << "Chromium or chromedriver not installed (apt-get install chromium chromium-driver; "
-                    "scripts/setup.sh installs them)";
+  PBS_REQUIRE_CHROMIUM();
   BrowserView view;
   ASSERT_GT(view.server.port, 0);
   ASSERT_TRUE(view.browser.started()) << "chromedriver did not start a headless Chromium session";
@@ -99,7 +86,7 @@ TEST(ViewBrowser, DraggingTogglingAndSlidingChangeTheFramesAsPbsRenderWould) {
       view.browser.run("return Number(new URLSearchParams(window.pbsView.shown.query).get('overdraw'));").get<double>();
   EXPECT_LT(overdraw, 16.0);
   EXPECT_NE(shown["stats"]["surfels"].get<double>(), surfelsBefore);
-  EXPECT_TRUE(view.fetchShown(shown) == view.rendered(" --overdraw " + number(overdraw)));
+  EXPECT_TRUE(view.fetchShown(shown) == view.rendered(" --overdraw " + exactDecimal(overdraw)));
 
   // The FLIP map: a comparison against 16 rays a pixel, with its error.
   view.browser.click("input[name=show][value=flip]");
@@ -181,9 +168,7 @@ TEST(ViewBrowser, DraggingTogglingAndSlidingChangeTheFramesAsPbsRenderWould) {
 }
 
 TEST(ViewBrowser, WithoutSurfelsThePageShowsTheSceneExactlyAndMakesThem) {
-  if (!std::filesystem::exists(kChromium) || !std::filesystem::exists(kChromedriver))
-    GTEST_SKIP() << "Chromium or chromedriver not installed (apt-get install chromium chromium-driver; "
-                    "scripts/setup.sh installs them)";
+  PBS_REQUIRE_CHROMIUM();
   ScratchDir scratch;
   groupsFile(scratch);
   ViewServer server({"view", (scratch / "groups.glb").string()});

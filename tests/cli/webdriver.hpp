@@ -21,6 +21,12 @@ namespace pbs::test {
 
 inline constexpr const char* kChromium = "/usr/bin/chromium";
 inline constexpr const char* kChromedriver = "/usr/bin/chromedriver";
+// Skips the calling test with a clear message where Chromium or chromedriver is not installed.
+#define PBS_REQUIRE_CHROMIUM()                                                                                  \
+  if (!std::filesystem::exists(::pbs::test::kChromium) || !std::filesystem::exists(::pbs::test::kChromedriver)) \
+  GTEST_SKIP() << "Chromium or chromedriver not installed (apt-get install chromium chromium-driver; "          \
+                  "scripts/setup.sh installs them)"
+
 // The key WebDriver sends for ArrowLeft (the protocol's code point for it).
 inline const std::string kArrowLeft = "\xEE\x80\x92";  // U+E012
 

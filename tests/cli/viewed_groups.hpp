@@ -1,0 +1,47 @@
+// `pbs view` of the groups test scene with its surfels, started for a test, with a client of it.
+#pragma once
+
+#include "cli_scenes.hpp"
+#include "server_process.hpp"
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <utility>
+
+namespace pbs::test {
+
+// The shortest decimal text that reads back as the same double (for cameras given on command lines and
+// in URLs, so that both sides compute the same camera).
+inline std::string exactDecimal(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+struct ViewedGroups {
+  ScratchDir scratch;
+  std::pair<std::string, std::string> files = groupsWithSurfels(scratch);
+  std::filesystem::path scene = scratch / "groups.glb";
+  std::filesystem::path surfels = scratch / "groups.surfels";
+  ViewServer server{{"view", scene.string(), "--surfels", surfels.string()}};
+  httplib::Client client{"127.0.0.1", server.port};
+
+  nlohmann::json description() {
+    const auto response = client.Get("/api/scene");
+    EXPECT_TRUE(response && response->status == 200);
+    return response ? nlohmann::json::parse(response->body) : nlohmann::json{};
+  }
+  // The frame query for an orbit around the scene's centre, as `pbs render --orbit AZ,EL,DIST` sees it.
+  std::string orbitQuery(double az, double el, double dist, const std::string& more) {
+    const nlohmann::json center = description()["center"];
+    return "/api/frame?w=160&h=96&az=" + exactDecimal(az) + "&el=" + exactDecimal(el) + "&dist=" +
+           exactDecimal(dist) + "&tx=" + exactDecimal(center[0]) + "&ty=" + exactDecimal(center[1]) +
+           "&tz=" + exactDecimal(center[2]) + more;
+  }
+};
+
+}  // namespace pbs::test
