@@ -38,9 +38,9 @@ struct ViewedGroups {
   // The frame query for an orbit around the scene's centre, as `pbs render --orbit AZ,EL,DIST` sees it.
   std::string orbitQuery(double az, double el, double dist, const std::string& more) {
     const nlohmann::json center = description()["center"];
-    return "/api/frame?w=160&h=96&az=" + exactDecimal(az) + "&el=" + exactDecimal(el) + "&dist=" +
-           exactDecimal(dist) + "&tx=" + exactDecimal(center[0]) + "&ty=" + exactDecimal(center[1]) +
-           "&tz=" + exactDecimal(center[2]) + more;
+    return "/api/frame?w=160&h=96&az=" + exactDecimal(az) + "&el=" + exactDecimal(el) + "&dist=" + exactDecimal(dist) +
+           "&tx=" + exactDecimal(center[0]) + "&ty=" + exactDecimal(center[1]) + "&tz=" + exactDecimal(center[2]) +
+           more;
   }
 };
 
