@@ -1,6 +1,8 @@
 // parseShard: "I/N" or "auto/N", the index then read from the scheduler's job-array variable.
 #include "shard_option.hpp"
 
+#include <pbs/surfels/surfel_file.hpp>
+
 #include <charconv>
 #include <cstdlib>
 
@@ -37,6 +39,9 @@ ShardChoice parseShard(const std::string& text) {
       slash == std::string::npos ? std::nullopt : wholeNumber(text.substr(slash + 1));
   if (!count || *count == 0)
     throw CLI::ValidationError("--shard", "expected I/N (shard I of N, 0 <= I < N) or auto/N, got '" + text + "'");
+  if (*count > kMaxSurfelShards)
+    throw CLI::ValidationError("--shard",
+                               std::to_string(*count) + " shards: at most " + std::to_string(kMaxSurfelShards));
   const std::string first = text.substr(0, slash);
   const std::optional<std::uint32_t> index = first == "auto" ? indexFromEnvironment() : wholeNumber(first);
   if (!index) throw CLI::ValidationError("--shard", "expected I/N (shard I of N, 0 <= I < N), got '" + text + "'");

@@ -192,8 +192,10 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
     ByteSource source{std::span(table).subspan(kShardTableHeadBytes)};
     shard.arrays.resize(held);
     for (std::uint32_t& array : shard.arrays) source.u32(array);
-    if (shard.count == 0 || shard.index >= shard.count)
-      throw InputError(file, "shard table", "shard " + number(shard.index) + " of " + number(shard.count));
+    if (shard.count == 0 || shard.index >= shard.count || shard.count > kMaxSurfelShards)
+      throw InputError(file, "shard table",
+                       "shard " + number(shard.index) + " of " + number(shard.count) + " (at most " +
+                           number(kMaxSurfelShards) + " shards)");
     for (std::size_t i = 0; i < shard.arrays.size(); ++i)
       if (shard.arrays[i] >= header.arrayCount || (i > 0 && shard.arrays[i] <= shard.arrays[i - 1]))
         throw InputError(file, "shard table", "held arrays not ascending below " + number(header.arrayCount));

@@ -67,9 +67,10 @@ void checkSceneTable(const SurfelSceneTable& table) {
 }
 
 void checkShardTable(const SurfelShardTable& shard, std::uint64_t arrayCount) {
-  if (shard.count == 0 || shard.index >= shard.count)
+  if (shard.count == 0 || shard.index >= shard.count || shard.count > kMaxSurfelShards)
     throw std::invalid_argument("surfel file: shard " + std::to_string(shard.index) + " of " +
-                                std::to_string(shard.count));
+                                std::to_string(shard.count) + " (at most " + std::to_string(kMaxSurfelShards) +
+                                " shards)");
   for (std::size_t i = 0; i < shard.arrays.size(); ++i)
     if (shard.arrays[i] >= arrayCount || (i > 0 && shard.arrays[i] <= shard.arrays[i - 1]))
       throw std::invalid_argument("surfel file: a shard's arrays must be ascending and below the array count");

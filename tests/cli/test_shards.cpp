@@ -91,6 +91,7 @@ TEST(SurfelizeShards, BadShardValuesGetOneErrorLine) {
   refused("1/", "expected I/N");
   refused("-1/2", "expected I/N");
   refused("1/2x", "expected I/N");
+  refused("0/4000000000", "4000000000 shards: at most 1000000");
   ::unsetenv("SLURM_ARRAY_TASK_ID");
   ::unsetenv("JOB_COMPLETION_INDEX");
   refused("auto/2", "none of $SLURM_ARRAY_TASK_ID");

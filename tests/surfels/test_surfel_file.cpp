@@ -874,6 +874,10 @@ TEST(SurfelFileWriter, ShardPartsRoundTripAndStoredArraysCopyExactly) {
                std::invalid_argument);
   EXPECT_THROW(SurfelFileWriter(dir / "bad3.surfels", 1, {}, {}, {}, 3, SurfelShardTable{.arrays = {2, 1}}),
                std::invalid_argument);
+  EXPECT_THROW(SurfelFileWriter(dir / "bad4.surfels", 1, {}, {}, {}, 3,
+                                SurfelShardTable{.index = 0, .count = kMaxSurfelShards + 1, .plan = 0, .arrays = {}}),
+               std::invalid_argument)
+      << "a shard count that would size tables by billions";
 }
 
 // A run that stops before finish (an exception, a missing array) leaves neither file nor temporary.

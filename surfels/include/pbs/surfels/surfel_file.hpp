@@ -123,6 +123,11 @@ struct SurfelSceneTable {
 // What makes a .surfels file one part of a file made by several machines (pbs surfelize --shard I/N): the
 // arrays of shard `index` of a plan of `count` shards. A part holds every table of the whole file, and the
 // arrays of other shards are empty in it; pbs merge puts the parts of all shards together.
+// The most shards a plan may have (Slurm allows job arrays of up to 4 M tasks; a million parts would
+// already be unwieldy), so that a shard count from a command line or a file never sizes a table by
+// billions.
+inline constexpr std::uint32_t kMaxSurfelShards = 1'000'000;
+
 struct SurfelShardTable {
   std::uint32_t index = 0;
   std::uint32_t count = 1;
