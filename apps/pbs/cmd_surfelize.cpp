@@ -39,10 +39,10 @@ std::string progressDetail(const SurfelizeProgress& p) {
 void printShardPlan(const LoadedScene& loaded, const SurfelizeOptions& settings, std::uint32_t count, bool json) {
   const std::vector<SurfelizeShardEstimate> shards =
       planSurfelizeShards(loaded.scene, loaded.hierarchy, settings, count);
-  double total = 0.0, slowest = 0.0;
+  double slowest = 0.0;
   for (const SurfelizeShardEstimate& shard : shards) slowest = std::max(slowest, shard.estimatedSeconds);
   const SurfelizeShardEstimate whole = planSurfelizeShards(loaded.scene, loaded.hierarchy, settings, 1).front();
-  total = whole.estimatedSeconds;
+  const double total = whole.estimatedSeconds;
   if (json) {
     nlohmann::json report = {{"scene", loaded.name}, {"shards", count}, {"estimated_seconds_one_shard", total}};
     for (const SurfelizeShardEstimate& shard : shards)
@@ -127,7 +127,7 @@ void addSurfelizeCommand(CLI::App& app) {
       LoadedScene loaded =
           meshesOnDemand ? openWithoutMeshes(options->scene) : loadAndAnalyze(options->scene, LoadOptions{});
       SurfelizeOptions settings = options->surfelize;
-      if (options->shard) settings.shard = SurfelizeShard{options->shard->index, options->shard->count};
+      settings.shard = options->shard;
       // A flat scene is rebuilt as a loose octree, read whole (its meshes are split), and the file says so.
       settings.file.octreeLeafTriangles = options->octree.leavesFor(loaded.scene);
       if (settings.file.octreeLeafTriangles > 0) {

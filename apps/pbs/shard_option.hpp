@@ -1,6 +1,8 @@
 // `--shard I/N`: the one of N machines (a job array's task) that a command does its share of the work on.
 #pragma once
 
+#include <pbs/surfels/surfelize.hpp>
+
 #include <CLI/CLI.hpp>
 
 #include <cstdint>
@@ -9,10 +11,8 @@
 
 namespace pbs::cli {
 
-struct ShardChoice {
-  std::uint32_t index = 0;  // 0 ≤ index < count
-  std::uint32_t count = 1;
-};
+// One type for surfelize's shards and render's: index 0 ≤ index < count.
+using ShardChoice = SurfelizeShard;
 
 // The job-array variables `--shard auto/N` reads, first set first: Slurm, Kubernetes Indexed Jobs, AWS
 // Batch, Google Cloud Batch. Each counts tasks from 0 (a Slurm array must be submitted as --array=0-(N-1)).

@@ -58,6 +58,13 @@ LazyMeshes::LazyMeshes(Scene& scene, Decode decode, std::vector<std::uint64_t> f
   stats_.peakBytesLoaded = stats_.bytesLoaded;
 }
 
+LazyMeshes::Lease LazyMeshes::requireDrawnBy(std::span<const std::uint32_t> nodes) {
+  std::vector<std::uint32_t> meshes;
+  for (std::uint32_t node : nodes)
+    if (const std::int32_t mesh = scene_.nodes[node].mesh; mesh >= 0) meshes.push_back(std::uint32_t(mesh));
+  return require(meshes);
+}
+
 LazyMeshes::Lease LazyMeshes::require(std::span<const std::uint32_t> meshes) {
   std::vector<std::uint32_t> distinct(meshes.begin(), meshes.end());
   std::sort(distinct.begin(), distinct.end());

@@ -76,11 +76,8 @@ void FrameRenderer::setLod(const LodOptions& lod) {
 }
 
 void FrameRenderer::loadGeometry(const LodDraws& draws) {
-  std::vector<std::uint32_t> meshes;
-  for (std::uint32_t node : draws.geometryNodes)
-    if (const std::int32_t mesh = scene_.nodes[node].mesh; mesh >= 0) meshes.push_back(std::uint32_t(mesh));
   // The new frame's lease first, then the old one let go: a mesh both frames draw is never unloaded.
-  geometryLease_ = sources_.meshes->require(meshes);
+  geometryLease_ = sources_.meshes->requireDrawnBy(draws.geometryNodes);
   for (std::uint32_t mesh : sources_.meshes->unloadOverBudget())
     if (geometryRays_) geometryRays_->forget(mesh);
 }

@@ -49,13 +49,9 @@ CaptureResult captureArray(const Scene& scene, const Hierarchy& frame, std::uint
                            std::span<const SurfelArray> arrays, LazyMeshes* meshes) {
   const CaptureOptions capture{.resolution = options.file.resolution, .directions = options.file.directions};
   LazyMeshes::Lease lease;
-  if (meshes) {
-    std::vector<std::uint32_t> drawn;
-    for (std::uint32_t n :
-         fromChildren ? detail::childCaptureTriangleNodes(scene, node, plan.arrayOfNode) : subtreeNodes(scene, node))
-      if (scene.nodes[n].mesh >= 0) drawn.push_back(std::uint32_t(scene.nodes[n].mesh));
-    lease = meshes->require(drawn);
-  }
+  if (meshes)
+    lease = meshes->requireDrawnBy(fromChildren ? detail::childCaptureTriangleNodes(scene, node, plan.arrayOfNode)
+                                                : subtreeNodes(scene, node));
   return fromChildren ? detail::captureFromChildSurfels(scene, frame, node, arrays, plan.arrayOfNode, capture)
                       : captureNode(scene, frame, node, capture);
 }

@@ -70,7 +70,12 @@ ShardPlan planShards(const SurfelPlan& plan, const SurfelizeOptions& options, st
   constexpr std::uint32_t kUnowned = ~std::uint32_t(0);
   shards.owner.assign(arrays, kUnowned);
   shards.shardSeconds.assign(count, 0.0);
-  std::vector<std::vector<bool>> makes(count, std::vector<bool>(arrays, false));
+  // Per array: the shards that make it, ascending. Few: an array is made again only where another unit
+  // needs it, so this stays the size of the plan, not shards × arrays.
+  std::vector<std::vector<std::uint32_t>> makers(arrays);
+  const auto makes = [&](std::uint32_t s, std::uint32_t a) {
+    return std::binary_search(makers[a].begin(), makers[a].end(), s);
+  };
   for (const Unit& unit : units) {
     // The growth of each shard's estimate: the unit's arrays it does not make yet.
     std::uint32_t best = 0;
@@ -78,20 +83,19 @@ ShardPlan planShards(const SurfelPlan& plan, const SurfelizeOptions& options, st
     for (std::uint32_t s = 0; s < count; ++s) {
       double total = shards.shardSeconds[s];
       for (std::uint32_t a : unit.arrays)
-        if (!makes[s][a]) total += shards.arraySeconds[a];
+        if (!makes(s, a)) total += shards.arraySeconds[a];
       if (s == 0 || total < bestTotal) best = s, bestTotal = total;
     }
     shards.shardSeconds[best] = bestTotal;
     for (std::uint32_t a : unit.arrays) {
-      makes[best][a] = true;
+      if (!makes(best, a)) makers[a].insert(std::lower_bound(makers[a].begin(), makers[a].end(), best), best);
       if (shards.owner[a] == kUnowned) shards.owner[a] = best;
     }
   }
 
   shards.made.resize(count);
-  for (std::uint32_t s = 0; s < count; ++s)
-    for (std::uint32_t a = 0; a < arrays; ++a)
-      if (makes[s][a]) shards.made[s].push_back(a);
+  for (std::uint32_t a = 0; a < arrays; ++a)
+    for (std::uint32_t s : makers[a]) shards.made[s].push_back(a);
   Hash64 identity(count);
   for (std::uint32_t owner : shards.owner) identity.u32(owner);
   shards.identity = identity.digest();

@@ -98,12 +98,7 @@ std::vector<std::uint8_t> captureViewsPng(FrameScene& scene, std::uint32_t node,
   requireNode(scene, node);
   const Scene& graph = scene.loaded.scene;
   LazyMeshes::Lease meshes;
-  if (scene.meshes) {
-    std::vector<std::uint32_t> used;
-    for (std::uint32_t at : subtreeNodes(graph, node))
-      if (graph.nodes[at].mesh >= 0) used.push_back(std::uint32_t(graph.nodes[at].mesh));
-    meshes = scene.meshes->require(used);
-  }
+  if (scene.meshes) meshes = scene.meshes->requireDrawnBy(subtreeNodes(graph, node));
   // Each view centred in a square tile: views of a flat box are not square.
   std::vector<std::vector<std::uint8_t>> tiles;
   CaptureOptions options;

@@ -172,13 +172,7 @@ LodDraws ViewRenderer::traverse(const ViewRequest& request) {
 Framebuffer ViewRenderer::drawWithIds(const LodDraws& draws, const ViewRequest& request) {
   scene_.surfels->load(draws);
   LazyMeshes::Lease meshes;
-  if (scene_.meshes) {
-    std::vector<std::uint32_t> used;
-    for (std::uint32_t node : draws.geometryNodes)
-      if (const std::int32_t mesh = scene_.loaded.scene.nodes[node].mesh; mesh >= 0)
-        used.push_back(std::uint32_t(mesh));
-    meshes = scene_.meshes->require(used);
-  }
+  if (scene_.meshes) meshes = scene_.meshes->requireDrawnBy(draws.geometryNodes);
   const ChannelMask coverage = request.lod.splat == SplatMode::Blend ? ChannelMask{kChannelCoverage} : 0;
   Framebuffer gbuffer =
       makeFramebuffer(request.width, request.height, kChannelColor | kChannelNormal | kChannelIds | coverage);

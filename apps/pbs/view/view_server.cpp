@@ -6,6 +6,8 @@
 #include "node_inspection.hpp"
 #include "view_page.hpp"
 
+#include <pbs/evaluation/contact_sheet.hpp>
+
 #include <httplib.h>
 
 #include <chrono>
@@ -43,14 +45,10 @@ class NewestFrames {
   std::unordered_map<std::string, std::uint64_t> newest_;
 };
 
-// Straight RGBA over white, as the page shows it, for JPEG (which has no alpha).
-std::vector<std::uint8_t> overWhite(const std::vector<std::uint8_t>& rgba) {
-  std::vector<std::uint8_t> rgb(rgba.size() / 4 * 3);
-  for (std::size_t i = 0, o = 0; i < rgba.size(); i += 4, o += 3) {
-    const unsigned alpha = rgba[i + 3];
-    for (int c = 0; c < 3; ++c) rgb[o + c] = std::uint8_t((rgba[i + c] * alpha + 255u * (255u - alpha) + 127u) / 255u);
-  }
-  return rgb;
+// Straight RGBA over white, as the page shows it, for JPEG (which has no alpha): a sheet of one tile.
+std::vector<std::uint8_t> overWhite(const std::vector<std::uint8_t>& rgba, std::uint32_t width, std::uint32_t height) {
+  constexpr std::uint8_t kWhite[3] = {255, 255, 255};
+  return contactSheet(width, height, 1, {std::span<const std::uint8_t>(rgba)}, kWhite);
 }
 
 nlohmann::json frameStats(const ViewFrame& frame, double encodeSeconds, std::size_t bytes) {
@@ -155,10 +153,10 @@ ViewServer::ViewServer(ViewRenderer& renderer, nlohmann::json scene, const LodOp
     }
     // Encoded outside the renderer's lock: the next frame renders meanwhile.
     const auto start = std::chrono::steady_clock::now();
-    const std::vector<std::uint8_t> bytes =
-        request.encoding == ViewEncoding::Jpeg
-            ? encodeJpeg(overWhite(frame->rgba8), request.width, request.height, kJpegQuality)
-            : encodePng8(request.width, request.height, 4, frame->rgba8.data());
+    const std::vector<std::uint8_t> bytes = request.encoding == ViewEncoding::Jpeg
+                                                ? encodeJpeg(overWhite(frame->rgba8, request.width, request.height),
+                                                             request.width, request.height, kJpegQuality)
+                                                : encodePng8(request.width, request.height, 4, frame->rgba8.data());
     const double encodeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     response.set_header("X-Pbs-Stats", frameStats(*frame, encodeSeconds, bytes.size()).dump());
     sendBytes(response, bytes, request.encoding == ViewEncoding::Jpeg ? "image/jpeg" : "image/png");

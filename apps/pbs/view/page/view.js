@@ -27,7 +27,7 @@ const view = {
 // What tests and scripts/view-fps.mjs read: the last frame shown (with when, in performance.now()
 // milliseconds), whether the still view is fully refined, the moving frames shown so far and how long the
 // last ones took from request to picture and to render on the server.
-window.pbsView = { ready: false, shown: null, refined: false, framesShown: 0, movingShown: 0, deliveredMs: [], renderMs: [],
+window.pbsView = { ready: false, shown: null, refined: false, movingShown: 0, deliveredMs: [], renderMs: [],
                    errors: [] };
 
 let sequence = 0;
@@ -143,7 +143,6 @@ function showFrame(frame) {
     }
   }
   window.pbsView.shown = { query: frame.query, still: frame.still, label: frame.label, stats: frame.stats, at: now };
-  window.pbsView.framesShown++;
   if (!frame.still) {
     window.pbsView.movingShown++;
     window.pbsView.deliveredMs.push(frame.total);

@@ -64,6 +64,8 @@ class LazyMeshes {
   // them. Safe to call from several threads at once: a mesh another call is decoding is waited for, not
   // decoded twice. While the lease lives, scene.meshes[m] of a leased m may be read from any thread.
   [[nodiscard]] Lease require(std::span<const std::uint32_t> meshes);
+  // require() of the meshes the scene nodes `nodes` draw (a node without a mesh draws none).
+  [[nodiscard]] Lease requireDrawnBy(std::span<const std::uint32_t> nodes);
   // Unloads the meshes used longest ago that no lease holds until the loaded bytes are within the budget;
   // returns them, so that what holds their arrays (a ray caster's BVH) lets go too.
   std::vector<std::uint32_t> unloadOverBudget();
