@@ -241,6 +241,7 @@ AnalyzedOrderings analyzeSurfelFile(SurfelFileReader& reader, std::optional<std:
     entry["array"] = a;
     entry["stored_count"] = arrays[a].count;
     entry["packing"] = arrays[a].packing;
+    entry["two_sided_share"] = arrays[a].twoSidedShare;
     entry["nodes"] = users[a];
     report["arrays"].push_back(entry);
   }

@@ -38,17 +38,19 @@ glm::vec3 viewTowardNode(const SplatArray& splats, const glm::dmat4& world, cons
 }
 
 // Nearest mode's per-surfel size factors: 0 for a surfel facing away (cosine to the eye below the
-// options' limit), else max(|cos θ|, minSizeFactor) so that silhouettes stay sharp (paper, Sec. 3).
+// options' limit) unless its array is an open sheet, else max(|cos θ|, minSizeFactor) so that silhouettes
+// stay sharp (paper, Sec. 3).
 void sizeFactors(const SplatArray& splats, std::uint32_t count, const glm::dmat4& world, const Camera& camera,
                  const LodOptions& options, std::vector<float>& factors) {
   const glm::vec3 view = viewTowardNode(splats, world, camera);
   const glm::mat3 normalFromObject(glm::inverseTranspose(glm::dmat3(world)));
+  const float cull = splats.openSheet ? -1.0f : options.backFaceCosine;
   factors.resize(count);
   for (std::uint32_t i = 0; i < count; ++i) {
     const glm::vec3 n = normalFromObject * splats.normals[i];
     const float norm = glm::length(n);
     const float toEye = norm > 0.0f ? -glm::dot(n, view) / norm : 1.0f;
-    factors[i] = toEye < options.backFaceCosine ? 0.0f : std::max(std::abs(toEye), options.minSizeFactor);
+    factors[i] = toEye < cull ? 0.0f : std::max(std::abs(toEye), options.minSizeFactor);
   }
 }
 
@@ -96,6 +98,7 @@ void drawBlended(const Hierarchy& hierarchy, const SceneSurfels& surfels, const 
                                   .worldFromObject = objectFrame(hierarchy, draw, splats),
                                   .radius = float(draw.radius),
                                   .area = float(kSurfelAreaPerSpacing2 * draw.radius * draw.radius),
+                                  .twoSided = splats.openSheet,
                                   .nodeId = draw.node,
                                   .instanceId = draw.array});
   }

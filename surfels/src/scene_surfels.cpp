@@ -39,6 +39,7 @@ SplatArray unloadedSplatArray(const FileArray& array, std::size_t length) {
   const double cap = array.area > 0.0 ? array.area / kSurfelAreaPerSpacing2 : std::numeric_limits<double>::infinity();
   splats.packing = std::min(array.packing, cap);
   splats.packingEnd = std::min(array.packingEnd, cap);
+  splats.openSheet = array.twoSidedShare >= kOpenSheetShare;
   splats.length = length;
   return splats;
 }

@@ -24,7 +24,8 @@
 //   104  header checksum           u64 (Hash64 of bytes 0…103)
 //   array table: array count × 104-byte records, then u64 checksum of the records
 //     box.min xyz f64×3, box.max xyz f64×3, coverage f64, packing f64, packing end f64, area f64, surfel count u32,
-//     colour encoding u32 (SurfelColorEncoding), data offset u64, constant colour RGBA u8×4, reserved u32 (0)
+//     colour encoding u32 (SurfelColorEncoding), data offset u64, constant colour RGBA u8×4, two-sided share
+//     f32 (version 6; a reserved u32, 0, before)
 //   node table: node count × (shared u32, suffix length u32, suffix bytes, array index u32), then u64
 //     checksum; a node's path is the first `shared` bytes of the previous node's path, then the suffix
 //     (front coding: paths in preorder share most of their bytes with the one before)
@@ -153,7 +154,13 @@ void layoutArray(Io& io, SurfelArrayInfo& a, std::uint32_t& encoding, std::uint3
   io.u64(a.dataOffset);
   if (version < 3) return;
   for (int i = 0; i < 4; ++i) io.u8(a.constantColor[i]);
-  io.u32(reserved);
+  if (version < 6) {
+    io.u32(reserved);
+    return;
+  }
+  std::uint32_t share = std::bit_cast<std::uint32_t>(a.twoSidedShare);
+  io.u32(share);
+  a.twoSidedShare = std::bit_cast<float>(share);
 }
 
 // A shard table's fields before its held arrays' indices.
@@ -186,16 +193,17 @@ inline StoredNode storedNode(const SurfelNodeRecord& node, const std::string& pr
   return {shared, node.path.substr(shared), node.array};
 }
 
-// The first of an array's values that is NaN or Inf ("box", "coverage", "packing", "area"), or
-// nullptr. pbs never writes one and the reader refuses one: a renderer would place or count surfels
-// with it.
+// What is wrong with the first of an array's values that is NaN or Inf ("box is not finite", also
+// "coverage", "packing", "area") or out of its range ("two-sided share is not in [0, 1]"), or nullptr. pbs never
+// writes one and the reader refuses one: a renderer would place, count or cull surfels with it.
 template <class Array>
-const char* nonFiniteArrayValue(const Array& a) {
+const char* invalidArrayValue(const Array& a) {
   for (int i = 0; i < 3; ++i)
-    if (!std::isfinite(a.box.min[i]) || !std::isfinite(a.box.max[i])) return "box";
-  if (!std::isfinite(a.coverage)) return "coverage";
-  if (!std::isfinite(a.packing) || !std::isfinite(a.packingEnd)) return "packing";
-  if (!std::isfinite(a.area)) return "area";
+    if (!std::isfinite(a.box.min[i]) || !std::isfinite(a.box.max[i])) return "box is not finite";
+  if (!std::isfinite(a.coverage)) return "coverage is not finite";
+  if (!std::isfinite(a.packing) || !std::isfinite(a.packingEnd)) return "packing is not finite";
+  if (!std::isfinite(a.area)) return "area is not finite";
+  if (!(a.twoSidedShare >= 0.0f && a.twoSidedShare <= 1.0f)) return "two-sided share is not in [0, 1]";
   return nullptr;
 }
 

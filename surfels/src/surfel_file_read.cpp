@@ -226,8 +226,7 @@ SurfelFileReader::SurfelFileReader(const std::filesystem::path& path) : path_(pa
     if (info.dataOffset > fileSize || bytes > fileSize - info.dataOffset) {
       throw InputError(file, element(), beyond(info.dataOffset, bytes, fileSize));
     }
-    if (const char* value = nonFiniteArrayValue(info))
-      throw InputError(file, element(), std::string(value) + " is not finite");
+    if (const char* problem = invalidArrayValue(info)) throw InputError(file, element(), problem);
   }
 }
 
@@ -362,6 +361,7 @@ SurfelFile readSurfelFile(const std::filesystem::path& path) {
     array.packing = infos[a].packing;
     array.packingEnd = infos[a].packingEnd;
     array.area = infos[a].area;
+    array.twoSidedShare = infos[a].twoSidedShare;
     array.surfels = reader.readPrefix(a, infos[a].count);
   }
   return file;

@@ -32,8 +32,8 @@ void checkNodes(std::span<const SurfelNodeRecord> nodes, std::uint64_t arrayCoun
 void checkArray(std::size_t index, const SurfelArray& array) {
   if (array.surfels.size() > kU32Max)
     throw std::invalid_argument("surfel file: array " + std::to_string(index) + " has more than 2^32 - 1 surfels");
-  if (const char* value = nonFiniteArrayValue(array))
-    throw std::invalid_argument("surfel file: array " + std::to_string(index) + ": " + value + " is not finite");
+  if (const char* problem = invalidArrayValue(array))
+    throw std::invalid_argument("surfel file: array " + std::to_string(index) + ": " + problem);
 }
 
 void appendChecksum(ByteSink& sink, std::size_t from, std::uint64_t seed) {
@@ -163,6 +163,7 @@ void SurfelFileWriter::add(std::uint32_t index, const SurfelArray& array) {
       .packing = array.packing,
       .packingEnd = array.packingEnd,
       .area = array.area,
+      .twoSidedShare = array.twoSidedShare,
       .count = std::uint32_t(array.surfels.size()),
       .dataOffset = 0,
       .colorEncoding = encoding,

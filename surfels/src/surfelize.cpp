@@ -2,6 +2,7 @@
 #include "pbs/surfels/surfelize.hpp"
 
 #include "capture_from_children.hpp"
+#include "order_nearest_grid.hpp"
 #include "surfelize_plan.hpp"
 #include "surfelize_shards.hpp"
 
@@ -34,6 +35,27 @@ double packingValue(std::span<const glm::vec3> positions, std::span<const std::u
   if (k < 2) return 0.0;
   const double spacing = meanNearestNeighbourDistance(positions, order, k);
   return spacing * spacing * double(k);
+}
+
+// The two-sided share of an array captured from triangles. Twins lie within about one spacing of each
+// other. Only a capture that saw back faces holds an open sheet: a closed mesh wound consistently is seen
+// from outside alone, and a shell thinner than the spacing then keeps its two sides apart by culling
+// (drawn facing either way, its inner side showed through its outer one: default scene, orbit, FLIP 0.128
+// → 0.154).
+double twoSidedShareOfTriangles(const CaptureResult& captured, const SurfelArray& array) {
+  if (captured.sidesSeen() < kOpenSheetSidesSeen || array.surfels.size() < 2) return 0.0;
+  const double spacing = std::sqrt(array.packingEnd / double(array.surfels.size()));
+  return twoSidedShare(array.surfels, kTwinReach * spacing);
+}
+
+// An array captured from its children's surfels is an open sheet as far as they are: the mean of their
+// arrays' shares. Its own capture cannot tell, since it draws the children's splats facing either way
+// and so sees the backs of closed children too (the default scene's root: sides seen over 1.5).
+double meanTwoSidedShare(std::span<const SurfelArray> arrays, std::span<const std::uint32_t> children) {
+  if (children.empty()) return 0.0;
+  double sum = 0.0;
+  for (std::uint32_t c : children) sum += arrays[c].twoSidedShare;
+  return sum / double(children.size());
 }
 
 struct MadeArray {
@@ -78,7 +100,7 @@ MadeArray makeArray(const Scene& scene, std::uint32_t a, std::span<const Bounds>
   array.box = frame.worldBounds[node];
   array.coverage = captured.coverage;
   // The surface the surfels stand for, per side seen: an open sheet captured from both sides has half its
-  // surfels on each, and each side must be closed by its own half (the renderer culls the other).
+  // surfels on each (the cap on the renderer's packing values).
   array.area = area * captured.sidesSeen();
   array.surfels.reserve(order.size());
   for (std::uint32_t i : order) array.surfels.push_back(captured.surfels[i]);
@@ -89,6 +111,8 @@ MadeArray makeArray(const Scene& scene, std::uint32_t a, std::span<const Bounds>
   }
   array.packing = packingValue(positions, order, std::min(kPackingSample, order.size()));
   array.packingEnd = packingValue(positions, order, order.size());
+  array.twoSidedShare = float(plan.fromChildren[a] ? meanTwoSidedShare(arrays, plan.childArrays[a])
+                                                   : twoSidedShareOfTriangles(captured, array));
   return made;
 }
 
@@ -264,6 +288,25 @@ struct ArrayMaker {
 };
 
 }  // namespace
+
+double twoSidedShare(std::span<const Surfel> surfels, double reach) {
+  if (surfels.empty() || !(reach > 0.0) || !std::isfinite(reach)) return 0.0;
+  // Each surfel is looked up at p − 2·reach·n among the others placed at p' + 2·reach·n': a twin (p' near p,
+  // n' = −n) lands within reach of it, a neighbour on the same side about 4·reach away.
+  const auto lift = float(2.0 * reach);
+  std::vector<glm::vec3> lifted(surfels.size());
+  for (std::size_t i = 0; i < surfels.size(); ++i) lifted[i] = surfels[i].position + lift * surfels[i].normal;
+  NearestPointGrid grid(lifted, "twoSidedShare");
+  for (std::uint32_t i = 0; i < surfels.size(); ++i) grid.insert(i);
+  const auto reach2 = float(reach * reach);
+  std::size_t facing = 0, twins = 0;
+  for (std::uint32_t i = 0; i < surfels.size(); ++i) {
+    if (surfels[i].normal == glm::vec3(0.0f)) continue;
+    ++facing;
+    twins += grid.nearestSquared(surfels[i].position - lift * surfels[i].normal, i) <= reach2;
+  }
+  return facing > 0 ? double(twins) / double(facing) : 0.0;
+}
 
 std::vector<glm::vec3> orderingPositions(std::span<const Surfel> surfels) {
   const glm::vec3 side = glm::normalize(glm::vec3(0.3f, 0.8f, 0.52f));  // no axis: walls are often axis-aligned

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -61,6 +62,7 @@ SurfelArray makeArray(std::size_t count, const Bounds& box, std::uint64_t seed) 
   array.coverage = 0.25 + 0.001 * double(seed);
   array.packing = 1.5 * double(seed);
   array.area = 12.0 + double(seed);
+  array.twoSidedShare = 0.25f * float(seed % 5);
   array.surfels = randomSurfels(count, box, seed);
   return array;
 }
@@ -174,6 +176,7 @@ TEST(SurfelFile, RoundTripKeepsEverything) {
     EXPECT_EQ(out.coverage, in.coverage);
     EXPECT_EQ(out.packing, in.packing);
     EXPECT_EQ(out.area, in.area);
+    EXPECT_EQ(out.twoSidedShare, in.twoSidedShare);
     ASSERT_EQ(out.surfels.size(), in.surfels.size());
     for (std::size_t i = 0; i < in.surfels.size(); ++i) {
       // The file holds exactly what the codec makes of each surfel.
@@ -374,6 +377,39 @@ TEST(SurfelFile, OctreeLeafTrianglesRoundTripAndVersionFourHasNone) {
   reseal(v4, 0, kHeaderChecksumOffset, kHeaderSeed);
   writeFile(dir / "v4.surfels", v4);
   EXPECT_EQ(SurfelFileReader(dir / "v4.surfels").options().octreeLeafTriangles, 0u);
+}
+
+// Each array's two-sided share is in its record (version 6); a version 5 file, whose field was reserved, has
+// share 0 for every array whatever the field holds. Shares outside [0, 1] are neither written nor read.
+TEST(SurfelFile, TwoSidedShareRoundTripsAndVersionFiveHasNone) {
+  using namespace surfel_file;
+  ScratchDir dir;
+  const SurfelFile file = sampleFile();
+  ASSERT_EQ(file.arrays[0].twoSidedShare, 0.25f);
+  writeSurfelFile(dir / "v6.surfels", file);
+  EXPECT_EQ(SurfelFileReader(dir / "v6.surfels").arrays()[0].twoSidedShare, 0.25f);
+  EXPECT_EQ(SurfelFileReader(dir / "v6.surfels").arrays()[2].twoSidedShare, 0.75f);
+
+  const std::string v6 = readFile(dir / "v6.surfels");
+  const std::size_t share = kHeaderBytes + 100;  // the first array record's last field
+  ASSERT_EQ(v6.substr(share, 4), std::string("\0\0\x80\x3E", 4)) << "0.25 as a little-endian f32";
+  std::string v5 = v6;
+  putU32(v5, 8, 5);
+  reseal(v5, 0, kHeaderChecksumOffset, kHeaderSeed);
+  writeFile(dir / "v5.surfels", v5);
+  for (const SurfelArray& array : readSurfelFile(dir / "v5.surfels").arrays) EXPECT_EQ(array.twoSidedShare, 0.0f);
+
+  for (const float bad : {-0.5f, 1.5f, std::numeric_limits<float>::quiet_NaN()}) {
+    std::string wrong = v6;
+    putU32(wrong, share, std::bit_cast<std::uint32_t>(bad));
+    reseal(wrong, kHeaderBytes, kHeaderBytes + file.arrays.size() * arrayRecordBytes(6), kArrayTableSeed);
+    writeFile(dir / "w.surfels", wrong);
+    EXPECT_NE(errorOf(dir / "w.surfels").find("node /0/3: two-sided share is not in [0, 1]"), std::string::npos)
+        << errorOf(dir / "w.surfels");
+    SurfelFile refused = file;
+    refused.arrays[1].twoSidedShare = bad;
+    EXPECT_THROW(writeSurfelFile(dir / "r.surfels", refused), std::invalid_argument) << bad;
+  }
 }
 
 // A version 3 file (no scene table) still reads, with an empty table: made here from a version 4 file by

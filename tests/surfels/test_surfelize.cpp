@@ -258,6 +258,39 @@ TEST(Surfelize, EachSideOfAThinSurfaceIsSpreadOnItsOwn) {
   }
 }
 
+// Twins: the same surface seen from its two sides. An open sheet captured from above and below has them
+// everywhere, a closed box none, whatever the winding of its faces (the fixture's box is wound half
+// inward, so its captures see half its faces from behind); the file records the share, and only the sheet
+// is drawn as one.
+TEST(Surfelize, OpenSheetsHaveTwinsAndClosedMeshesNone) {
+  const Scene sheet =
+      test::sceneOf(test::gridSheet(80, [](float x, float) { return 0.1f * x * x; }), {glm::dmat4(1.0)});
+  const Scene box = test::sceneOf(test::tessellatedBox(40), {glm::dmat4(1.0)});
+  const SurfelFile sheetFile = surfelize(sheet, analyzeHierarchy(sheet), smallOptions(1000));
+  const SurfelFile boxFile = surfelize(box, analyzeHierarchy(box), smallOptions(1000));
+  ASSERT_EQ(sheetFile.arrays.size(), 1u);
+  ASSERT_EQ(boxFile.arrays.size(), 1u);
+  EXPECT_GT(sheetFile.arrays[0].twoSidedShare, 0.9f);
+  EXPECT_LT(boxFile.arrays[0].twoSidedShare, 0.05f);
+  EXPECT_TRUE(splatArrayOf(sheetFile.arrays[0]).openSheet);
+  EXPECT_FALSE(splatArrayOf(boxFile.arrays[0]).openSheet);
+
+  // By hand: two parallel planes of opposite normals are twins within reach of their gap, not beyond it;
+  // surfels without a normal count for neither.
+  std::vector<Surfel> shell;
+  for (int y = 0; y < 10; ++y)
+    for (int x = 0; x < 10; ++x) {
+      shell.push_back({glm::vec3(x, y, 0.0f), glm::vec3(0, 0, 1), glm::u8vec4(255)});
+      shell.push_back({glm::vec3(x + 0.5f, y + 0.5f, -0.4f), glm::vec3(0, 0, -1), glm::u8vec4(255)});
+    }
+  EXPECT_DOUBLE_EQ(twoSidedShare(shell, 1.0), 1.0);
+  EXPECT_DOUBLE_EQ(twoSidedShare(shell, 0.5), 0.0) << "the nearest twin is √(0.5 + 0.16) = 0.81 away";
+  shell.push_back({glm::vec3(20.0f), glm::vec3(0.0f), glm::u8vec4(255)});
+  EXPECT_DOUBLE_EQ(twoSidedShare(shell, 1.0), 1.0);
+  EXPECT_DOUBLE_EQ(twoSidedShare({}, 1.0), 0.0);
+  EXPECT_DOUBLE_EQ(twoSidedShare(shell, 0.0), 0.0);
+}
+
 TEST(Surfelize, SeedChangesTheOrderNotTheSurface) {
   const Scene scene = twoIdenticalGroups();
   SurfelizeOptions a = smallOptions(1000), b = smallOptions(1000);

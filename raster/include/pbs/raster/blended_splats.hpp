@@ -24,6 +24,7 @@ struct SurfelSplatSet {
   float radius = 0.0f;
   // Object-frame surface area each surfel stands for: the set's discs overlap, so this is less than a disc.
   float area = 0.0f;
+  bool twoSided = false;  // drawn facing either way: BlendOptions::backFaceCosine does not apply
   std::uint32_t nodeId = 0;
   std::uint32_t instanceId = 0;  // PixelIds::primitive is the surfel's index in its set
 };

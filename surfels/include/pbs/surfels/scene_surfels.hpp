@@ -19,6 +19,13 @@ namespace pbs {
 // r²): the cell of a point in a hexagonal packing of spacing r has area (√3 / 2) r².
 inline constexpr double kSurfelAreaPerSpacing2 = 0.8660254037844386;
 
+// An array at least this share of whose surfels have a twin facing the other way (SurfelArray::
+// twoSidedShare) is an open sheet (a terrain, a sign, a leaf): its surfels seen from one side sample the
+// same surface as those seen from the other, so all are drawn, facing the eye, instead of culling those
+// facing away. Culled, each side had half the prefix, too sparse to close it: a 10 M-triangle terrain seen
+// from 5 bounding radii had holes over 5 % of its pixels.
+inline constexpr float kOpenSheetShare = 0.5f;
+
 // One array in the structure-of-arrays form drawPoints reads.
 struct SplatArray {
   Bounds box;  // node-frame box; positions are relative to its centre
@@ -27,6 +34,7 @@ struct SplatArray {
   // each capped so that the array never stands for more than the subtree's surface area (splatArrayOf).
   double packing = 0.0;
   double packingEnd = 0.0;
+  bool openSheet = false;  // two-sided share ≥ kOpenSheetShare: drawn facing either way
   // The array's length. The surfels below hold its first loaded() of them: all of them when the file
   // was read whole, the prefixes frames asked for when it is read on demand (SurfelCache).
   std::size_t length = 0;

@@ -41,10 +41,12 @@ namespace pbs {
 
 // Version 2 added the colour filter to the header (and made normals face their capture view); version 3
 // stores colours by what varies per array (SurfelColorEncoding); version 4 adds the scene table; version 5
-// the loose octree the scene was organised as (SurfelFileOptions::octreeLeafTriangles). Version 2 to 4
-// files are still read (no octree) (version 2: every surfel RGBA; both: the boxes are computed from
-// the scene's vertices); a version 1 file is refused: run pbs surfelize again.
-inline constexpr std::uint32_t kSurfelFileVersion = 5;
+// the loose octree the scene was organised as (SurfelFileOptions::octreeLeafTriangles); version 6 each
+// array's two-sided share (SurfelArray::twoSidedShare), in what was a reserved field. Version 2 to 5 files
+// are still read (share 0: no array is drawn as an open sheet); version 2 to 4 ones have no octree (version 2: every
+// surfel RGBA; both: the boxes are computed from the scene's vertices); a version 1 file is refused: run pbs surfelize
+// again.
+inline constexpr std::uint32_t kSurfelFileVersion = 6;
 inline constexpr std::uint32_t kOldestReadSurfelFileVersion = 2;
 inline constexpr std::size_t kSurfelBytes = 16;  // a surfel with every field (PackedSurfel)
 inline constexpr std::uint32_t kSurfelsPerChunk = 1024;
@@ -102,6 +104,11 @@ struct SurfelArray {
   // (CaptureResult::sidesSeen: 1 for a closed mesh, 2 for an open sheet seen from both sides): the area
   // the surfels stand for (the renderer's splat coverage, ρ(k)).
   double area = 0.0;
+  // The share of the surfels whose surface the captures also saw from its other side (twoSidedShare), in
+  // [0, 1] (version 6; 0 in older files), where a capture from triangles saw back faces (kOpenSheetSidesSeen;
+  // else 0), and the mean of the children's for a capture from their surfels: near 1, the subtree is an open
+  // sheet, whose surfels a renderer draws facing either way.
+  float twoSidedShare = 0.0f;
   std::vector<Surfel> surfels;  // in order: every prefix is a usable, evenly spread subset
 };
 
@@ -150,6 +157,7 @@ struct SurfelArrayInfo {
   double packing = 0.0;
   double packingEnd = 0.0;
   double area = 0.0;
+  float twoSidedShare = 0.0f;
   std::uint32_t count = 0;
   std::uint64_t dataOffset = 0;
   SurfelColorEncoding colorEncoding = SurfelColorEncoding::Rgba;
@@ -159,8 +167,8 @@ struct SurfelArrayInfo {
 // Writes `file` to a temporary name beside `path`, then renames it over `path`: readers see the old
 // file or the whole new one, never a part. Throws std::runtime_error naming the path on I/O failure
 // (the temporary is removed), std::invalid_argument for a node naming a missing array or an array
-// whose box, coverage, packing or area is NaN or infinite (nothing is written; the reader refuses
-// such values too).
+// whose box, coverage, packing or area is NaN or infinite or whose two-sided share lies outside [0, 1] (nothing
+// is written; the reader refuses such values too).
 void writeSurfelFile(const std::filesystem::path& path, const SurfelFile& file);
 
 // Writes a .surfels file while its arrays are still being made: each array's data goes to the temporary

@@ -111,6 +111,17 @@ void surfelizeToFile(Scene& scene, const LazyMeshes::Decode& decode, std::uint64
 // density. Stored positions stay the captured ones.
 std::vector<glm::vec3> orderingPositions(std::span<const Surfel> candidates);
 
+// How far a surfel's twin (the same surface seen from its other side) may lie, in spacings of the array.
+inline constexpr double kTwinReach = 1.5;
+// The sides a capture must have seen (CaptureResult::sidesSeen) for surfelize to look for twins: an open
+// sheet seen from above and below has 2, a closed mesh 1 (a mesh wound half inward has 2 too, and no twins).
+inline constexpr double kOpenSheetSidesSeen = 1.5;
+
+// The share of `surfels` (those with a normal) that have a twin facing the opposite way within `reach`: about
+// 1 for an open sheet captured from both sides or a shell thinner than `reach`, about 0 for a closed mesh
+// (whose far side lies much farther), whatever the winding of its faces. 0 for no surfels or reach ≤ 0.
+double twoSidedShare(std::span<const Surfel> surfels, double reach);
+
 // One shard of a run split over machines, as planned (SurfelizeOptions::shard).
 struct SurfelizeShardEstimate {
   std::uint64_t arraysHeld = 0;  // the arrays its part holds
