@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <type_traits>
 
 namespace pbs::triangles {
@@ -184,6 +185,31 @@ PBS_CLONE_INLINE void rasterizeSmallRect(TileBuffer& tile, const RasterTriangle&
   }
 }
 
+// A block of a wide triangle (64-bit edges) that some edge crosses, in 32-bit lanes where that is exact:
+// an edge inside over the block's pixels passes them all and is left out (lanes of 0), and the others
+// must stay within int32 over the block's 8 × 8 lanes and the row step past its last row. Those near
+// an edge have small values, so most blocks qualify; false (nothing drawn) where one does not.
+PBS_CLONE_INLINE bool rasterizeNarrowBlock(TileBuffer& tile, const RasterTriangle& t,
+                                           const EdgeGrid<std::int64_t>& grid, const bool (&inside)[3],
+                                           const MaskLanes& lanes, int ax, int y0, int bx, int by, int rows) {
+  constexpr std::int64_t kLimit = std::numeric_limits<std::int32_t>::max();
+  Lanes<std::int32_t> edge[3];
+  std::int32_t stepY[3];
+  for (int k = 0; k < 3; ++k) {
+    edge[k] = Lanes<std::int32_t>{};
+    stepY[k] = 0;
+    if (inside[k]) continue;
+    const std::int64_t first = grid.origin[k] + grid.stepX[k] * (bx - ax) + grid.stepY[k] * (by - y0);
+    const std::int64_t sx = grid.stepX[k], sy = grid.stepY[k];
+    const std::int64_t reach = (first < 0 ? -first : first) + kBlockSize * ((sx < 0 ? -sx : sx) + (sy < 0 ? -sy : sy));
+    if (reach > kLimit) return false;
+    edge[k] = kLaneIndex * std::int32_t(sx) + std::int32_t(first);
+    stepY[k] = std::int32_t(sy);
+  }
+  rasterizeBlockRows<std::int32_t, true>(tile, t, edge, stepY, lanes, bx, by, rows);
+  return true;
+}
+
 // Pixels x0 … x1 × y0 … y1 (window coordinates) of the triangle within the tile, in blocks of
 // 8×8 starting at multiples of 8 columns: the 32-byte loads and stores of successive triangles
 // then meet the earlier ones exactly or not at all, never partly, which would defeat
@@ -201,21 +227,26 @@ PBS_CLONE_INLINE void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, i
       const int rx0 = std::max(bx, x0), rx1 = std::min(bx + kBlockSize - 1, x1);
       // A box of one block is rarely inside or outside the triangle as a whole: skip the test.
       bool reject = false, accept = false;
+      bool inside[3] = {false, false, false};  // edges whose values are ≥ 0 over the block's pixels
       if (x1 - ax >= kBlockSize || y1 - y0 >= kBlockSize) {
         accept = true;
         for (int k = 0; k < 3; ++k) {
           const Edge corner = origin[k] + stepX[k] * Edge(rx0 - ax) + stepY[k] * Edge(by - y0);
           const Edge spanX = stepX[k] * Edge(rx1 - rx0), spanY = stepY[k] * Edge(rows - 1);
           reject |= corner + std::max<Edge>(spanX, 0) + std::max<Edge>(spanY, 0) < 0;
-          accept &= corner + std::min<Edge>(spanX, 0) + std::min<Edge>(spanY, 0) >= 0;
+          inside[k] = corner + std::min<Edge>(spanX, 0) + std::min<Edge>(spanY, 0) >= 0;
+          accept &= inside[k];
         }
       }
       if (reject) continue;
+      MaskLanes lanes;
+      columnLanes(bx, x0, x1, lanes);
+      if constexpr (sizeof(Edge) > sizeof(std::int32_t)) {
+        if (!accept && rasterizeNarrowBlock(tile, t, grid, inside, lanes, ax, y0, bx, by, rows)) continue;
+      }
       Lanes<Edge> edge[3];  // from the centre of pixel (bx, by)
       for (int k = 0; k < 3; ++k)
         edge[k] = grid.laneStep[k] + (origin[k] + stepX[k] * Edge(bx - ax) + stepY[k] * Edge(by - y0));
-      MaskLanes lanes;
-      columnLanes(bx, x0, x1, lanes);
       if (accept)
         rasterizeBlockRows<Edge, false>(tile, t, edge, stepY, lanes, bx, by, rows);
       else

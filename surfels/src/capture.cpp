@@ -8,7 +8,9 @@
 #include "pbs/scene/scene_draws.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <stdexcept>
 
@@ -18,17 +20,46 @@ namespace {
 // The authors' coverage rule: alpha > 0.1 in RGBA8.
 constexpr std::uint8_t kMinCoveredAlpha = 26;
 
+// Pixels are read in groups of this many: most of a view is empty, and a group without a covered pixel
+// is then one test of its depths.
+constexpr std::size_t kGroup = 8;
+
+// Whether no pixel of [first, first + kGroup) is covered: depth is kClearDepth, +inf, whose bits no other
+// value has, so the test is on the bits (a NaN depth counts as covered, as in Framebuffer::covered).
+bool noneCovered(const float* depth) {
+  constexpr std::uint32_t kClearBits = std::bit_cast<std::uint32_t>(kClearDepth);
+  std::uint32_t bits[kGroup];
+  std::memcpy(bits, depth, sizeof bits);
+  std::uint32_t differs = 0;
+  for (std::uint32_t b : bits) differs |= b ^ kClearBits;
+  return differs == 0;
+}
+
 // `direction` is the one the view looks along. Normals are turned to face it: a one-sided surface seen
 // from behind must not keep a normal pointing away from every view that can see it, else a renderer
 // could not tell front-facing surfels from back-facing ones. A zero normal stays zero.
+// The channels are held in locals: the colour's byte stores may alias anything, and would have every
+// pointer reloaded per surfel.
 void appendSurfels(const Framebuffer& framebuffer, const glm::vec3& direction, CaptureResult& result) {
-  for (std::size_t pixel = 0; pixel < framebuffer.pixelCount(); ++pixel) {
-    if (!framebuffer.covered(pixel) || framebuffer.color[pixel].a < kMinCoveredAlpha) continue;
-    const glm::vec3 normal = framebuffer.normal[pixel];
-    const bool behind = glm::dot(normal, direction) > 0.0f;
-    result.seenFromBehind += behind;
-    result.surfels.push_back({framebuffer.position[pixel], behind ? -normal : normal, framebuffer.color[pixel]});
+  const std::size_t pixels = framebuffer.pixelCount();
+  const float* const depth = framebuffer.depth.data();
+  const glm::u8vec4* const colors = framebuffer.color.data();
+  const glm::vec3* const positions = framebuffer.position.data();
+  const glm::vec3* const normals = framebuffer.normal.data();
+  std::vector<Surfel>& surfels = result.surfels;
+  std::uint64_t seenFromBehind = 0;
+  for (std::size_t first = 0; first < pixels; first += kGroup) {
+    const std::size_t end = std::min(first + kGroup, pixels);
+    if (end - first == kGroup && noneCovered(depth + first)) continue;
+    for (std::size_t pixel = first; pixel < end; ++pixel) {
+      if (depth[pixel] == kClearDepth || colors[pixel].a < kMinCoveredAlpha) continue;
+      const glm::vec3 normal = normals[pixel];
+      const bool behind = glm::dot(normal, direction) > 0.0f;
+      seenFromBehind += behind;
+      surfels.push_back({positions[pixel], behind ? -normal : normal, colors[pixel]});
+    }
   }
+  result.seenFromBehind += seenFromBehind;
 }
 
 }  // namespace
