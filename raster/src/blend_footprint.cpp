@@ -77,7 +77,7 @@ FootprintProjector::FootprintProjector(const Camera& camera, const SurfelSplatSe
       setIndex_(setIndex),
       windowFromObject_(windowFromClipMatrix(camera) * camera.clipFromWorld() * set.worldFromObject),
       normalFromObject_(glm::inverseTranspose(glm::dmat3(set.worldFromObject))),
-      backFaceCosine_(set.twoSided ? -1.0 : options.backFaceCosine),
+      backFaceCosine_(set.backFaceCosine),
       gain_(options.coverageGain),
       width_(int(camera.width)),
       height_(int(camera.height)) {

@@ -37,14 +37,19 @@ glm::vec3 viewTowardNode(const SplatArray& splats, const glm::dmat4& world, cons
   return length > 0.0 ? glm::vec3(toNode / length) : glm::vec3(0.0f, 0.0f, -1.0f);
 }
 
-// Nearest mode's per-surfel size factors: 0 for a surfel facing away (cosine to the eye below the
-// options' limit) unless its array is an open sheet, else max(|cos θ|, minSizeFactor) so that silhouettes
-// stay sharp (paper, Sec. 3).
+// The cosine to the eye below which an array's surfels are not drawn: the options' limit, or none for an
+// open sheet, whose surfels seen from one side sample the surface seen from the other (kOpenSheetShare).
+float cullCosineOf(const SplatArray& splats, const LodOptions& options) {
+  return splats.openSheet ? -1.0f : options.backFaceCosine;
+}
+
+// Nearest mode's per-surfel size factors: 0 for a surfel facing away (cosine to the eye below the array's
+// limit, cullCosineOf), else max(|cos θ|, minSizeFactor) so that silhouettes stay sharp (paper, Sec. 3).
 void sizeFactors(const SplatArray& splats, std::uint32_t count, const glm::dmat4& world, const Camera& camera,
                  const LodOptions& options, std::vector<float>& factors) {
   const glm::vec3 view = viewTowardNode(splats, world, camera);
   const glm::mat3 normalFromObject(glm::inverseTranspose(glm::dmat3(world)));
-  const float cull = splats.openSheet ? -1.0f : options.backFaceCosine;
+  const float cull = cullCosineOf(splats, options);
   factors.resize(count);
   for (std::uint32_t i = 0; i < count; ++i) {
     const glm::vec3 n = normalFromObject * splats.normals[i];
@@ -98,12 +103,11 @@ void drawBlended(const Hierarchy& hierarchy, const SceneSurfels& surfels, const 
                                   .worldFromObject = objectFrame(hierarchy, draw, splats),
                                   .radius = float(draw.radius),
                                   .area = float(kSurfelAreaPerSpacing2 * draw.radius * draw.radius),
-                                  .twoSided = splats.openSheet,
+                                  .backFaceCosine = cullCosineOf(splats, options),
                                   .nodeId = draw.node,
                                   .instanceId = draw.array});
   }
-  drawBlendedSplats(framebuffer, camera, sets,
-                    BlendOptions{.backFaceCosine = options.backFaceCosine, .coverageGain = options.coverageGain});
+  drawBlendedSplats(framebuffer, camera, sets, BlendOptions{.coverageGain = options.coverageGain});
 }
 
 }  // namespace

@@ -14,7 +14,7 @@
 
 namespace pbs::test {
 
-// The shortest decimal text that reads back as the same double (for cameras given on command lines and
+// A decimal text (17 significant digits) that reads back as the same double (for cameras given on command lines and
 // in URLs, so that both sides compute the same camera).
 inline std::string exactDecimal(double value) {
   char text[32];

@@ -160,12 +160,13 @@ TEST(BlendedSplats, SurfelsFacingAwayAreNotDrawnUnlessCullingIsOff) {
   const Camera camera = deepCamera(32, 32);
   Patch away = patch(4.0f, 4.0f, 24.0f, 12, -500.0f, glm::u8vec4(255, 255, 255, 255));
   for (glm::vec3& n : away.normals) n = glm::vec3(0.0f, 0.0f, -1.0f);
-  const SurfelSplatSet sets[] = {away.set()};
+  SurfelSplatSet sets[] = {away.set()};
   Framebuffer culled = makeFramebuffer(32, 32, kBlendChannels);
   drawBlendedSplats(culled, camera, sets);
   EXPECT_EQ(totalCoverage(culled), 0.0);
   Framebuffer all = makeFramebuffer(32, 32, kBlendChannels);
-  drawBlendedSplats(all, camera, sets, BlendOptions{.backFaceCosine = -1.0f});
+  sets[0].backFaceCosine = -1.0f;
+  drawBlendedSplats(all, camera, sets);
   EXPECT_NEAR(totalCoverage(all), 24.0 * 24.0, 0.05 * 576.0);
   // Drawn from behind, the normal written faces the eye.
   EXPECT_NEAR(all.normal[16 * 32 + 16].z, 1.0f, 1e-6f);
@@ -176,9 +177,10 @@ TEST(BlendedSplats, AnEdgeOnPatchCoversAlmostNothing) {
   const Camera camera = deepCamera(32, 32);
   Patch edgeOn = patch(4.0f, 4.0f, 24.0f, 12, -500.0f, glm::u8vec4(255, 255, 255, 255));
   for (glm::vec3& n : edgeOn.normals) n = glm::vec3(1.0f, 0.0f, 0.0f);
-  const SurfelSplatSet sets[] = {edgeOn.set()};
+  SurfelSplatSet sets[] = {edgeOn.set()};
+  sets[0].backFaceCosine = -1.0f;
   Framebuffer framebuffer = makeFramebuffer(32, 32, kBlendChannels);
-  drawBlendedSplats(framebuffer, camera, sets, BlendOptions{.backFaceCosine = -1.0f});
+  drawBlendedSplats(framebuffer, camera, sets);
   EXPECT_LT(totalCoverage(framebuffer), 1.0);
 }
 

@@ -24,16 +24,15 @@ struct SurfelSplatSet {
   float radius = 0.0f;
   // Object-frame surface area each surfel stands for: the set's discs overlap, so this is less than a disc.
   float area = 0.0f;
-  bool twoSided = false;  // drawn facing either way: BlendOptions::backFaceCosine does not apply
+  // A surfel is not drawn when the cosine between its normal and the direction to the eye is below this:
+  // slightly negative, so that surfels at a silhouette (normals bent by curvature between samples) still
+  // close it; −1 draws every surfel, facing the eye (an open sheet's, seen from either side).
+  float backFaceCosine = -0.2f;
   std::uint32_t nodeId = 0;
   std::uint32_t instanceId = 0;  // PixelIds::primitive is the surfel's index in its set
 };
 
 struct BlendOptions {
-  // A surfel is not drawn when the cosine between its normal and the direction to the eye is below this:
-  // slightly negative, so that surfels at a silhouette (normals bent by curvature between samples) still
-  // close it.
-  float backFaceCosine = -0.2f;
   // Multiplies each splat's coverage. The kernels of a closed surface sum to 1 on average; ripples of a
   // few per cent between samples would show as speckled holes without a small excess.
   float coverageGain = 1.0f;
