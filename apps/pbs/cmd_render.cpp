@@ -96,6 +96,7 @@ nlohmann::json frameJson(RenderMode mode, const FrameResult& frame) {
     entry["geometry_pixels"] = frame.stats.geometryPixels;
     entry["geometry_ray_pixels"] = frame.stats.geometryRayPixels;
     entry["surfel_pixels"] = frame.stats.surfelPixels;
+    entry["resolution_divisor"] = frame.divisor;
   }
   return entry;
 }
@@ -215,13 +216,18 @@ void run(const RenderOptions& options) {
     // Frame f shows what the link delivered by (f + 1) / fps.
     if (stream) stream->advance(views[f].camera, 1.0 / options.streamFps);
     const double limit = feedback.limit();
-    if (options.budgetFeedback) renderer.setBudget(LodBudget::seconds(limit));
+    if (options.budgetFeedback) {
+      LodBudget corrected = options.lod.budget;
+      corrected.limit = limit;
+      renderer.setBudget(corrected);
+    }
     const FrameResult frame = renderer.render(views[f].camera);
     seconds.push_back(frame.seconds);
     nlohmann::json entry = frameJson(mode, frame);
     if (timeBudget) {
       const double predicted = predictFrameCost(
-          options.lod.frameCosts, frameWork(frame.stats, std::uint64_t(width) * height), frame.stats.geometryDrawer);
+          options.lod.frameCosts, frameWork(frame.stats, std::uint64_t(frame.drawnWidth) * frame.drawnHeight),
+          frame.stats.geometryDrawer);
       feedback.observe(predicted, frame.recurringSeconds());
       entry["budget_limit_seconds"] = options.budgetFeedback ? limit : options.lod.budget.limit;
       entry["predicted_seconds"] = predicted;

@@ -109,13 +109,22 @@ void addLodOptions(CLI::App& command, LodOptions& lod) {
               "choose the cut by a budget instead of --threshold-pixels: refine the nodes largest on screen while "
               "the triangles plus surfels drawn stay within this many")
           ->check(positiveNumber());
+  CLI::Option* milliseconds =
+      command
+          .add_option_function<double>(
+              "--budget-ms", [&lod](double ms) { lod.budget = LodBudget::seconds(ms / 1e3); },
+              "choose the cut by a frame time instead of --threshold-pixels: refine the nodes largest on screen "
+              "while the frame's predicted time (--calibration) stays within this many milliseconds")
+          ->check(positiveNumber())
+          ->excludes(primitives);
+  // After --budget-ms, whose callback sets the whole budget.
   command
-      .add_option_function<double>(
-          "--budget-ms", [&lod](double ms) { lod.budget = LodBudget::seconds(ms / 1e3); },
-          "choose the cut by a frame time instead of --threshold-pixels: refine the nodes largest on screen while "
-          "the frame's predicted time (--calibration) stays within this many milliseconds")
-      ->check(positiveNumber())
-      ->excludes(primitives);
+      .add_option_function<std::string>(
+          "--budget-resolution", [&lod](const std::string& value) { lod.budget.lowerResolution = value == "auto"; },
+          "with --budget-ms: auto (default) draws a frame whose coarsest cut does not fit at a lower resolution "
+          "(1/1.5 to 1/8 a side) and upscales it; full keeps the full resolution, over the budget if need be")
+      ->check(CLI::IsMember({"auto", "full"}))
+      ->needs(milliseconds);
   CLI::Option* threshold =
       command
           .add_option("--threshold-pixels", lod.threshold, "projected size (pixels) above which nodes are descended")

@@ -126,11 +126,11 @@ std::string evalCsv(const std::vector<EvalSetting>& settings, const EvalResults&
     for (const EvalFrame& f : results.settings[s].frames) {
       const EvalView& view = results.views[f.frame];
       const ImageDifference& e = f.error;
-      appendCsvLine(
-          csv, settings[s].name + "," + std::to_string(f.frame) + "," + frameKindName(view.kind),
-          {view.geometryShare, f.seconds, f.speedupOverFastestExact, f.stats.traverseSeconds, f.stats.rasterSeconds,
-           double(f.stats.triangles), double(f.stats.surfels), e.flipForegroundMean, e.flipMean, e.flipMedian,
-           e.flipMax, e.foregroundPsnr, e.psnr, e.ssim, e.holeFraction, e.bloatFraction, f.surfelLoadSeconds});
+      appendCsvLine(csv, settings[s].name + "," + std::to_string(f.frame) + "," + frameKindName(view.kind),
+                    {view.geometryShare, f.seconds, f.speedupOverFastestExact, f.stats.traverseSeconds,
+                     f.stats.rasterSeconds, double(f.stats.triangles), double(f.stats.surfels), e.flipForegroundMean,
+                     e.flipMean, e.flipMedian, e.flipMax, e.foregroundPsnr, e.psnr, e.ssim, e.holeFraction,
+                     e.bloatFraction, f.surfelLoadSeconds, f.divisor});
     }
   }
   return csv;

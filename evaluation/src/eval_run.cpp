@@ -129,6 +129,7 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
       result.frames.push_back({.frame = std::uint32_t(f),
                                .seconds = frame.seconds - frame.surfelLoadSeconds,
                                .surfelLoadSeconds = frame.surfelLoadSeconds,
+                               .divisor = frame.divisor,
                                .stats = frame.stats,
                                .error = std::move(error),
                                .speedupOverFastestExact = 0.0});

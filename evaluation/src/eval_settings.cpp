@@ -43,7 +43,9 @@ void apply(const std::string& option, const std::string& key, const std::string&
   } else if (key == "primitives") {
     setting.lod.budget = LodBudget::primitives(parseNumber(option, key, value, 1.0, 1e12));
   } else if (key == "ms") {
-    setting.lod.budget = LodBudget::seconds(parseNumber(option, key, value, 1e-3, 1e6) / 1e3);
+    // The limit alone: whether it may lower the resolution is the command's (--budget-resolution).
+    setting.lod.budget.limit = parseNumber(option, key, value, 1e-3, 1e6) / 1e3;
+    setting.lod.budget.unit = BudgetUnit::Seconds;
   } else if (key == "point") {
     setting.lod.pointSize = float(parseNumber(option, key, value, 0.0, 64.0));
   } else if (key == "splat") {

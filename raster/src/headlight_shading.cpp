@@ -33,14 +33,6 @@ void forEachShadedPixel(const Framebuffer& gbuffer, const Camera& camera, const 
   });
 }
 
-// A channel in [0, 1] (clamped; NaN as 0) as a byte, rounded to nearest with halves away from zero, as
-// std::lround rounds: the float product plus one half is exact in double, so truncating it is the
-// rounding, without a call per channel.
-std::uint8_t toByte(float channel) {
-  const float clamped = channel > 0.0f ? std::min(channel, 1.0f) : 0.0f;
-  return std::uint8_t(std::int32_t(double(clamped * 255.0f) + 0.5));
-}
-
 }  // namespace
 
 std::vector<glm::vec4> shadeHeadlight(const Framebuffer& gbuffer, const Camera& camera) {

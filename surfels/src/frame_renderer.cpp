@@ -3,8 +3,10 @@
 #include "pbs/surfels/frame_renderer.hpp"
 
 #include "elapsed.hpp"
+#include "lod_budget.hpp"
 
 #include <pbs/raster/headlight_shading.hpp>
+#include <pbs/raster/image_upscale.hpp>
 #include <pbs/raster/supersampling.hpp>
 #include <pbs/raster/value_names.hpp>
 #include <pbs/surfels/lod_geometry.hpp>
@@ -82,7 +84,7 @@ void FrameRenderer::loadGeometry(const LodDraws& draws) {
     if (geometryRays_) geometryRays_->forget(mesh);
 }
 
-LodStats FrameRenderer::drawExactInBatches(const Camera& camera, double& loadSeconds) {
+LodStats FrameRenderer::drawExactInBatches(const Camera& camera, Framebuffer& gbuffer, double& loadSeconds) {
   LodStats pass;
   const auto traverse = detail::Clock::now();
   const LodDraws draws = traverseLod(scene_, hierarchy_, none_, camera, options_.lod);
@@ -94,7 +96,7 @@ LodStats FrameRenderer::drawExactInBatches(const Camera& camera, double& loadSec
     LazyMeshes::Lease lease = sources_.meshes->require(meshes);
     loadSeconds += detail::secondsSince(load);
     const auto raster = detail::Clock::now();
-    drawLodGeometry(scene_, hierarchy_, nodes, camera, gbuffer_, GeometryDrawer::Raster, nullptr);
+    drawLodGeometry(scene_, hierarchy_, nodes, camera, gbuffer, GeometryDrawer::Raster, nullptr);
     pass.rasterSeconds += detail::secondsSince(raster);
     lease = {};
     sources_.meshes->unloadOverBudget();
@@ -116,14 +118,14 @@ LodStats FrameRenderer::drawExactInBatches(const Camera& camera, double& loadSec
   return pass;
 }
 
-LodStats FrameRenderer::drawPass(const Camera& camera, double& loadSeconds) {
-  if (clearsDepth()) clearFramebuffer(gbuffer_, 0);
+LodStats FrameRenderer::drawPass(const Camera& camera, Framebuffer& gbuffer, double& loadSeconds) {
+  if (clearsDepth()) clearFramebuffer(gbuffer, 0);
   LodStats pass;
   switch (options_.mode) {
     case RenderMode::Surfels: {
       EmbreeNodeCaster* rays = geometryRays_ ? &*geometryRays_ : nullptr;
       if (!sources_.cache) {
-        pass = renderLod(scene_, hierarchy_, *sources_.surfels, camera, gbuffer_, options_.lod, rays);
+        pass = renderLod(scene_, hierarchy_, *sources_.surfels, camera, gbuffer, options_.lod, rays);
         break;
       }
       // One traversal: the stream cuts it to what has arrived, or the cache loads what it draws; then it
@@ -139,21 +141,21 @@ LodStats FrameRenderer::drawPass(const Camera& camera, double& loadSeconds) {
         if (sources_.meshes) loadGeometry(draws);
         loadSeconds += detail::secondsSince(load);
       }
-      pass = drawLod(scene_, hierarchy_, *sources_.surfels, draws, camera, gbuffer_, options_.lod, rays);
+      pass = drawLod(scene_, hierarchy_, *sources_.surfels, draws, camera, gbuffer, options_.lod, rays);
       pass.traverseSeconds = traverseSeconds;
       break;
     }
     case RenderMode::Exact:
-      pass = sources_.meshes ? drawExactInBatches(camera, loadSeconds)
-                             : renderLod(scene_, hierarchy_, none_, camera, gbuffer_, options_.lod);
+      pass = sources_.meshes ? drawExactInBatches(camera, gbuffer, loadSeconds)
+                             : renderLod(scene_, hierarchy_, none_, camera, gbuffer, options_.lod);
       break;
     case RenderMode::Simplified:
-      pass = renderSimplifiedLod(scene_, *sources_.simplified, hierarchy_, *sources_.surfels, camera, gbuffer_,
+      pass = renderSimplifiedLod(scene_, *sources_.simplified, hierarchy_, *sources_.surfels, camera, gbuffer,
                                  options_.lod);
       break;
     case RenderMode::Embree: {
       const auto cast = detail::Clock::now();
-      sources_.rays->render(camera, gbuffer_);
+      sources_.rays->render(camera, gbuffer);
       pass.rasterSeconds = detail::secondsSince(cast);
       break;
     }
@@ -161,11 +163,34 @@ LodStats FrameRenderer::drawPass(const Camera& camera, double& loadSeconds) {
   return pass;
 }
 
+void FrameRenderer::renderReduced(const Camera& camera, double divisor, FrameResult& result) {
+  const Camera reduced = reducedCamera(camera, divisor);
+  if (reduced_.width != reduced.width || reduced_.height != reduced.height)
+    reduced_ = makeFramebuffer(reduced.width, reduced.height, gbuffer_.channels);
+  result.stats = drawPass(reduced, reduced_, result.surfelLoadSeconds);
+  result.divisor = divisor;
+  result.drawnWidth = reduced.width;
+  result.drawnHeight = reduced.height;
+  if (options_.image == FrameImage::None) return;
+  const std::vector<glm::vec4> shaded = shadeHeadlight(reduced_, reduced);
+  if (options_.image == FrameImage::Rgba8)
+    result.rgba8 = upscaleBilinearRgba8(shaded, reduced.width, reduced.height, camera.width, camera.height);
+  else
+    result.image = upscaleBilinear(shaded, reduced.width, reduced.height, camera.width, camera.height);
+}
+
 FrameResult FrameRenderer::render(const Camera& camera) {
   FrameResult result;
+  result.drawnWidth = camera.width;
+  result.drawnHeight = camera.height;
   const auto start = detail::Clock::now();
-  if (options_.samples == 1) {
-    result.stats = drawPass(camera, result.surfelLoadSeconds);
+  const double divisor = options_.mode == RenderMode::Surfels && options_.samples == 1
+                             ? budgetResolutionDivisor(scene_, hierarchy_, *sources_.surfels, camera, options_.lod)
+                             : 1.0;
+  if (divisor > 1.0) {
+    renderReduced(camera, divisor, result);
+  } else if (options_.samples == 1) {
+    result.stats = drawPass(camera, gbuffer_, result.surfelLoadSeconds);
     if (options_.image == FrameImage::Float) result.image = shadeHeadlight(gbuffer_, camera);
     if (options_.image == FrameImage::Rgba8) result.rgba8 = shadeHeadlightRgba8(gbuffer_, camera);
   } else {
@@ -174,7 +199,7 @@ FrameResult FrameRenderer::render(const Camera& camera) {
     bool firstPass = true;
     for (const glm::dvec2& sample : subpixelSamples(options_.samples)) {
       const Camera shifted = subpixelCamera(camera, sample);
-      const LodStats pass = drawPass(shifted, result.surfelLoadSeconds);
+      const LodStats pass = drawPass(shifted, gbuffer_, result.surfelLoadSeconds);
       // Counts are the first pass's (every pass draws about the same); times add up.
       if (firstPass) {
         result.stats = pass;

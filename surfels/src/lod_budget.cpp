@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <queue>
 #include <tuple>
 #include <vector>
@@ -135,6 +136,27 @@ class BudgetTraversal {
 };
 
 }  // namespace
+
+Camera reducedCamera(const Camera& camera, double divisor) {
+  Camera reduced = camera;
+  reduced.width = std::max(1u, std::uint32_t(std::lround(double(camera.width) / divisor)));
+  reduced.height = std::max(1u, std::uint32_t(std::lround(double(camera.height) / divisor)));
+  return reduced;
+}
+
+double budgetResolutionDivisor(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
+                               const Camera& camera, const LodOptions& options) {
+  const LodBudget& budget = options.budget;
+  if (!(budget.limit > 0.0) || budget.unit != BudgetUnit::Seconds || !budget.lowerResolution) return 1.0;
+  for (const double divisor : kBudgetDivisors) {
+    const Camera reduced = reducedCamera(camera, divisor);
+    const BudgetTraversal traversal(scene, hierarchy, surfels, reduced, options);
+    Cut cut;
+    for (std::uint32_t root : scene.roots) traversal.coarsest(root, cut);
+    if (traversal.cost(cut.work) <= budget.limit) return divisor;
+  }
+  return kBudgetDivisors.back();
+}
 
 LodDraws traverseWithBudget(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
                             const Camera& camera, const LodOptions& options) {

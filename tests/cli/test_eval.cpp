@@ -30,7 +30,8 @@ using test::ScratchDir;
 
 constexpr const char* kHeader =
     "setting,frame,kind,geometry_share,seconds,speedup,traverse_seconds,raster_seconds,triangles,surfels,flip,"
-    "flip_mean,flip_median,flip_max,foreground_psnr,psnr,ssim,hole_fraction,bloat_fraction,surfel_load_seconds";
+    "flip_mean,flip_median,flip_max,foreground_psnr,psnr,ssim,hole_fraction,bloat_fraction,surfel_load_seconds,"
+    "resolution_divisor";
 
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -334,6 +335,23 @@ TEST(EvalCli, CalibrateWritesWhatABudgetInMillisecondsReads) {
   EXPECT_EQ(std::count_if(rows.begin(), rows.end(),
                           [](const test::CsvRow& row) { return row.fields.at("setting") == "ms=20"; }),
             1);
+}
+
+// A budget in milliseconds that no cut fits draws at a lower resolution and writes the frame at its size; the
+// JSON says by how much. `--budget-resolution full` keeps the resolution, and needs a budget in milliseconds.
+TEST(EvalCli, ABudgetTooSmallForAnyCutLowersTheResolution) {
+  const EvalRun eval;
+  const std::string render = "render " + eval.scene + " --surfels " + eval.surfels + " --size 96x64 ";
+  const std::filesystem::path image = eval.scratch / "budget.png";
+  const test::CommandResult lowered = test::runPbs(render + "--budget-ms 0.000001 --json -o '" + image.string() + "'");
+  ASSERT_EQ(lowered.status, 0) << lowered.err;
+  EXPECT_EQ(nlohmann::json::parse(lowered.out)["resolution_divisor"].get<double>(), 8.0);
+  EXPECT_EQ(pngSize(image), (std::pair<std::uint32_t, std::uint32_t>{96, 64}));
+  const test::CommandResult full = test::runPbs(render + "--budget-ms 0.000001 --budget-resolution full --json");
+  ASSERT_EQ(full.status, 0) << full.err;
+  EXPECT_EQ(nlohmann::json::parse(full.out)["resolution_divisor"].get<double>(), 1.0);
+  EXPECT_EQ(test::runPbs(render + "--budget-resolution full").status, 2) << "it qualifies --budget-ms";
+  EXPECT_EQ(test::runPbs(render + "--budget-ms 5 --budget-resolution half").status, 2);
 }
 
 }  // namespace

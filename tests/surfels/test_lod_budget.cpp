@@ -4,7 +4,9 @@
 #include "surfeled_scene.hpp"
 
 #include <pbs/raster/image_metrics.hpp>
+#include <pbs/raster/image_upscale.hpp>
 #include <pbs/raster/projected_box.hpp>
+#include <pbs/raster/thread_arena.hpp>
 #include <pbs/scene/generate.hpp>
 #include <pbs/surfels/frame_renderer.hpp>
 #include <pbs/surfels/lod_render.hpp>
@@ -83,6 +85,59 @@ TEST(LodBudget, ErrorFallsAsTheBudgetGrows) {
   EXPECT_GE(errors[1], errors[2]);
   EXPECT_GT(errors[0], errors[2]);
   EXPECT_EQ(errors[2], 0.0) << "an ample budget draws every triangle, as the exact renderer does";
+}
+
+LodOptions inSeconds(double limit, bool lowerResolution = true) {
+  LodOptions options;
+  options.budget = LodBudget::seconds(limit);
+  options.budget.lowerResolution = lowerResolution;
+  return options;
+}
+
+double coveredPixels(const std::vector<glm::vec4>& image) {
+  double covered = 0.0;
+  for (const glm::vec4& pixel : image) covered += pixel.a;
+  return covered;
+}
+
+// A budget in seconds that not even the coarsest cut fits draws the frame at the lowest resolution of the
+// ladder and upscales it to the frame's size: exactly the frame drawn at that size, upscaled, covering about
+// what the full-resolution frame covers, the same bytes for any thread count. An ample budget, a budget that keeps the
+// resolution, and supersampled frames draw at full resolution.
+TEST(LodBudget, ABudgetNoCutFitsDrawsAtALowerResolutionAndUpscales) {
+  const Scene box = test::sceneOf(test::tessellatedBox(20), {glm::dmat4(1.0)});
+  const test::SurfeledScene s = test::surfeled(generateCity({box}, {.levels = 3, .fanout = 4}));
+  const Camera camera = test::approachCameras(s, 4, 2.0)[1];
+  const auto renderAt = [&](const Camera& at, const LodOptions& lod, std::uint32_t samples = 1) {
+    FrameRenderer renderer(s.scene, s.hierarchy, {.mode = RenderMode::Surfels, .lod = lod, .samples = samples},
+                           at.width, at.height, {.surfels = &s.surfels});
+    return renderer.render(at);
+  };
+  const auto render = [&](const LodOptions& lod, std::uint32_t samples = 1) { return renderAt(camera, lod, samples); };
+  const FrameResult full = render(inSeconds(1e-9, false));
+  EXPECT_EQ(full.divisor, 1.0);
+  EXPECT_EQ(full.drawnWidth, camera.width);
+
+  const FrameResult reduced = render(inSeconds(1e-9));
+  EXPECT_EQ(reduced.divisor, 8.0);
+  EXPECT_EQ(reduced.drawnWidth, std::uint32_t(std::lround(camera.width / 8.0)));
+  EXPECT_EQ(reduced.drawnHeight, std::uint32_t(std::lround(camera.height / 8.0)));
+  ASSERT_EQ(reduced.image.size(), full.image.size());
+  Camera small = camera;
+  small.width = reduced.drawnWidth;
+  small.height = reduced.drawnHeight;
+  EXPECT_EQ(reduced.image, upscaleBilinear(renderAt(small, inSeconds(1e-9, false)).image, small.width, small.height,
+                                           camera.width, camera.height))
+      << "the frame the budget draws at the small size, upscaled";
+  // A frame of 10 × 8 pixels, its edges half a pixel (4 of the frame's) wide.
+  EXPECT_NEAR(coveredPixels(reduced.image), coveredPixels(full.image), 0.2 * coveredPixels(full.image));
+  FrameResult again;
+  runWithThreads(1, [&] { again = render(inSeconds(1e-9)); });
+  EXPECT_EQ(again.image, reduced.image) << "one thread and all";
+
+  EXPECT_EQ(render(inSeconds(1e3)).divisor, 1.0) << "an ample budget";
+  EXPECT_EQ(render(inSeconds(1e-9), 4).divisor, 1.0) << "supersampled frames keep their resolution";
+  EXPECT_EQ(render(budgeted(1.0)).divisor, 1.0) << "a budget of primitives is the same on every machine";
 }
 
 }  // namespace

@@ -26,7 +26,8 @@ namespace pbs {
 // reports it.
 inline constexpr const char* kEvalCsvHeader =
     "setting,frame,kind,geometry_share,seconds,speedup,traverse_seconds,raster_seconds,triangles,surfels,flip,"
-    "flip_mean,flip_median,flip_max,foreground_psnr,psnr,ssim,hole_fraction,bloat_fraction,surfel_load_seconds";
+    "flip_mean,flip_median,flip_max,foreground_psnr,psnr,ssim,hole_fraction,bloat_fraction,surfel_load_seconds,"
+    "resolution_divisor";
 
 // Medians and worst frames of one setting over a set of frames (all, or those of one kind).
 struct EvalSummary {

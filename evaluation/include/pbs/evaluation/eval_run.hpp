@@ -34,6 +34,7 @@ struct EvalFrame {
   std::uint32_t frame = 0;
   double seconds = 0.0;            // the whole frame (FrameResult::seconds) less reading surfels from the file
   double surfelLoadSeconds = 0.0;  // reading the prefixes it drew that were not read yet (SurfelCache)
+  double divisor = 1.0;            // a budget's lower resolution (FrameResult::divisor)
   LodStats stats;
   ImageDifference error;  // this frame (A) against the reference of the same view (B), without the map
   // The fastest peer's time on this frame (the least of the 1-sample peers': Embree and exact) over

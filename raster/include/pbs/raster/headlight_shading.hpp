@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <vector>
 
 namespace pbs {
@@ -26,6 +27,17 @@ void accumulateHeadlight(const Framebuffer& gbuffer, const Camera& camera, Sampl
 
 // The same as RGBA8 (rounded to nearest), for PNG output.
 std::vector<std::uint8_t> toRgba8(const std::vector<glm::vec4>& image);
+// One channel of it: clamped to [0, 1] (NaN as 0), rounded to nearest with halves away from zero, as
+// std::lround rounds: the float product plus one half is exact in double, so truncating it is the rounding,
+// without a call per channel.
+inline std::uint8_t toByte(float channel) {
+  const float clamped = channel > 0.0f ? (channel < 1.0f ? channel : 1.0f) : 0.0f;
+  return std::uint8_t(std::int32_t(double(clamped * 255.0f) + 0.5));
+}
+// One pixel of it.
+inline glm::u8vec4 toRgba8(const glm::vec4& pixel) {
+  return {toByte(pixel.r), toByte(pixel.g), toByte(pixel.b), toByte(pixel.a)};
+}
 
 // toRgba8(shadeHeadlight(gbuffer, camera)), bit for bit, in one pass: a frame bound for an 8-bit file never
 // holds its float image (16 bytes a pixel written, then read again to convert).

@@ -54,6 +54,10 @@ struct FrameResult {
   double surfelLoadSeconds = 0.0;
   // Traversal and raster times summed over the passes; the counts are those of one pass.
   LodStats stats;
+  // A budget in seconds that lowered the resolution (LodBudget::lowerResolution): the passes were drawn at
+  // drawnWidth × drawnHeight, the frame's size divided by `divisor`, and the shaded image upscaled.
+  double divisor = 1.0;
+  std::uint32_t drawnWidth = 0, drawnHeight = 0;
 
   // `seconds` less what is paid once rather than every frame (reading prefixes, building a mesh's BVH):
   // what a frame's cost model predicts (frame_cost.hpp).
@@ -88,7 +92,8 @@ class FrameRenderer {
   FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, const FrameOptions& options, std::uint32_t width,
                 std::uint32_t height, const FrameSources& sources = {});
 
-  // Bit-identical for any thread count. The camera must be width × height.
+  // Bit-identical for any thread count. The camera must be width × height. A budget in seconds may draw it
+  // at a lower resolution (FrameResult::divisor); only with one sample per pixel.
   FrameResult render(const Camera& camera);
   // What every frame uses, for reports: the G-buffer's channels (coverage only for blended surfels), and
   // whether each pass clears its depth (the rasterizer's modes: colour and normal are read only where
@@ -107,14 +112,17 @@ class FrameRenderer {
   std::uint64_t bvhPeakBytes() const { return ownRays_ ? ownRays_->peakBytes() : 0; }
 
  private:
-  // One pass at the camera's pixel centres into gbuffer_; adds its prefix and mesh loading to `loadSeconds`.
-  LodStats drawPass(const Camera& camera, double& loadSeconds);
+  // One pass at the camera's pixel centres into `gbuffer` (the camera's size); adds its prefix and mesh
+  // loading to `loadSeconds`.
+  LodStats drawPass(const Camera& camera, Framebuffer& gbuffer, double& loadSeconds);
+  // One pass at a lower resolution (a budget's), shaded and upscaled to the camera's size.
+  void renderReduced(const Camera& camera, double divisor, FrameResult& result);
   // Makes the meshes of `draws`' geometry nodes loaded (sources_.meshes), letting the ray caster forget
   // those unloaded to stay within the budget.
   void loadGeometry(const LodDraws& draws);
   // Exact mode's pass with sources_.meshes: the visible meshes drawn by the rasterizer in batches of at
   // most the budget (one mesh at least), in traversal order, each batch leased while drawn.
-  LodStats drawExactInBatches(const Camera& camera, double& loadSeconds);
+  LodStats drawExactInBatches(const Camera& camera, Framebuffer& gbuffer, double& loadSeconds);
 
   const Scene& scene_;
   const Hierarchy& hierarchy_;
@@ -122,6 +130,7 @@ class FrameRenderer {
   FrameSources sources_;
   SceneSurfels none_;  // exact mode: the LOD traversal with no arrays draws every visible mesh
   Framebuffer gbuffer_;
+  Framebuffer reduced_;  // a budget's lower resolution: made when first needed, remade when its size changes
   std::optional<EmbreeScene> ownRays_;
   std::optional<EmbreeNodeCaster> geometryRays_;  // Surfels mode, unless LodOptions::geometry is Raster
   LazyMeshes::Lease geometryLease_;               // the meshes the last pass drew as geometry (FrameSources::meshes)
