@@ -225,9 +225,11 @@ void run(const RenderOptions& options) {
     seconds.push_back(frame.seconds);
     nlohmann::json entry = frameJson(mode, frame);
     if (timeBudget) {
-      const double predicted = predictFrameCost(
-          options.lod.frameCosts, frameWork(frame.stats, std::uint64_t(frame.drawnWidth) * frame.drawnHeight),
-          frame.stats.geometryDrawer);
+      const double predicted =
+          predictFrameCost(options.lod.frameCosts,
+                           frameWork(frame.stats, std::uint64_t(frame.drawnWidth) * frame.drawnHeight),
+                           frame.stats.geometryDrawer) +
+          (frame.divisor > 1.0 ? predictUpscaleCost(options.lod.frameCosts, double(width) * height) : 0.0);
       feedback.observe(predicted, frame.recurringSeconds());
       entry["budget_limit_seconds"] = options.budgetFeedback ? limit : options.lod.budget.limit;
       entry["predicted_seconds"] = predicted;

@@ -176,6 +176,8 @@ double predictFrameCost(const FrameCosts& costs, const FrameWork& work, Geometry
   return predictNonGeometryCost(costs, work) + predictGeometryCost(costs, work, drawer);
 }
 
+double predictUpscaleCost(const FrameCosts& costs, double framePixels) { return costs.perImagePixel * framePixels; }
+
 double splatPixels(const Camera& camera, const glm::dmat4& world, const SplatArray& splats,
                    const LodDraws::Surfels& draw) {
   constexpr int kSide = 4;

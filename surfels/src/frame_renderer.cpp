@@ -9,9 +9,11 @@
 #include <pbs/raster/image_upscale.hpp>
 #include <pbs/raster/supersampling.hpp>
 #include <pbs/raster/value_names.hpp>
+#include <pbs/surfels/frame_cost.hpp>
 #include <pbs/surfels/lod_geometry.hpp>
 #include <pbs/surfels/simplified_lod.hpp>
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -84,10 +86,11 @@ void FrameRenderer::loadGeometry(const LodDraws& draws) {
     if (geometryRays_) geometryRays_->forget(mesh);
 }
 
-LodStats FrameRenderer::drawExactInBatches(const Camera& camera, Framebuffer& gbuffer, double& loadSeconds) {
+LodStats FrameRenderer::drawExactInBatches(const Camera& camera, Framebuffer& gbuffer, const LodOptions& lod,
+                                           double& loadSeconds) {
   LodStats pass;
   const auto traverse = detail::Clock::now();
-  const LodDraws draws = traverseLod(scene_, hierarchy_, none_, camera, options_.lod);
+  const LodDraws draws = traverseLod(scene_, hierarchy_, none_, camera, lod);
   pass.traverseSeconds = detail::secondsSince(traverse);
   std::vector<std::uint32_t> nodes, meshes;
   std::uint64_t bytes = 0;
@@ -118,20 +121,21 @@ LodStats FrameRenderer::drawExactInBatches(const Camera& camera, Framebuffer& gb
   return pass;
 }
 
-LodStats FrameRenderer::drawPass(const Camera& camera, Framebuffer& gbuffer, double& loadSeconds) {
+LodStats FrameRenderer::drawPass(const Camera& camera, Framebuffer& gbuffer, const LodOptions& lod,
+                                 double& loadSeconds) {
   if (clearsDepth()) clearFramebuffer(gbuffer, 0);
   LodStats pass;
   switch (options_.mode) {
     case RenderMode::Surfels: {
       EmbreeNodeCaster* rays = geometryRays_ ? &*geometryRays_ : nullptr;
       if (!sources_.cache) {
-        pass = renderLod(scene_, hierarchy_, *sources_.surfels, camera, gbuffer, options_.lod, rays);
+        pass = renderLod(scene_, hierarchy_, *sources_.surfels, camera, gbuffer, lod, rays);
         break;
       }
       // One traversal: the stream cuts it to what has arrived, or the cache loads what it draws; then it
       // is drawn.
       const auto traverse = detail::Clock::now();
-      LodDraws draws = traverseLod(scene_, hierarchy_, *sources_.surfels, camera, options_.lod);
+      LodDraws draws = traverseLod(scene_, hierarchy_, *sources_.surfels, camera, lod);
       const double traverseSeconds = detail::secondsSince(traverse);
       if (sources_.stream) {
         draws = sources_.stream->arrived(draws, camera);
@@ -141,17 +145,16 @@ LodStats FrameRenderer::drawPass(const Camera& camera, Framebuffer& gbuffer, dou
         if (sources_.meshes) loadGeometry(draws);
         loadSeconds += detail::secondsSince(load);
       }
-      pass = drawLod(scene_, hierarchy_, *sources_.surfels, draws, camera, gbuffer, options_.lod, rays);
+      pass = drawLod(scene_, hierarchy_, *sources_.surfels, draws, camera, gbuffer, lod, rays);
       pass.traverseSeconds = traverseSeconds;
       break;
     }
     case RenderMode::Exact:
-      pass = sources_.meshes ? drawExactInBatches(camera, gbuffer, loadSeconds)
-                             : renderLod(scene_, hierarchy_, none_, camera, gbuffer, options_.lod);
+      pass = sources_.meshes ? drawExactInBatches(camera, gbuffer, lod, loadSeconds)
+                             : renderLod(scene_, hierarchy_, none_, camera, gbuffer, lod);
       break;
     case RenderMode::Simplified:
-      pass = renderSimplifiedLod(scene_, *sources_.simplified, hierarchy_, *sources_.surfels, camera, gbuffer,
-                                 options_.lod);
+      pass = renderSimplifiedLod(scene_, *sources_.simplified, hierarchy_, *sources_.surfels, camera, gbuffer, lod);
       break;
     case RenderMode::Embree: {
       const auto cast = detail::Clock::now();
@@ -167,7 +170,12 @@ void FrameRenderer::renderReduced(const Camera& camera, double divisor, FrameRes
   const Camera reduced = reducedCamera(camera, divisor);
   if (reduced_.width != reduced.width || reduced_.height != reduced.height)
     reduced_ = makeFramebuffer(reduced.width, reduced.height, gbuffer_.channels);
-  result.stats = drawPass(reduced, reduced_, result.surfelLoadSeconds);
+  // The upscale is paid out of the budget too.
+  LodOptions lod = options_.lod;
+  lod.budget.limit =
+      std::max(lod.budget.limit - predictUpscaleCost(lod.frameCosts, double(camera.width) * camera.height),
+               lod.budget.limit * 1e-3);
+  result.stats = drawPass(reduced, reduced_, lod, result.surfelLoadSeconds);
   result.divisor = divisor;
   result.drawnWidth = reduced.width;
   result.drawnHeight = reduced.height;
@@ -190,7 +198,7 @@ FrameResult FrameRenderer::render(const Camera& camera) {
   if (divisor > 1.0) {
     renderReduced(camera, divisor, result);
   } else if (options_.samples == 1) {
-    result.stats = drawPass(camera, gbuffer_, result.surfelLoadSeconds);
+    result.stats = drawPass(camera, gbuffer_, options_.lod, result.surfelLoadSeconds);
     if (options_.image == FrameImage::Float) result.image = shadeHeadlight(gbuffer_, camera);
     if (options_.image == FrameImage::Rgba8) result.rgba8 = shadeHeadlightRgba8(gbuffer_, camera);
   } else {
@@ -199,7 +207,7 @@ FrameResult FrameRenderer::render(const Camera& camera) {
     bool firstPass = true;
     for (const glm::dvec2& sample : subpixelSamples(options_.samples)) {
       const Camera shifted = subpixelCamera(camera, sample);
-      const LodStats pass = drawPass(shifted, gbuffer_, result.surfelLoadSeconds);
+      const LodStats pass = drawPass(shifted, gbuffer_, options_.lod, result.surfelLoadSeconds);
       // Counts are the first pass's (every pass draws about the same); times add up.
       if (firstPass) {
         result.stats = pass;

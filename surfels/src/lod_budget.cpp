@@ -148,12 +148,13 @@ double budgetResolutionDivisor(const Scene& scene, const Hierarchy& hierarchy, c
                                const Camera& camera, const LodOptions& options) {
   const LodBudget& budget = options.budget;
   if (!(budget.limit > 0.0) || budget.unit != BudgetUnit::Seconds || !budget.lowerResolution) return 1.0;
+  const double upscale = predictUpscaleCost(options.frameCosts, double(camera.width) * double(camera.height));
   for (const double divisor : kBudgetDivisors) {
     const Camera reduced = reducedCamera(camera, divisor);
     const BudgetTraversal traversal(scene, hierarchy, surfels, reduced, options);
     Cut cut;
     for (std::uint32_t root : scene.roots) traversal.coarsest(root, cut);
-    if (traversal.cost(cut.work) <= budget.limit) return divisor;
+    if (traversal.cost(cut.work) + (divisor > 1.0 ? upscale : 0.0) <= budget.limit) return divisor;
   }
   return kBudgetDivisors.back();
 }

@@ -14,8 +14,9 @@ inline constexpr std::array<double, 7> kBudgetDivisors{1.0, 1.5, 2.0, 3.0, 4.0, 
 Camera reducedCamera(const Camera& camera, double divisor);
 
 // The frame's resolution divisor under options.budget: the least of kBudgetDivisors at which the coarsest cut
-// (the one traverseWithBudget refines from) is predicted to fit the limit, the largest when none does; 1 for a
-// budget of primitives, none, or one that keeps the resolution. Deterministic.
+// (the one traverseWithBudget refines from), plus the upscale below 1 (predictUpscaleCost), is predicted to fit
+// the limit, the largest when none does; 1 for a budget of primitives, none, or one that keeps the resolution.
+// Deterministic.
 double budgetResolutionDivisor(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
                                const Camera& camera, const LodOptions& options);
 

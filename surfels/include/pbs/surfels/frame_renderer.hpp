@@ -112,9 +112,10 @@ class FrameRenderer {
   std::uint64_t bvhPeakBytes() const { return ownRays_ ? ownRays_->peakBytes() : 0; }
 
  private:
-  // One pass at the camera's pixel centres into `gbuffer` (the camera's size); adds its prefix and mesh
-  // loading to `loadSeconds`.
-  LodStats drawPass(const Camera& camera, Framebuffer& gbuffer, double& loadSeconds);
+  // One pass at the camera's pixel centres into `gbuffer` (the camera's size) under `lod` (the frame's, or
+  // a lower resolution's with the upscale taken out of its budget); adds its prefix and mesh loading to
+  // `loadSeconds`.
+  LodStats drawPass(const Camera& camera, Framebuffer& gbuffer, const LodOptions& lod, double& loadSeconds);
   // One pass at a lower resolution (a budget's), shaded and upscaled to the camera's size.
   void renderReduced(const Camera& camera, double divisor, FrameResult& result);
   // Makes the meshes of `draws`' geometry nodes loaded (sources_.meshes), letting the ray caster forget
@@ -122,7 +123,7 @@ class FrameRenderer {
   void loadGeometry(const LodDraws& draws);
   // Exact mode's pass with sources_.meshes: the visible meshes drawn by the rasterizer in batches of at
   // most the budget (one mesh at least), in traversal order, each batch leased while drawn.
-  LodStats drawExactInBatches(const Camera& camera, Framebuffer& gbuffer, double& loadSeconds);
+  LodStats drawExactInBatches(const Camera& camera, Framebuffer& gbuffer, const LodOptions& lod, double& loadSeconds);
 
   const Scene& scene_;
   const Hierarchy& hierarchy_;
