@@ -9,11 +9,9 @@
 #include <pbs/raster/image_upscale.hpp>
 #include <pbs/raster/supersampling.hpp>
 #include <pbs/raster/value_names.hpp>
-#include <pbs/surfels/frame_cost.hpp>
 #include <pbs/surfels/lod_geometry.hpp>
 #include <pbs/surfels/simplified_lod.hpp>
 
-#include <algorithm>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -166,15 +164,13 @@ LodStats FrameRenderer::drawPass(const Camera& camera, Framebuffer& gbuffer, con
   return pass;
 }
 
-void FrameRenderer::renderReduced(const Camera& camera, double divisor, FrameResult& result) {
+void FrameRenderer::renderReduced(const Camera& camera, const BudgetResolution& resolution, FrameResult& result) {
+  const double divisor = resolution.divisor;
   const Camera reduced = reducedCamera(camera, divisor);
   if (reduced_.width != reduced.width || reduced_.height != reduced.height)
     reduced_ = makeFramebuffer(reduced.width, reduced.height, gbuffer_.channels);
-  // The upscale is paid out of the budget too.
   LodOptions lod = options_.lod;
-  lod.budget.limit =
-      std::max(lod.budget.limit - predictUpscaleCost(lod.frameCosts, double(camera.width) * camera.height),
-               lod.budget.limit * 1e-3);
+  lod.budget = resolution.pass;
   result.stats = drawPass(reduced, reduced_, lod, result.surfelLoadSeconds);
   result.divisor = divisor;
   result.drawnWidth = reduced.width;
@@ -192,11 +188,12 @@ FrameResult FrameRenderer::render(const Camera& camera) {
   result.drawnWidth = camera.width;
   result.drawnHeight = camera.height;
   const auto start = detail::Clock::now();
-  const double divisor = options_.mode == RenderMode::Surfels && options_.samples == 1
-                             ? budgetResolutionDivisor(scene_, hierarchy_, *sources_.surfels, camera, options_.lod)
-                             : 1.0;
-  if (divisor > 1.0) {
-    renderReduced(camera, divisor, result);
+  const BudgetResolution resolution =
+      options_.mode == RenderMode::Surfels && options_.samples == 1
+          ? budgetResolution(scene_, hierarchy_, *sources_.surfels, camera, options_.lod)
+          : BudgetResolution{1.0, options_.lod.budget};
+  if (resolution.divisor > 1.0) {
+    renderReduced(camera, resolution, result);
   } else if (options_.samples == 1) {
     result.stats = drawPass(camera, gbuffer_, options_.lod, result.surfelLoadSeconds);
     if (options_.image == FrameImage::Float) result.image = shadeHeadlight(gbuffer_, camera);

@@ -144,19 +144,25 @@ Camera reducedCamera(const Camera& camera, double divisor) {
   return reduced;
 }
 
-double budgetResolutionDivisor(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
-                               const Camera& camera, const LodOptions& options) {
+BudgetResolution budgetResolution(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
+                                  const Camera& camera, const LodOptions& options) {
   const LodBudget& budget = options.budget;
-  if (!(budget.limit > 0.0) || budget.unit != BudgetUnit::Seconds || !budget.lowerResolution) return 1.0;
+  if (!(budget.limit > 0.0) || budget.unit != BudgetUnit::Seconds || !budget.lowerResolution) return {1.0, budget};
   const double upscale = predictUpscaleCost(options.frameCosts, double(camera.width) * double(camera.height));
+  const auto reducedBy = [&](double divisor) {
+    LodBudget pass = budget;
+    // What is left after the upscale, or a sliver of the limit where the upscale alone would spend it (the
+    // coarsest cut is drawn then).
+    if (divisor > 1.0) pass.limit = std::max(budget.limit - upscale, budget.limit * 1e-3);
+    return BudgetResolution{divisor, pass};
+  };
   for (const double divisor : kBudgetDivisors) {
-    const Camera reduced = reducedCamera(camera, divisor);
-    const BudgetTraversal traversal(scene, hierarchy, surfels, reduced, options);
+    const BudgetTraversal traversal(scene, hierarchy, surfels, reducedCamera(camera, divisor), options);
     Cut cut;
     for (std::uint32_t root : scene.roots) traversal.coarsest(root, cut);
-    if (traversal.cost(cut.work) + (divisor > 1.0 ? upscale : 0.0) <= budget.limit) return divisor;
+    if (traversal.cost(cut.work) + (divisor > 1.0 ? upscale : 0.0) <= budget.limit) return reducedBy(divisor);
   }
-  return kBudgetDivisors.back();
+  return reducedBy(kBudgetDivisors.back());
 }
 
 LodDraws traverseWithBudget(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,

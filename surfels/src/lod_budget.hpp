@@ -13,12 +13,17 @@ inline constexpr std::array<double, 7> kBudgetDivisors{1.0, 1.5, 2.0, 3.0, 4.0, 
 // The same view drawn at width / divisor × height / divisor pixels (rounded, at least 1).
 Camera reducedCamera(const Camera& camera, double divisor);
 
-// The frame's resolution divisor under options.budget: the least of kBudgetDivisors at which the coarsest cut
-// (the one traverseWithBudget refines from), plus the upscale below 1 (predictUpscaleCost), is predicted to fit
-// the limit, the largest when none does; 1 for a budget of primitives, none, or one that keeps the resolution.
-// Deterministic.
-double budgetResolutionDivisor(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
-                               const Camera& camera, const LodOptions& options);
+// How a budget in seconds draws a frame: the least of kBudgetDivisors at which the coarsest cut (the one
+// traverseWithBudget refines from), plus the upscale below full size (predictUpscaleCost), is predicted to fit
+// the limit, the largest when none does; and the budget of that pass: the limit, less the upscale's price below
+// full size. Divisor 1 and the budget as given for a budget of primitives, none, or one that keeps the
+// resolution. Deterministic.
+struct BudgetResolution {
+  double divisor = 1.0;
+  LodBudget pass;
+};
+BudgetResolution budgetResolution(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
+                                  const Camera& camera, const LodOptions& options);
 
 // The greedy refinement LodBudget describes; options.budget.limit > 0.
 LodDraws traverseWithBudget(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,

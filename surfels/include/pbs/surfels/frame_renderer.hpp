@@ -21,6 +21,8 @@
 
 namespace pbs {
 
+struct BudgetResolution;  // lod_budget.hpp: how a budget in seconds draws a frame
+
 // Exact: the rasterizer draws every visible mesh. Embree: rays, one per sample. Surfels: the LOD
 // traversal with surfel prefixes for small nodes. Simplified: the same traversal, small nodes drawn
 // from a simplified copy of the scene (simplified_lod.hpp).
@@ -116,8 +118,9 @@ class FrameRenderer {
   // a lower resolution's with the upscale taken out of its budget); adds its prefix and mesh loading to
   // `loadSeconds`.
   LodStats drawPass(const Camera& camera, Framebuffer& gbuffer, const LodOptions& lod, double& loadSeconds);
-  // One pass at a lower resolution (a budget's), shaded and upscaled to the camera's size.
-  void renderReduced(const Camera& camera, double divisor, FrameResult& result);
+  // One pass at a budget's lower resolution under the budget left for it, shaded and upscaled to the camera's
+  // size.
+  void renderReduced(const Camera& camera, const BudgetResolution& resolution, FrameResult& result);
   // Makes the meshes of `draws`' geometry nodes loaded (sources_.meshes), letting the ray caster forget
   // those unloaded to stay within the budget.
   void loadGeometry(const LodDraws& draws);

@@ -85,7 +85,7 @@ struct LodBudget {
   // A budget in seconds: when even the coarsest cut the refinement starts from is predicted over the limit
   // at full resolution (near the eye the cheapest cut is geometry, whose rays or pixels cost what they cost),
   // the frame is drawn at the least of a ladder of lower resolutions at which it fits and upscaled
-  // (FrameRenderer; budgetResolutionDivisor). false: always full resolution, over the limit if need be.
+  // (FrameRenderer; budgetResolution). false: always full resolution, over the limit if need be.
   bool lowerResolution = true;
 
   // Triangles plus surfels drawn, at most `limit` (`--budget-primitives`): the same cut on every machine.
