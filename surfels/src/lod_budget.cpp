@@ -157,7 +157,8 @@ BudgetResolution budgetResolution(const Scene& scene, const Hierarchy& hierarchy
     return BudgetResolution{divisor, pass};
   };
   for (const double divisor : kBudgetDivisors) {
-    const BudgetTraversal traversal(scene, hierarchy, surfels, reducedCamera(camera, divisor), options);
+    const Camera reduced = reducedCamera(camera, divisor);  // named: the traversal keeps a reference to it
+    const BudgetTraversal traversal(scene, hierarchy, surfels, reduced, options);
     Cut cut;
     for (std::uint32_t root : scene.roots) traversal.coarsest(root, cut);
     if (traversal.cost(cut.work) + (divisor > 1.0 ? upscale : 0.0) <= budget.limit) return reducedBy(divisor);

@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -135,6 +136,12 @@ TEST(LodBudget, ABudgetNoCutFitsDrawsAtALowerResolutionAndUpscales) {
   runWithThreads(1, [&] { again = render(inSeconds(1e-9)); });
   EXPECT_EQ(again.image, reduced.image) << "one thread and all";
 
+  // Between the two, a growing budget draws at finer resolutions, through the ladder's middle.
+  std::vector<double> divisors;
+  for (double limit = 1e-6; limit < 1e-1; limit *= 1.5) divisors.push_back(render(inSeconds(limit)).divisor);
+  EXPECT_TRUE(std::is_sorted(divisors.rbegin(), divisors.rend()));
+  EXPECT_TRUE(std::any_of(divisors.begin(), divisors.end(), [](double d) { return d > 1.0 && d < 8.0; }));
+  EXPECT_EQ(divisors.back(), 1.0);
   EXPECT_EQ(render(inSeconds(1e3)).divisor, 1.0) << "an ample budget";
   EXPECT_EQ(render(inSeconds(1e-9), 4).divisor, 1.0) << "supersampled frames keep their resolution";
   EXPECT_EQ(render(budgeted(1.0)).divisor, 1.0) << "a budget of primitives is the same on every machine";
