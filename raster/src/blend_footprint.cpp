@@ -11,24 +11,16 @@
 namespace pbs::blend {
 namespace {
 
-// Two unit tangents completing the unit normal n to an orthonormal basis, without a branch on its
-// direction (Duff et al. 2017).
-void tangents(const glm::dvec3& n, glm::dvec3& t1, glm::dvec3& t2) {
-  const double sign = std::copysign(1.0, n.z);
-  const double a = -1.0 / (sign + n.z);
-  const double b = n.x * n.y * a;
-  t1 = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-  t2 = glm::dvec3(b, sign + n.y * n.y * a, -n.y);
-}
-
 // The pixels whose centre lies in [c − extent, c + extent]: [first, last], unclipped.
 struct Span {
   double first, last;
 };
-Span pixelSpan(double c, double extent) { return {std::ceil(c - extent - 0.5), std::floor(c + extent - 0.5)}; }
+PBS_CLONE_INLINE Span pixelSpan(double c, double extent) {
+  return {std::ceil(c - extent - 0.5), std::floor(c + extent - 0.5)};
+}
 
 // The span clipped to [0, n) as [lo, hi); false if nothing is left.
-bool clip(Span span, int n, std::uint16_t& lo, std::uint16_t& hi) {
+PBS_CLONE_INLINE bool clip(Span span, int n, std::uint16_t& lo, std::uint16_t& hi) {
   if (!(span.first < n) || !(span.last >= 0.0) || span.first > span.last) return false;
   lo = std::uint16_t(std::max(span.first, 0.0));
   hi = std::uint16_t(std::min(span.last + 1.0, double(n)));
@@ -41,34 +33,34 @@ const double kKernelMass = 1.0 - std::exp(-double(kCutoff) / 2.0);
 // Footprints of at most this many pixels are normalised by their pixels' weights (a 2σ disc of σ ≈ 2 px).
 constexpr double kSummedPixels = 81.0;
 
-// The kernel summed over the footprint's pixel centres within its cut-off, whether on screen or not.
-double pixelWeightSum(const Footprint& f, Span xs, Span ys) {
+// The kernel summed over the footprint's pixel centres within its cut-off, whether on screen or not (the
+// span is at most kSummedPixels, so its ends are small integers).
+PBS_CLONE_INLINE double pixelWeightSum(const Footprint& f, Span xs, Span ys) {
   double sum = 0.0;
-  for (double y = ys.first; y <= ys.last; ++y)
-    for (double x = xs.first; x <= xs.last; ++x) {
-      const float q = f.distance(int(x), int(y));
+  for (int y = int(ys.first); y <= int(ys.last); ++y)
+    for (int x = int(xs.first); x <= int(xs.last); ++x) {
+      const float q = f.distance(x, y);
       if (q <= f.cutoff) sum += double(f.weight(q));
     }
   return sum;
 }
 
-constexpr int kKernelSteps = 32;  // table entries per unit of q
-
-struct KernelTable {
-  std::array<float, std::size_t(kMaxCutoff) * kKernelSteps + 2> values;
-  KernelTable() {
-    for (std::size_t i = 0; i < values.size(); ++i) values[i] = float(std::exp(-0.5 * double(i) / kKernelSteps));
-  }
-};
-const KernelTable kKernel;
+// Two unit tangents completing the unit normal n to an orthonormal basis, without a branch on its
+// direction (Duff et al. 2017).
+PBS_CLONE_INLINE void tangents(const glm::dvec3& n, glm::dvec3& t1, glm::dvec3& t2) {
+  const double sign = std::copysign(1.0, n.z);
+  const double a = -1.0 / (sign + n.z);
+  const double b = n.x * n.y * a;
+  t1 = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+  t2 = glm::dvec3(b, sign + n.y * n.y * a, -n.y);
+}
 
 }  // namespace
 
-float kernelWeight(float q) {
-  const float t = std::clamp(q, 0.0f, kMaxCutoff) * float(kKernelSteps);
-  const auto i = std::size_t(t);
-  const float f = t - float(i);
-  return kKernel.values[i] + f * (kKernel.values[i + 1] - kKernel.values[i]);
+const KernelTable kKernel;
+
+KernelTable::KernelTable() {
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] = float(std::exp(-0.5 * double(i) / kKernelSteps));
 }
 
 FootprintProjector::FootprintProjector(const Camera& camera, const SurfelSplatSet& set, std::uint32_t setIndex,
@@ -78,43 +70,48 @@ FootprintProjector::FootprintProjector(const Camera& camera, const SurfelSplatSe
       windowFromObject_(windowFromClipMatrix(camera) * camera.clipFromWorld() * set.worldFromObject),
       normalFromObject_(glm::inverseTranspose(glm::dmat3(set.worldFromObject))),
       backFaceCosine_(set.backFaceCosine),
-      gain_(options.coverageGain),
+      radius_(set.radius),
+      areaGain_(double(options.coverageGain) * double(set.area) / (double(set.radius) * double(set.radius))),
       width_(int(camera.width)),
       height_(int(camera.height)) {
   const glm::dmat4 objectFromEye = glm::inverse(camera.view * set.worldFromObject);
   // Eye space looks down −Z: the eye is its origin, and +Z points back toward it.
-  eyeObject_ = camera.isOrthographic() ? objectFromEye * glm::dvec4(0.0, 0.0, 1.0, 0.0)
-                                       : objectFromEye * glm::dvec4(0.0, 0.0, 0.0, 1.0);
+  eyeIsPoint_ = !camera.isOrthographic();
+  eye_ = eyeIsPoint_ ? glm::dvec3(objectFromEye * glm::dvec4(0.0, 0.0, 0.0, 1.0))
+                     : glm::dvec3(objectFromEye * glm::dvec4(0.0, 0.0, 1.0, 0.0));
+  drawable_ = radius_ > 0.0 && std::isfinite(radius_) && std::isfinite(areaGain_);
 }
 
-bool FootprintProjector::project(std::size_t i, Footprint& out) const {
-  const double radius = set_.radius;
-  if (!(radius > 0.0) || !std::isfinite(radius)) return false;
+// Hot: a frame projects every surfel of its prefixes. Divisions are few (each a reciprocal used several
+// times), and the AVX2 clone rounds the spans in one instruction.
+PBS_CLONE_INLINE bool FootprintProjector::project(std::size_t i, Footprint& out) const {
   const glm::dvec3 p(set_.positions[i]);
   const glm::dmat4& m = windowFromObject_;
   const glm::dvec4 h = m * glm::dvec4(p, 1.0);
   if (!(h.w > 0.0)) return false;
-  const glm::dvec3 c = glm::dvec3(h) / h.w;
+  const double invW = 1.0 / h.w;
+  const glm::dvec3 c = glm::dvec3(h) * invW;
   if (!(c.z >= 0.0 && c.z <= 1.0) || !std::isfinite(c.x) || !std::isfinite(c.y)) return false;
 
-  glm::dvec3 toEye = eyeObject_.w != 0.0 ? glm::dvec3(eyeObject_) / eyeObject_.w - p : glm::dvec3(eyeObject_);
-  const double eyeDistance = glm::length(toEye);
+  glm::dvec3 toEye = eyeIsPoint_ ? eye_ - p : eye_;
+  const double eyeDistance = std::sqrt(glm::dot(toEye, toEye));
   if (!(eyeDistance > 0.0)) return false;
-  toEye /= eyeDistance;
+  toEye *= 1.0 / eyeDistance;
   glm::dvec3 n(set_.normals[i]);
-  const double length = glm::length(n);
+  const double length = std::sqrt(glm::dot(n, n));
   // A surfel of no normal (a degenerate surface) is drawn facing the eye.
-  n = length > 0.0 ? n / length : toEye;
+  n = length > 0.0 ? n * (1.0 / length) : toEye;
   const double cosine = glm::dot(n, toEye);
   if (!(cosine >= backFaceCosine_)) return false;
   if (cosine < 0.0) n = -n;
 
   // d(window xyz)/d(object coordinate k) at p: the Jacobian that maps the disc.
   glm::dvec3 jacobian[3];
-  for (int k = 0; k < 3; ++k) jacobian[k] = (glm::dvec3(m[k]) - c * m[k][3]) / h.w;
+  for (int k = 0; k < 3; ++k) jacobian[k] = (glm::dvec3(m[k]) - c * m[k][3]) * invW;
   const auto map = [&](const glm::dvec3& v) { return jacobian[0] * v.x + jacobian[1] * v.y + jacobian[2] * v.z; };
   glm::dvec3 t1, t2;
   tangents(n, t1, t2);
+  const double radius = radius_;
   const glm::dvec3 a = map(t1 * radius), b = map(t2 * radius);
 
   const double sxx = (a.x * a.x + b.x * b.x) / 4.0 + 1.0 / 12.0;
@@ -123,7 +120,7 @@ bool FootprintProjector::project(std::size_t i, Footprint& out) const {
   const double det = sxx * syy - sxy * sxy;
   if (!(det > 0.0) || !std::isfinite(det)) return false;
   // The cut-off ellipse's half-extents are √(cutoff · Σxx) and √(cutoff · Σyy).
-  const double cutoff = std::max({double(kCutoff), kMinReach * kMinReach / sxx, kMinReach * kMinReach / syy});
+  const double cutoff = std::max(double(kCutoff), kMinReach * kMinReach / std::min(sxx, syy));
   const Span xs = pixelSpan(c.x, std::sqrt(cutoff * sxx)), ys = pixelSpan(c.y, std::sqrt(cutoff * syy));
   if (!clip(xs, width_, out.x0, out.x1) || !clip(ys, height_, out.y0, out.y1)) return false;
   out.cutoff = float(cutoff);
@@ -131,30 +128,40 @@ bool FootprintProjector::project(std::size_t i, Footprint& out) const {
   // The disc's plane: window depth as a function of the pixel offset, (s, t) = M⁻¹ (dx, dy) on the axes.
   const double planeDet = a.x * b.y - b.x * a.y;
   const bool flat = std::abs(planeDet) > 1e-12;
+  const double invPlane = flat ? 1.0 / planeDet : 0.0;
+  const double invDet = 1.0 / det;
   out.x = float(c.x);
   out.y = float(c.y);
   out.depth = float(c.z);
   out.tolerance = float(std::abs(map(-toEye).z) * radius);
-  out.conicA = float(syy / det);
-  out.conicB = float(-sxy / det);
-  out.conicC = float(sxx / det);
-  out.depthDx = flat ? float((a.z * b.y - b.z * a.y) / planeDet) : 0.0f;
-  out.depthDy = flat ? float((b.z * a.x - a.z * b.x) / planeDet) : 0.0f;
+  out.conicA = float(syy * invDet);
+  out.conicB = float(-sxy * invDet);
+  out.conicC = float(sxx * invDet);
+  out.depthDx = float((a.z * b.y - b.z * a.y) * invPlane);
+  out.depthDy = float((b.z * a.x - a.z * b.x) * invPlane);
   out.depthReach = float(std::sqrt(a.z * a.z + b.z * b.z));
   // The disc (area π r²) projects to area π |det M|; the surface it stands for scales the same way. The
   // amplitude makes the coverage summed over the footprint's pixels that area: by the Gaussian's integral
   // for wide footprints, by the sum over its pixel centres for narrow ones, which sample it too coarsely.
-  const double projectedArea = double(set_.area) * std::abs(planeDet) / (radius * radius);
   const double pixels = (xs.last - xs.first + 1.0) * (ys.last - ys.first + 1.0);
   const double weights =
       pixels <= kSummedPixels ? pixelWeightSum(out, xs, ys) : 2.0 * std::numbers::pi * std::sqrt(det) * kKernelMass;
   if (!(weights > 0.0)) return false;
-  out.amplitude = float(gain_ * projectedArea / weights);
-  out.normal = glm::vec3(glm::normalize(normalFromObject_ * n));
+  out.amplitude = float(areaGain_ * std::abs(planeDet) / weights);
+  const glm::dvec3 normal = normalFromObject_ * n;
+  out.normal = glm::vec3(normal * (1.0 / std::sqrt(glm::dot(normal, normal))));
   out.color = set_.colors[i];
   out.set = setIndex_;
   out.index = std::uint32_t(i);
   return true;
+}
+
+PBS_AVX2_CLONES std::size_t FootprintProjector::projectRange(std::size_t first, std::size_t count,
+                                                             Footprint* out) const {
+  if (!drawable_) return 0;
+  std::size_t kept = 0;
+  for (std::size_t i = first; i < first + count; ++i) kept += project(i, out[kept]);
+  return kept;
 }
 
 }  // namespace pbs::blend

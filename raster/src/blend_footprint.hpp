@@ -3,10 +3,14 @@
 #pragma once
 
 #include "pbs/raster/blended_splats.hpp"
+#include "pbs/raster/simd_clones.hpp"
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 namespace pbs::blend {
@@ -19,9 +23,20 @@ inline constexpr float kMinReach = 0.75f;
 
 // exp(−q/2) for 0 ≤ q ≤ kMaxCutoff, interpolated in a table (relative error below 2e-4): the kernel is
 // evaluated a few times per pixel a splat touches, where a libm call dominated. Deterministic like any
-// table; q outside the range gives the end values.
+// table; q outside the range gives the end values. Inline, so that SIMD clones of its callers inline it.
 inline constexpr float kMaxCutoff = 8.0f;
-float kernelWeight(float q);
+inline constexpr int kKernelSteps = 32;  // table entries per unit of q
+struct KernelTable {
+  KernelTable();
+  std::array<float, std::size_t(kMaxCutoff) * kKernelSteps + 2> values;
+};
+extern const KernelTable kKernel;
+PBS_CLONE_INLINE float kernelWeight(float q) {
+  const float t = std::clamp(q, 0.0f, kMaxCutoff) * float(kKernelSteps);
+  const auto i = std::size_t(t);
+  const float f = t - float(i);
+  return kKernel.values[i] + f * (kKernel.values[i + 1] - kKernel.values[i]);
+}
 
 struct Footprint {
   float x, y;                    // window position of the centre
@@ -38,12 +53,12 @@ struct Footprint {
   std::uint32_t set, index;      // for the ids channel
 
   // Mahalanobis distance² of pixel (px, py)'s centre.
-  float distance(int px, int py) const {
+  [[gnu::always_inline]] float distance(int px, int py) const {
     const float dx = float(px) + 0.5f - x, dy = float(py) + 0.5f - y;
     return conicA * dx * dx + 2.0f * conicB * dx * dy + conicC * dy * dy;
   }
-  float weight(float q) const { return kernelWeight(q); }
-  float depthAt(int px, int py) const {
+  [[gnu::always_inline]] float weight(float q) const { return kernelWeight(q); }
+  [[gnu::always_inline]] float depthAt(int px, int py) const {
     const float dx = float(px) + 0.5f - x, dy = float(py) + 0.5f - y;
     const float change = depthDx * dx + depthDy * dy;
     return depth + (change < -depthReach ? -depthReach : change > depthReach ? depthReach : change);
@@ -56,17 +71,23 @@ class FootprintProjector {
   FootprintProjector(const Camera& camera, const SurfelSplatSet& set, std::uint32_t setIndex,
                      const BlendOptions& options);
 
-  // False when surfel i is culled (facing away, outside the depth range, off screen, not finite).
-  bool project(std::size_t i, Footprint& out) const;
+  // Projects surfels [first, first + count) of the set into `out`, those culled (facing away, outside the
+  // depth range, off screen, not finite) left out; returns how many were written.
+  std::size_t projectRange(std::size_t first, std::size_t count, Footprint* out) const;
 
  private:
+  bool project(std::size_t i, Footprint& out) const;
+
   const SurfelSplatSet& set_;
   std::uint32_t setIndex_;
   glm::dmat4 windowFromObject_;
   glm::dmat3 normalFromObject_;
-  glm::dvec4 eyeObject_;  // homogeneous: a point for perspective cameras, the direction to the eye for orthographic
+  glm::dvec3 eye_;  // in the set's object frame: the eye (perspective) or the direction to it (orthographic)
+  bool eyeIsPoint_ = true;
   double backFaceCosine_;
-  double gain_;
+  double radius_;
+  double areaGain_;  // gain × the area a surfel stands for ÷ radius²: amplitude × weights ÷ |det| of the disc's map
+  bool drawable_ = false;  // a finite, positive radius
   int width_, height_;
 };
 
