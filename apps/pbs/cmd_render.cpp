@@ -175,15 +175,18 @@ void run(const RenderOptions& options) {
     stream.emplace(
         *surfels, loaded.scene, loaded.hierarchy, options.lod,
         StreamOptions{.bytesPerSecond = options.streamMBps * 1e6, .order = *streamOrderFromName(options.streamOrder)});
+  const std::vector<PathView> views = pathViews(loaded, options.path, orbit, options.frames, width, height);
+  const std::uint32_t frames = std::uint32_t(views.size());
+  // The frames this run draws share the mesh BVHs that rays build: each is charged its share of a build.
+  LodOptions lod = options.lod;
+  lod.bvhBuildFrames = 0.0;
+  for (std::uint32_t f = 0; f < frames; ++f) lod.bvhBuildFrames += rendersFrame(options, f) ? 1.0 : 0.0;
   const FrameImage image = frameImage(options);
   FrameRenderer renderer(loaded.scene, loaded.hierarchy,
-                         {.mode = mode, .lod = options.lod, .samples = options.samples, .image = image}, width, height,
+                         {.mode = mode, .lod = lod, .samples = options.samples, .image = image}, width, height,
                          {.cache = surfels ? &*surfels : nullptr,
                           .stream = stream ? &*stream : nullptr,
                           .meshes = meshes ? &*meshes : nullptr});
-
-  const std::vector<PathView> views = pathViews(loaded, options.path, orbit, options.frames, width, height);
-  const std::uint32_t frames = std::uint32_t(views.size());
   const std::filesystem::path output(options.output);
   if (options.frames > 0 && !output.empty()) std::filesystem::create_directories(output);
 

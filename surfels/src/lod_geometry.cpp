@@ -37,9 +37,9 @@ constexpr ValueNames<GeometryDrawer, 3> kDrawerNames{
 // raster alone, 7.06 s by rays alone and 5.35 s choosing after the fact (21 choices wrong, costing 80 ms
 // in all, 24 ms at worst); over the 24 exact frames 1.57 s against 8.16 s and 1.68 s, none wrong. Fitted
 // on either scene alone, the other's frames still come within 6 % of choosing after the fact. More cores
-// speed both drawers alike, and only the constants' ratios decide. A BVH yet to build is charged whole
-// to the frame that needs it: a frame does not bet on the frames after it. `pbs calibrate` refits all but
-// the builds for another machine.
+// speed both drawers alike, and only the constants' ratios decide. A BVH yet to build is shared by the
+// frames it is expected to serve (LodOptions::bvhBuildFrames; whole for a single view). `pbs calibrate`
+// refits all but the builds for another machine.
 constexpr double kRaysPerBuiltTriangle = 172e-9;
 
 }  // namespace
@@ -73,7 +73,7 @@ GeometryWork geometryWork(const Scene& scene, const Hierarchy& hierarchy, std::s
   return work;
 }
 
-GeometryCosts estimateGeometryCosts(const GeometryWork& work, const FrameCosts& costs) {
+GeometryCosts estimateGeometryCosts(const GeometryWork& work, const FrameCosts& costs, double buildFrames) {
   // The frame cost model's geometry terms (predictGeometryCost), and for rays the BVHs a frame must build.
   const FrameWork frame{.imagePixels = double(work.imagePixels),
                         .triangles = double(work.triangles),
@@ -82,21 +82,21 @@ GeometryCosts estimateGeometryCosts(const GeometryWork& work, const FrameCosts& 
                         .geometryNodes = double(work.nodes)};
   return {.raster = predictGeometryCost(costs, frame, GeometryDrawer::Raster),
           .rays = predictGeometryCost(costs, frame, GeometryDrawer::Rays) +
-                  kRaysPerBuiltTriangle * double(work.unbuiltTriangles)};
+                  kRaysPerBuiltTriangle * double(work.unbuiltTriangles) / (buildFrames > 1.0 ? buildFrames : 1.0)};
 }
 
-GeometryDrawer chooseGeometryDrawer(const GeometryWork& work, const FrameCosts& costs) {
-  const GeometryCosts estimate = estimateGeometryCosts(work, costs);
+GeometryDrawer chooseGeometryDrawer(const GeometryWork& work, const FrameCosts& costs, double buildFrames) {
+  const GeometryCosts estimate = estimateGeometryCosts(work, costs, buildFrames);
   return estimate.rays < estimate.raster ? GeometryDrawer::Rays : GeometryDrawer::Raster;
 }
 
 GeometryPass drawLodGeometry(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
                              const Camera& camera, Framebuffer& framebuffer, GeometryDrawer drawer,
-                             EmbreeNodeCaster* rays, const FrameCosts& costs) {
+                             EmbreeNodeCaster* rays, const FrameCosts& costs, double buildFrames) {
   const auto start = Clock::now();
   GeometryPass pass;
   pass.work = geometryWork(scene, hierarchy, nodes, camera, rays);
-  if (rays && drawer == GeometryDrawer::Auto) drawer = chooseGeometryDrawer(pass.work, costs);
+  if (rays && drawer == GeometryDrawer::Auto) drawer = chooseGeometryDrawer(pass.work, costs, buildFrames);
   if (rays && drawer == GeometryDrawer::Rays) {
     pass.drawer = GeometryDrawer::Rays;
     pass.bvhBuildSeconds = rays->render(camera, nodes, framebuffer).seconds;

@@ -136,7 +136,7 @@ LodStats drawLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurf
 
   const auto rasterStart = Clock::now();
   const GeometryPass geometry = drawLodGeometry(scene, hierarchy, draws.geometryNodes, camera, framebuffer,
-                                                options.geometry, rays, options.frameCosts);
+                                                options.geometry, rays, options.frameCosts, options.bvhBuildFrames);
   // A framebuffer with the coverage channel is a blended frame's: every pixel of it is written, splats or not.
   if (options.splat == SplatMode::Blend && framebuffer.has(kChannelCoverage))
     drawBlended(hierarchy, surfels, draws, camera, framebuffer, options);

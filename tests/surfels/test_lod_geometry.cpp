@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 namespace pbs {
 namespace {
@@ -267,6 +268,21 @@ TEST(LodGeometry, AutoPicksRaysForManySmallTrianglesAndRasterForFewBigOnes) {
   many.unbuiltTriangles = many.triangles;
   EXPECT_GT(estimateGeometryCosts(many).rays, built.rays);
   EXPECT_EQ(estimateGeometryCosts(many).raster, built.raster);
+  // Shared by the frames of a path, a build costs each frame its share: a path that declines it on its first
+  // frame would decline it on every frame after.
+  GeometryWork firstFrame{.triangles = 1'500'000, .boxPixels = 95'000, .imagePixels = kFullHd};
+  firstFrame.unbuiltTriangles = 400'000;
+  EXPECT_EQ(chooseGeometryDrawer(firstFrame), GeometryDrawer::Raster) << "one view pays the whole build";
+  EXPECT_EQ(chooseGeometryDrawer(firstFrame, {}, 24.0), GeometryDrawer::Rays) << "24 frames share it";
+  const double whole = estimateGeometryCosts(firstFrame).rays, shared = estimateGeometryCosts(firstFrame, {}, 4.0).rays;
+  firstFrame.unbuiltTriangles = 0;
+  const double none = estimateGeometryCosts(firstFrame).rays;
+  EXPECT_NEAR(shared - none, (whole - none) / 4.0, 1e-12);
+  for (double frames : {0.0, -3.0, std::nan("")})  // fewer than one frame (or none said) charges it whole
+    EXPECT_EQ(
+        estimateGeometryCosts(GeometryWork{.triangles = 10, .imagePixels = kFullHd, .unbuiltTriangles = 10}, {}, frames)
+            .rays,
+        estimateGeometryCosts(GeometryWork{.triangles = 10, .imagePixels = kFullHd, .unbuiltTriangles = 10}).rays);
 
   // The same through geometryWork on scenes: a finely tessellated box seen small, a 12-triangle one seen
   // large, each once its BVH is built.

@@ -34,15 +34,16 @@ GeometryWork geometryWork(const Scene& scene, const Hierarchy& hierarchy, std::s
                           const Camera& camera, const EmbreeNodeCaster* rays);
 
 // The cost model's estimates in seconds, by the geometry terms of `costs` (defaults: the machine the
-// model was measured on, lod_geometry.cpp) and the BVH builds.
+// model was measured on, lod_geometry.cpp) and the BVH builds, each shared by `buildFrames` frames
+// (LodOptions::bvhBuildFrames).
 struct GeometryCosts {
   double raster = 0.0;
   double rays = 0.0;
 };
-GeometryCosts estimateGeometryCosts(const GeometryWork& work, const FrameCosts& costs = {});
+GeometryCosts estimateGeometryCosts(const GeometryWork& work, const FrameCosts& costs = {}, double buildFrames = 1.0);
 
 // Raster or Rays, whichever the model estimates cheaper (Raster on a tie, and for no work at all).
-GeometryDrawer chooseGeometryDrawer(const GeometryWork& work, const FrameCosts& costs = {});
+GeometryDrawer chooseGeometryDrawer(const GeometryWork& work, const FrameCosts& costs = {}, double buildFrames = 1.0);
 
 // What drawLodGeometry did.
 struct GeometryPass {
@@ -52,12 +53,13 @@ struct GeometryPass {
   GeometryWork work;                               // what it drew, in the cost model's terms
 };
 
-// Draws the meshes of `nodes` (faces not culled) with `drawer`; Auto asks chooseGeometryDrawer. Without a
+// Draws the meshes of `nodes` (faces not culled) with `drawer`; Auto asks chooseGeometryDrawer (a build
+// shared by `buildFrames` frames). Without a
 // caster the rasterizer draws whatever `drawer` says. The rasterizer draws over the framebuffer; rays
 // overwrite every pixel (a miss leaves the cleared values), so draw this before anything else. The
 // image does not depend on the thread count.
 GeometryPass drawLodGeometry(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
                              const Camera& camera, Framebuffer& framebuffer, GeometryDrawer drawer,
-                             EmbreeNodeCaster* rays, const FrameCosts& costs = {});
+                             EmbreeNodeCaster* rays, const FrameCosts& costs = {}, double buildFrames = 1.0);
 
 }  // namespace pbs
