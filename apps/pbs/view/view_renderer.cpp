@@ -112,7 +112,11 @@ const EmbreeScene& ViewRenderer::rays() {
 FrameResult ViewRenderer::renderFrame(RenderMode mode, std::uint32_t samples, FrameImage image,
                                       const ViewRequest& request) {
   if (mode == RenderMode::Surfels) requireSurfels();
-  const SplatMode splat = request.lod.splat;
+  // A viewer keeps drawing with the BVHs that rays build: each frame is charged a thirtieth of a build,
+  // as if a second of frames at 30 a second shared it.
+  LodOptions lod = request.lod;
+  lod.bvhBuildFrames = 30.0;
+  const SplatMode splat = lod.splat;
   auto kept = std::find_if(kept_.begin(), kept_.end(), [&](const Kept& k) {
     return k.mode == mode && (mode != RenderMode::Surfels || k.splat == splat) && k.samples == samples &&
            k.image == image && k.width == request.width && k.height == request.height;
@@ -124,15 +128,15 @@ FrameResult ViewRenderer::renderFrame(RenderMode mode, std::uint32_t samples, Fr
     FrameSources sources{.cache = mode == RenderMode::Surfels ? &*scene_.surfels : nullptr,
                          .meshes = scene_.meshes && mode != RenderMode::Embree ? &*scene_.meshes : nullptr,
                          .rays = mode == RenderMode::Embree ? &rays() : nullptr};
-    auto renderer = std::make_unique<FrameRenderer>(
-        scene_.loaded.scene, scene_.loaded.hierarchy,
-        FrameOptions{.mode = mode, .lod = request.lod, .samples = samples, .image = image}, request.width,
-        request.height, sources);
+    auto renderer =
+        std::make_unique<FrameRenderer>(scene_.loaded.scene, scene_.loaded.hierarchy,
+                                        FrameOptions{.mode = mode, .lod = lod, .samples = samples, .image = image},
+                                        request.width, request.height, sources);
     kept_.push_back({mode, splat, samples, image, request.width, request.height, std::move(renderer), 0});
     kept = std::prev(kept_.end());
   }
   kept->lastUse = ++uses_;
-  if (mode == RenderMode::Surfels) kept->renderer->setLod(request.lod);
+  if (mode == RenderMode::Surfels) kept->renderer->setLod(lod);
   return kept->renderer->render(camera(request));
 }
 
