@@ -195,6 +195,12 @@ TEST(Supersampling, BytesRoundLikeLround) {
   EXPECT_EQ(bytes[last + 1], 255);
   EXPECT_EQ(bytes[last + 2], 0) << "NaN";
   EXPECT_EQ(bytes[last + 3], 255);
+  // The one-pixel form (four lanes at once) is the per-channel one, on these and the odd values.
+  image.emplace_back(-std::numeric_limits<float>::infinity(), -0.0f, std::numeric_limits<float>::denorm_min(),
+                     std::nextafter(1.0f, 2.0f));
+  for (const glm::vec4& pixel : image)
+    EXPECT_EQ(toRgba8(pixel), glm::u8vec4(toByte(pixel.r), toByte(pixel.g), toByte(pixel.b), toByte(pixel.a)))
+        << pixel.r << " " << pixel.g << " " << pixel.b << " " << pixel.a;
 }
 
 TEST(Supersampling, OneSampleIsTheUnsupersampledFrame) {

@@ -34,9 +34,17 @@ inline std::uint8_t toByte(float channel) {
   const float clamped = channel > 0.0f ? (channel < 1.0f ? channel : 1.0f) : 0.0f;
   return std::uint8_t(std::int32_t(double(clamped * 255.0f) + 0.5));
 }
-// One pixel of it.
-inline glm::u8vec4 toRgba8(const glm::vec4& pixel) {
-  return {toByte(pixel.r), toByte(pixel.g), toByte(pixel.b), toByte(pixel.a)};
+// One pixel of it: toByte of each channel, the four at once in vector lanes (no branch, one conversion each
+// way), since frames bound for 8-bit files convert every pixel.
+[[gnu::always_inline]] inline glm::u8vec4 toRgba8(const glm::vec4& pixel) {
+  typedef float Floats __attribute__((vector_size(16)));
+  typedef double Doubles __attribute__((vector_size(32)));
+  typedef std::int32_t Ints __attribute__((vector_size(16)));
+  const Floats channels = {pixel.r, pixel.g, pixel.b, pixel.a};
+  const Floats zero = {}, one = zero + 1.0f;
+  const Floats clamped = channels > zero ? (channels < one ? channels : one) : zero;
+  const Ints bytes = __builtin_convertvector(__builtin_convertvector(clamped * 255.0f, Doubles) + 0.5, Ints);
+  return {std::uint8_t(bytes[0]), std::uint8_t(bytes[1]), std::uint8_t(bytes[2]), std::uint8_t(bytes[3])};
 }
 
 // toRgba8(shadeHeadlight(gbuffer, camera)), bit for bit, in one pass: a frame bound for an 8-bit file never
