@@ -128,7 +128,7 @@ PBS_CLONE_INLINE bool FootprintProjector::project(std::size_t i, Footprint& out)
   // The disc's plane: window depth as a function of the pixel offset, (s, t) = M⁻¹ (dx, dy) on the axes.
   const double planeDet = a.x * b.y - b.x * a.y;
   const bool flat = std::abs(planeDet) > 1e-12;
-  const double invPlane = flat ? 1.0 / planeDet : 0.0;
+  const double invPlane = 1.0 / planeDet;
   const double invDet = 1.0 / det;
   out.x = float(c.x);
   out.y = float(c.y);
@@ -137,8 +137,8 @@ PBS_CLONE_INLINE bool FootprintProjector::project(std::size_t i, Footprint& out)
   out.conicA = float(syy * invDet);
   out.conicB = float(-sxy * invDet);
   out.conicC = float(sxx * invDet);
-  out.depthDx = float((a.z * b.y - b.z * a.y) * invPlane);
-  out.depthDy = float((b.z * a.x - a.z * b.x) * invPlane);
+  out.depthDx = flat ? float((a.z * b.y - b.z * a.y) * invPlane) : 0.0f;
+  out.depthDy = flat ? float((b.z * a.x - a.z * b.x) * invPlane) : 0.0f;
   out.depthReach = float(std::sqrt(a.z * a.z + b.z * b.z));
   // The disc (area π r²) projects to area π |det M|; the surface it stands for scales the same way. The
   // amplitude makes the coverage summed over the footprint's pixels that area: by the Gaussian's integral
