@@ -75,9 +75,10 @@ class FootprintProjector {
   // depth range, off screen, not finite) left out; returns how many were written.
   std::size_t projectRange(std::size_t first, std::size_t count, Footprint* out) const;
 
- private:
+  // One surfel of it (projectRange's step, inlined there): false when it is culled.
   bool project(std::size_t i, Footprint& out) const;
 
+ private:
   const SurfelSplatSet& set_;
   std::uint32_t setIndex_;
   glm::dmat4 windowFromObject_;
