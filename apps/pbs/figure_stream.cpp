@@ -58,8 +58,11 @@ StreamSeries streamSeries(const LoadedScene& loaded, const StreamFigureOptions& 
   SurfelCache cache(options.surfels, loaded.scene, loaded.hierarchy, kCacheBytes);
   SurfelStream stream(cache, loaded.scene, loaded.hierarchy, options.lod,
                       {.bytesPerSecond = megabytesPerSecond * 1e6, .order = order});
-  FrameRenderer renderer(loaded.scene, loaded.hierarchy, {.mode = RenderMode::Surfels, .lod = options.lod},
-                         options.width, options.height, {.cache = &cache, .stream = &stream});
+  // The steps share the mesh BVHs that rays build, as a path's frames do.
+  LodOptions lod = options.lod;
+  lod.bvhBuildFrames = double(options.steps);
+  FrameRenderer renderer(loaded.scene, loaded.hierarchy, {.mode = RenderMode::Surfels, .lod = lod}, options.width,
+                         options.height, {.cache = &cache, .stream = &stream});
   const auto shown = sheetSteps(options.steps);
   StreamSeries series{megabytesPerSecond, order, {}};
   for (std::uint32_t i = 0; i < options.steps; ++i) {
