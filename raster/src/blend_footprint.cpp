@@ -82,9 +82,10 @@ FootprintProjector::FootprintProjector(const Camera& camera, const SurfelSplatSe
   drawable_ = radius_ > 0.0 && std::isfinite(radius_) && std::isfinite(areaGain_);
 }
 
-// Hot: a frame projects every surfel of its prefixes. Divisions are few (each a reciprocal used several
-// times), and the AVX2 clone rounds the spans in one instruction.
-PBS_CLONE_INLINE bool FootprintProjector::project(std::size_t i, Footprint& out) const {
+// Hot: a frame projects every surfel of its prefixes, in two loops per batch (projectEach) so that each loop's
+// chain of dependent operations is short and several surfels are in flight at once. Divisions are few (each a
+// reciprocal used several times), and the AVX2 clone rounds the spans in one instruction.
+PBS_CLONE_INLINE bool FootprintProjector::facing(std::size_t i, FacingSurfel& out) const {
   const glm::dvec3 p(set_.positions[i]);
   const glm::dmat4& m = windowFromObject_;
   const glm::dvec4 h = m * glm::dvec4(p, 1.0);
@@ -103,8 +104,17 @@ PBS_CLONE_INLINE bool FootprintProjector::project(std::size_t i, Footprint& out)
   n = length > 0.0 ? n * (1.0 / length) : toEye;
   const double cosine = glm::dot(n, toEye);
   if (!(cosine >= backFaceCosine_)) return false;
-  if (cosine < 0.0) n = -n;
+  out = {i, invW, c, toEye, cosine < 0.0 ? -n : n};
+  return true;
+}
 
+PBS_CLONE_INLINE bool FootprintProjector::footprint(const FacingSurfel& surfel, Footprint& out) const {
+  const glm::dmat4& m = windowFromObject_;
+  const double invW = surfel.invW;
+  const glm::dvec3& c = surfel.window;
+  const glm::dvec3& toEye = surfel.toEye;
+  const glm::dvec3& n = surfel.normal;
+  const std::size_t i = surfel.index;
   // d(window xyz)/d(object coordinate k) at p: the Jacobian that maps the disc.
   glm::dvec3 jacobian[3];
   for (int k = 0; k < 3; ++k) jacobian[k] = (glm::dvec3(m[k]) - c * m[k][3]) * invW;
@@ -162,8 +172,15 @@ namespace {
 // declared without the attribute.
 PBS_AVX2_CLONES std::size_t projectEach(const FootprintProjector& projector, std::size_t first, std::size_t count,
                                         Footprint* out) {
+  constexpr std::size_t kBatch = 64;
+  FacingSurfel facing[kBatch];
   std::size_t kept = 0;
-  for (std::size_t i = first; i < first + count; ++i) kept += projector.project(i, out[kept]);
+  for (std::size_t begin = first; begin < first + count; begin += kBatch) {
+    const std::size_t end = std::min(first + count, begin + kBatch);
+    std::size_t shown = 0;
+    for (std::size_t i = begin; i < end; ++i) shown += projector.facing(i, facing[shown]);
+    for (std::size_t k = 0; k < shown; ++k) kept += projector.footprint(facing[k], out[kept]);
+  }
   return kept;
 }
 

@@ -65,6 +65,16 @@ struct Footprint {
   }
 };
 
+// A surfel past the first step of its projection: where it lies in the window and the unit directions that the
+// footprint is made from.
+struct FacingSurfel {
+  std::size_t index;
+  double invW;        // 1 / the clip-space w of its centre
+  glm::dvec3 window;  // its centre in window coordinates
+  glm::dvec3 toEye;   // object frame, unit
+  glm::dvec3 normal;  // object frame, unit, turned toward the eye
+};
+
 // Projects the sets' surfels; per set, the transforms and the eye in its object frame are computed once.
 class FootprintProjector {
  public:
@@ -75,8 +85,10 @@ class FootprintProjector {
   // depth range, off screen, not finite) left out; returns how many were written.
   std::size_t projectRange(std::size_t first, std::size_t count, Footprint* out) const;
 
-  // One surfel of it (projectRange's step, inlined there): false when it is culled.
-  bool project(std::size_t i, Footprint& out) const;
+  // projectRange's two steps (inlined there): surfel i if it lies in the depth range facing the eye (false when
+  // culled), then its footprint (false when off screen or degenerate).
+  bool facing(std::size_t i, FacingSurfel& out) const;
+  bool footprint(const FacingSurfel& surfel, Footprint& out) const;
 
  private:
   const SurfelSplatSet& set_;
