@@ -75,7 +75,6 @@ FootprintProjector::FootprintProjector(const Camera& camera, const SurfelSplatSe
       windowFromObject_(windowFromClipMatrix(camera) * camera.clipFromWorld() * set.worldFromObject),
       normalFromObject_(glm::inverseTranspose(glm::dmat3(set.worldFromObject))),
       backFaceCosine_(set.backFaceCosine),
-      radius_(set.radius),
       areaGain_(double(options.coverageGain) * double(set.area) / (double(set.radius) * double(set.radius))),
       width_(int(camera.width)),
       height_(int(camera.height)) {
@@ -84,7 +83,6 @@ FootprintProjector::FootprintProjector(const Camera& camera, const SurfelSplatSe
   eyeIsPoint_ = !camera.isOrthographic();
   eye_ = eyeIsPoint_ ? glm::dvec3(objectFromEye * glm::dvec4(0.0, 0.0, 0.0, 1.0))
                      : glm::dvec3(objectFromEye * glm::dvec4(0.0, 0.0, 1.0, 0.0));
-  drawable_ = radius_ > 0.0 && std::isfinite(radius_) && std::isfinite(areaGain_);
 }
 
 // Hot: a frame projects every surfel of its prefixes, in two loops per batch (projectEach) so that each loop's
@@ -126,7 +124,7 @@ PBS_CLONE_INLINE bool FootprintProjector::footprint(const FacingSurfel& surfel, 
   const auto map = [&](const glm::dvec3& v) { return jacobian[0] * v.x + jacobian[1] * v.y + jacobian[2] * v.z; };
   glm::dvec3 t1, t2;
   tangents(n, t1, t2);
-  const double radius = radius_;
+  const double radius = set_.radius;
   const glm::dvec3 a = map(t1 * radius), b = map(t2 * radius);
 
   const double sxx = (a.x * a.x + b.x * b.x) / 4.0 + 1.0 / 12.0;
@@ -192,7 +190,10 @@ PBS_AVX2_CLONES std::size_t projectEach(const FootprintProjector& projector, std
 }  // namespace
 
 std::size_t FootprintProjector::projectRange(std::size_t first, std::size_t count, Footprint* out) const {
-  return drawable_ ? projectEach(*this, first, count, out) : 0;
+  // A set of no finite, positive radius has no discs to draw.
+  const double radius = set_.radius;
+  const bool drawable = radius > 0.0 && std::isfinite(radius) && std::isfinite(areaGain_);
+  return drawable ? projectEach(*this, first, count, out) : 0;
 }
 
 }  // namespace pbs::blend

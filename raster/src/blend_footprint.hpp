@@ -98,9 +98,7 @@ class FootprintProjector {
   glm::dvec3 eye_;  // in the set's object frame: the eye (perspective) or the direction to it (orthographic)
   bool eyeIsPoint_ = true;
   double backFaceCosine_;
-  double radius_;
   double areaGain_;  // gain × the area a surfel stands for ÷ radius²: amplitude × weights ÷ |det| of the disc's map
-  bool drawable_ = false;  // a finite, positive radius
   int width_, height_;
 };
 

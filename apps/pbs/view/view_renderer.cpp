@@ -112,10 +112,11 @@ const EmbreeScene& ViewRenderer::rays() {
 FrameResult ViewRenderer::renderFrame(RenderMode mode, std::uint32_t samples, FrameImage image,
                                       const ViewRequest& request) {
   if (mode == RenderMode::Surfels) requireSurfels();
-  // A viewer keeps drawing with the BVHs that rays build: each frame is charged a thirtieth of a build,
-  // as if a second of frames at 30 a second shared it.
+  // A viewer keeps drawing with the BVHs that rays build: each frame is charged its share of a build, as
+  // if a second of frames at 30 a second shared it.
+  constexpr double kFramesSharingABuild = 30.0;
   LodOptions lod = request.lod;
-  lod.bvhBuildFrames = 30.0;
+  lod.bvhBuildFrames = kFramesSharingABuild;
   const SplatMode splat = lod.splat;
   auto kept = std::find_if(kept_.begin(), kept_.end(), [&](const Kept& k) {
     return k.mode == mode && (mode != RenderMode::Surfels || k.splat == splat) && k.samples == samples &&

@@ -27,7 +27,8 @@ void accumulateHeadlight(const Framebuffer& gbuffer, const Camera& camera, Sampl
 
 // The same as RGBA8 (rounded to nearest), for PNG output.
 std::vector<std::uint8_t> toRgba8(const std::vector<glm::vec4>& image);
-// One channel of it: clamped to [0, 1] (NaN as 0), rounded to nearest with halves away from zero, as
+// One channel of it (the definition; toRgba8 of a pixel rounds four at once): clamped to [0, 1] (NaN as 0),
+// rounded to nearest with halves away from zero, as
 // std::lround rounds: the float product plus one half is exact in double, so truncating it is the rounding,
 // without a call per channel.
 inline std::uint8_t toByte(float channel) {
