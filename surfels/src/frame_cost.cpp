@@ -176,7 +176,7 @@ double predictFrameCost(const FrameCosts& costs, const FrameWork& work, Geometry
   return predictNonGeometryCost(costs, work) + predictGeometryCost(costs, work, drawer);
 }
 
-double predictUpscaleCost(const FrameCosts& costs, double framePixels) { return costs.perImagePixel * framePixels; }
+double predictUpscaleCost(const FrameCosts& costs, double framePixels) { return costs.upscalePerPixel * framePixels; }
 
 double splatPixels(const Camera& camera, const glm::dmat4& world, const SplatArray& splats,
                    const LodDraws::Surfels& draw) {

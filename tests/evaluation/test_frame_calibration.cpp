@@ -49,8 +49,15 @@ TEST(FrameCalibration, AFileThatIsNotACalibrationIsRefusedByName) {
   EXPECT_EQ(frameCostsFromJson(good, "c.json"), FrameCosts{});
   EXPECT_NE(refusal(nlohmann::json::array()).find("c.json: not a calibration file"), std::string::npos);
   nlohmann::json json = good;
+  json["pbs_frame_costs"] = 3;
+  EXPECT_NE(refusal(json).find("c.json: pbs_frame_costs: version 3"), std::string::npos) << refusal(json);
+  // Version 1 had no upscale term: read with its default.
+  json = good;
+  json["pbs_frame_costs"] = 1;
+  json["seconds_per"].erase("upscale_pixel");
+  EXPECT_EQ(frameCostsFromJson(json, "c.json"), FrameCosts{});
   json["pbs_frame_costs"] = 2;
-  EXPECT_NE(refusal(json).find("c.json: pbs_frame_costs: version 2"), std::string::npos) << refusal(json);
+  EXPECT_EQ(refusal(json), "c.json: seconds_per.upscale_pixel: missing");
   json = good;
   json["seconds_per"].erase("surfel");
   EXPECT_EQ(refusal(json), "c.json: seconds_per.surfel: missing");

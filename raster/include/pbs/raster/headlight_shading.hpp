@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 namespace pbs {
@@ -35,17 +36,34 @@ inline std::uint8_t toByte(float channel) {
   const float clamped = channel > 0.0f ? (channel < 1.0f ? channel : 1.0f) : 0.0f;
   return std::uint8_t(std::int32_t(double(clamped * 255.0f) + 0.5));
 }
-// One pixel of it: toByte of each channel, the four at once in vector lanes (no branch, one conversion each
-// way), since frames bound for 8-bit files convert every pixel.
+// toByte of every lane of a GCC vector of floats (4: a pixel; 8: two) into the low byte of each lane of
+// `bytes` (ints in [0, 255]), with no branch and no double (by reference: a 256-bit vector passed by value
+// would depend on the caller's instruction set): the product p in [0, 255] splits exactly into its whole part w and
+// fraction p − w (Sterbenz: w ≥ p / 2 once p ≥ 1), so w + (fraction ≥ 1/2) is toByte's rounding, which p + 1/2 in float
+// would not be (0.49999997 + 0.5 rounds up to 1).
+template <class Floats, class Ints>
+[[gnu::always_inline]] inline void roundToBytes(const Floats& channels, Ints& bytes) {
+  static_assert(sizeof(Floats) == sizeof(Ints));
+  const Floats zero = {}, one = zero + 1.0f;
+  const Floats product = (channels > zero ? (channels < one ? channels : one) : zero) * 255.0f;
+  const Ints whole = __builtin_convertvector(product, Ints);
+  bytes = whole - (product - __builtin_convertvector(whole, Floats) >= 0.5f);  // true is −1 in each lane
+}
+
+// One pixel of it, the four channels at once in vector lanes, since frames bound for 8-bit files convert
+// every pixel.
 [[gnu::always_inline]] inline glm::u8vec4 toRgba8(const glm::vec4& pixel) {
   typedef float Floats __attribute__((vector_size(16)));
-  typedef double Doubles __attribute__((vector_size(32)));
   typedef std::int32_t Ints __attribute__((vector_size(16)));
-  const Floats channels = {pixel.r, pixel.g, pixel.b, pixel.a};
-  const Floats zero = {}, one = zero + 1.0f;
-  const Floats clamped = channels > zero ? (channels < one ? channels : one) : zero;
-  const Ints bytes = __builtin_convertvector(__builtin_convertvector(clamped * 255.0f, Doubles) + 0.5, Ints);
-  return {std::uint8_t(bytes[0]), std::uint8_t(bytes[1]), std::uint8_t(bytes[2]), std::uint8_t(bytes[3])};
+  typedef std::uint8_t Bytes __attribute__((vector_size(16)));
+  Ints rounded;
+  roundToBytes(Floats{pixel.r, pixel.g, pixel.b, pixel.a}, rounded);
+  const Bytes lanes = Bytes(rounded);
+  // Each lane's low byte, by one shuffle (a conversion to bytes would extract lane by lane).
+  const auto bytes = __builtin_shufflevector(lanes, lanes, 0, 4, 8, 12);
+  glm::u8vec4 result;
+  std::memcpy(&result, &bytes, sizeof result);
+  return result;
 }
 
 // toRgba8(shadeHeadlight(gbuffer, camera)), bit for bit, in one pass: a frame bound for an 8-bit file never

@@ -41,8 +41,7 @@ double predictNonGeometryCost(const FrameCosts& costs, const FrameWork& work);
 // Both.
 double predictFrameCost(const FrameCosts& costs, const FrameWork& work, GeometryDrawer drawer);
 // Bringing a frame drawn at a lower resolution up to its `framePixels` (LodBudget::lowerResolution): every
-// pixel of the frame written once more, priced as the frame's own per-pixel work (measured: 10–13 ms at
-// 1920×1080 on 2 cores, against 12 ms so priced).
+// pixel of the frame written once more, at FrameCosts::upscalePerPixel.
 double predictUpscaleCost(const FrameCosts& costs, double framePixels);
 
 // The pixels the splats of `draw` (a prefix of `splats`, drawn by the node of world transform `world`)

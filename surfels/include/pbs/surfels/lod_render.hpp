@@ -57,6 +57,10 @@ struct FrameCosts {
   double perSurfel = 64e-9;            // each surfel drawn
   double perSurfelPixel = 2.0e-9;      // each pixel a splat touches (splatPixels)
   double perNode = 0.0;                // each node drawn, as geometry or as a prefix
+  // Each pixel of a frame drawn at a lower resolution and brought up to its size (LodBudget::lowerResolution):
+  // 3.4–3.9 ms at 1920×1080 from a half, a third or two thirds of it a side on 2 cores (medians of 40, 8-bit
+  // output; docs/performance.md). `pbs calibrate` times it.
+  double upscalePerPixel = 1.75e-9;
 
   // Every triangle and surfel 1, the rest free: a budget of primitives (with the rasterizer's terms).
   static FrameCosts primitives() {
@@ -71,7 +75,8 @@ struct FrameCosts {
             .raysPerNode = 0.0,
             .perSurfel = 1.0,
             .perSurfelPixel = 0.0,
-            .perNode = 0.0};
+            .perNode = 0.0,
+            .upscalePerPixel = 0.0};
   }
   bool operator==(const FrameCosts&) const = default;
 };
