@@ -74,7 +74,7 @@ std::vector<CalibrationCut> calibrationCuts(const LodOptions& base) {
 
 FrameCalibration calibrateFrameCosts(const Scene& scene, const Hierarchy& hierarchy, const FrameSources& sources,
                                      std::span<const Camera> cameras, std::span<const CalibrationCut> cuts,
-                                     std::uint32_t repeats, const ProgressEvents& progress) {
+                                     std::uint32_t repeats, double quantile, const ProgressEvents& progress) {
   FrameCalibration calibration;
   if (cameras.empty()) return calibration;
   const std::string step = "timing frames";
@@ -106,7 +106,7 @@ FrameCalibration calibrateFrameCosts(const Scene& scene, const Hierarchy& hierar
                        std::to_string(done) + " of " + std::to_string(total) + " frames");
     }
   }
-  calibration.fit = fitFrameCosts(timed);
+  calibration.fit = fitFrameCosts(timed, quantile);
   calibration.fit.costs.upscalePerPixel =
       timeUpscalePerPixel(cameras[0].width, cameras[0].height, 4 * std::max(repeats, 1u) + 1);
   progress.ended(step, std::to_string(total) + " frames");
@@ -119,6 +119,8 @@ nlohmann::json calibrationJson(const FrameCalibration& calibration) {
   json["fit"] = {{"frames", calibration.fit.frames},
                  {"raster_frames", calibration.fit.rasterFrames},
                  {"ray_frames", calibration.fit.rayFrames},
+                 {"quantile", calibration.fit.quantile},
+                 {"scale", calibration.fit.scale},
                  {"median_relative_error", calibration.fit.medianError},
                  {"p90_relative_error", calibration.fit.p90Error}};
   for (const CalibrationFrame& frame : calibration.frames) {

@@ -111,7 +111,21 @@ struct CostProblem {
     for (std::size_t k = 0; k < costs.size(); ++k) into.*costs[k] = fitted[k];
     return terms.size();
   }
+  void scale(FrameCosts& costsOf, double factor) const {
+    for (double FrameCosts::*cost : costs) costsOf.*cost *= factor;
+  }
 };
+
+// The value below which `quantile` of the values lie (nearest rank).
+double quantileOf(std::vector<double> values, double quantile) {
+  const auto rank = std::size_t(std::ceil(quantile * double(values.size())));
+  const std::size_t index = std::clamp<std::size_t>(rank, 1, values.size()) - 1;
+  std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(index), values.end());
+  return values[index];
+}
+
+// The frames a drawer must have drawn for its terms to be fitted; with fewer they keep their defaults.
+constexpr std::size_t kDrawerFrames = 3;
 
 double coveredPixels(const FrameWork& work) { return std::min(work.geometryPixels, work.imagePixels); }
 
@@ -213,9 +227,11 @@ double clippedBoxPixels(const Camera& camera, const Bounds& box) {
   return std::min(projectedBoxPixels(camera, box), double(camera.width) * double(camera.height));
 }
 
-FrameCostFit fitFrameCosts(std::span<const TimedFrame> frames) {
+FrameCostFit fitFrameCosts(std::span<const TimedFrame> frames, double quantile) {
   if (frames.size() < 4)
     throw std::invalid_argument("fitFrameCosts: " + std::to_string(frames.size()) + " frames, at least 4 needed");
+  if (!(quantile > 0.0 && quantile <= 1.0))
+    throw std::invalid_argument("fitFrameCosts: quantile " + std::to_string(quantile) + " outside (0, 1]");
   for (std::size_t f = 0; f < frames.size(); ++f) {
     const TimedFrame& frame = frames[f];
     if (!(frame.seconds > 0.0) || !std::isfinite(frame.seconds) || !(frame.geometrySeconds >= 0.0) ||
@@ -245,8 +261,18 @@ FrameCostFit fitFrameCosts(std::span<const TimedFrame> frames) {
       raster.add({w.triangles, coveredPixels(w), w.geometryPixels, w.geometryNodes}, frame.geometrySeconds);
   }
   rest.solveInto(fit.costs, 1);
-  fit.rasterFrames = raster.solveInto(fit.costs, 3);
-  fit.rayFrames = rays.solveInto(fit.costs, 3);
+  fit.rasterFrames = raster.solveInto(fit.costs, kDrawerFrames);
+  fit.rayFrames = rays.solveInto(fit.costs, kDrawerFrames);
+  std::vector<double> ratios;
+  for (const TimedFrame& frame : frames)
+    ratios.push_back(frame.seconds / predictFrameCost(fit.costs, frame.work, frame.drawer));
+  fit.quantile = quantile;
+  fit.scale = quantileOf(std::move(ratios), quantile);
+  // A prediction of nothing (no work at all) leaves the costs as fitted.
+  if (!(fit.scale > 0.0) || !std::isfinite(fit.scale)) fit.scale = 1.0;
+  rest.scale(fit.costs, fit.scale);
+  if (fit.rasterFrames >= kDrawerFrames) raster.scale(fit.costs, fit.scale);
+  if (fit.rayFrames >= kDrawerFrames) rays.scale(fit.costs, fit.scale);
   std::vector<double> errors;
   for (const TimedFrame& frame : frames)
     errors.push_back(std::abs(predictFrameCost(fit.costs, frame.work, frame.drawer) - frame.seconds) / frame.seconds);

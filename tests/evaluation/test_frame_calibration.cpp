@@ -19,7 +19,7 @@ TEST(FrameCalibration, TimesEveryViewUnderEveryCutAndReadsBackWhatItWrote) {
   const std::vector<CalibrationCut> cuts = calibrationCuts(LodOptions{});
   ASSERT_EQ(cuts.size(), 12u);
   const FrameCalibration calibration =
-      calibrateFrameCosts(s.scene, s.hierarchy, {.surfels = &s.surfels}, cameras, cuts, 1);
+      calibrateFrameCosts(s.scene, s.hierarchy, {.surfels = &s.surfels}, cameras, cuts, 1, 0.5);
   ASSERT_EQ(calibration.frames.size(), cuts.size() * cameras.size());
   EXPECT_EQ(calibration.fit.frames, calibration.frames.size());
   std::size_t rays = 0;

@@ -66,6 +66,7 @@ TEST(FrameCosts, TheFitRecoversTheCostsFramesWereTimedBy) {
   EXPECT_EQ(fit.rayFrames, 30u);
   EXPECT_LT(fit.medianError, 1e-9);
   EXPECT_LT(fit.p90Error, 1e-9);
+  EXPECT_NEAR(fit.scale, 1.0, 1e-9) << "exact times need no factor";
   const auto near = [](double fitted, double expected) {
     return std::abs(fitted - expected) <= 1e-6 * expected + 1e-18;
   };
@@ -81,6 +82,34 @@ TEST(FrameCosts, TheFitRecoversTheCostsFramesWereTimedBy) {
   EXPECT_TRUE(near(fit.costs.perSurfel, truth.perSurfel));
   EXPECT_TRUE(near(fit.costs.perSurfelPixel, truth.perSurfelPixel));
   EXPECT_TRUE(near(fit.costs.perNode, truth.perNode));
+}
+
+// Frames timed by the costs and then slowed by up to 30 % (noise the terms cannot explain): at a quantile q
+// the costs are scaled so that q of the frames take no longer than predicted, and the median keeps the least
+// squares' own underestimate from making every other frame overshoot.
+TEST(FrameCosts, AtAQuantileThatShareOfTheFramesTakesNoLongerThanPredicted) {
+  std::vector<TimedFrame> frames = framesTimedBy(someCosts());
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    const double slower = 1.0 + 0.3 * double((f * 7) % 10) / 10.0;  // 1.0 to 1.27, evenly
+    frames[f].seconds *= slower;
+    frames[f].geometrySeconds *= slower;
+  }
+  const auto within = [&](const FrameCostFit& fit) {
+    std::size_t count = 0;
+    for (const TimedFrame& frame : frames)
+      count += frame.seconds <= predictFrameCost(fit.costs, frame.work, frame.drawer) * (1.0 + 1e-12);
+    return double(count) / double(frames.size());
+  };
+  for (double quantile : {0.5, 0.75, 0.9, 1.0}) {
+    const FrameCostFit fit = fitFrameCosts(frames, quantile);
+    EXPECT_EQ(fit.quantile, quantile);
+    EXPECT_GE(within(fit), quantile) << quantile;
+    EXPECT_LT(within(fit), quantile + 0.1) << quantile << ": the least factor that does";
+  }
+  EXPECT_GT(fitFrameCosts(frames, 0.9).scale, fitFrameCosts(frames, 0.5).scale);
+  EXPECT_THROW(fitFrameCosts(frames, 0.0), std::invalid_argument);
+  EXPECT_THROW(fitFrameCosts(frames, 1.5), std::invalid_argument);
+  EXPECT_THROW(fitFrameCosts(frames, std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
 }
 
 TEST(FrameCosts, TheFitKeepsCostsNonNegativeAndADrawerWithoutFramesAtItsDefault) {

@@ -45,10 +45,11 @@ struct FrameCalibration {
 };
 
 // Renders every camera under every cut in surfels mode, `repeats` times each (at least 1), keeps each
-// frame's fastest time and fits FrameCosts to them. `sources` as for FrameRenderer (surfels or a cache).
+// frame's fastest time and fits FrameCosts to them (fitFrameCosts, at `quantile`). `sources` as for
+// FrameRenderer (surfels or a cache).
 FrameCalibration calibrateFrameCosts(const Scene& scene, const Hierarchy& hierarchy, const FrameSources& sources,
                                      std::span<const Camera> cameras, std::span<const CalibrationCut> cuts,
-                                     std::uint32_t repeats, const ProgressEvents& progress = {});
+                                     std::uint32_t repeats, double quantile, const ProgressEvents& progress = {});
 
 // The calibration file: the costs (seconds per unit), the fit's error, and the frames it was fitted to.
 nlohmann::json calibrationJson(const FrameCalibration& calibration);
