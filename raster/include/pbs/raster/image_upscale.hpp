@@ -13,7 +13,7 @@ namespace pbs {
 // Bilinear interpolation of a straight-RGBA image of width × height into one of toWidth × toHeight, pixel
 // centres mapped onto each other (the image's edges clamp): colours are interpolated premultiplied by alpha,
 // so a covered pixel's colour does not bleed toward the empty (0, 0, 0, 0) pixels around it, and alpha
-// ramps over the edge. Deterministic (each output pixel is computed on its own). Throws
+// ramps over the edge. Deterministic (an output pixel's arithmetic does not depend on which task computes it). Throws
 // std::invalid_argument when the image is not width × height or a size is 0.
 std::vector<glm::vec4> upscaleBilinear(std::span<const glm::vec4> image, std::uint32_t width, std::uint32_t height,
                                        std::uint32_t toWidth, std::uint32_t toHeight);
