@@ -112,7 +112,8 @@ PBS_CLONE_INLINE void upscaleRows(const Upscale& u, std::uint32_t y0, std::uint3
       const PixelPair alpha = __builtin_shufflevector(c, c, 3, 3, 3, 3, 7, 7, 7, 7);
       const PixelPair zero = {}, one = zero + 1.0f;
       const PixelPair divided = c / (alpha > zero ? alpha : one);
-      const PixelPair straight = alpha > zero ? __builtin_shufflevector(divided, c, 0, 1, 2, 11, 4, 5, 6, 15) : zero;
+      const PixelPair dividedColour = __builtin_shufflevector(divided, c, 0, 1, 2, 11, 4, 5, 6, 15);
+      const PixelPair straight = alpha > zero ? dividedColour : zero;
       const std::size_t x = 2 * pair;
       store(std::size_t(y) * toWidth + x, straight, x + 1 < toWidth ? 2 : 1);
     }
