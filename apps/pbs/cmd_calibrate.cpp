@@ -61,9 +61,10 @@ void run(const CalibrateOptions& options) {
               c.perImagePixel * 1e9, c.perSurfel * 1e9, c.perSurfelPixel * 1e9, c.perNode * 1e9,
               c.upscalePerPixel * 1e9);
   std::printf(
-      "geometry by the rasterizer (%zu frames): ns per triangle %.2f, covered pixel %.2f, box pixel %.2f, node %.0f\n",
-      calibration.fit.rasterFrames, c.rasterPerTriangle * 1e9, c.rasterPerPixel * 1e9, c.rasterPerBoxPixel * 1e9,
-      c.rasterPerNode * 1e9);
+      "geometry by the rasterizer (%zu frames): ns per triangle %.2f (more %.2f if on pixels), covered pixel %.2f, box "
+      "pixel %.2f, node %.0f\n",
+      calibration.fit.rasterFrames, c.rasterPerTriangle * 1e9, c.rasterPerTriangleOnPixels * 1e9,
+      c.rasterPerPixel * 1e9, c.rasterPerBoxPixel * 1e9, c.rasterPerNode * 1e9);
   std::printf(
       "geometry by rays (%zu frames): ns per image pixel %.2f, covered pixel %.2f, box pixel level %.2f, node %.0f\n",
       calibration.fit.rayFrames, c.raysPerImagePixel * 1e9, c.raysPerPixel * 1e9, c.raysPerBoxPixel * 1e9,

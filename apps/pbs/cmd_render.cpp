@@ -95,6 +95,7 @@ nlohmann::json frameJson(RenderMode mode, const FrameResult& frame) {
     entry["bvh_build_seconds"] = frame.stats.bvhBuildSeconds;
     entry["geometry_pixels"] = frame.stats.geometryPixels;
     entry["geometry_ray_pixels"] = frame.stats.geometryRayPixels;
+    entry["triangles_on_pixels"] = frame.stats.trianglesOnPixels;
     entry["surfel_pixels"] = frame.stats.surfelPixels;
     entry["resolution_divisor"] = frame.divisor;
   }

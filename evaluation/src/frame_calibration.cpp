@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 namespace pbs {
@@ -17,17 +18,23 @@ struct CostField {
   const char* name;
   double FrameCosts::*cost;
 };
-constexpr CostField kCostFields[] = {
-    {"image_pixel", &FrameCosts::perImagePixel},    {"raster_triangle", &FrameCosts::rasterPerTriangle},
-    {"raster_pixel", &FrameCosts::rasterPerPixel},  {"raster_box_pixel", &FrameCosts::rasterPerBoxPixel},
-    {"raster_node", &FrameCosts::rasterPerNode},    {"rays_image_pixel", &FrameCosts::raysPerImagePixel},
-    {"rays_pixel", &FrameCosts::raysPerPixel},      {"rays_box_pixel", &FrameCosts::raysPerBoxPixel},
-    {"rays_node", &FrameCosts::raysPerNode},        {"surfel", &FrameCosts::perSurfel},
-    {"surfel_pixel", &FrameCosts::perSurfelPixel},  {"node", &FrameCosts::perNode},
-    {"upscale_pixel", &FrameCosts::upscalePerPixel}};
-// Version 2 added upscale_pixel; a version 1 file is still read, with the default for it.
+constexpr CostField kCostFields[] = {{"image_pixel", &FrameCosts::perImagePixel},
+                                     {"raster_triangle", &FrameCosts::rasterPerTriangle},
+                                     {"raster_pixel", &FrameCosts::rasterPerPixel},
+                                     {"raster_box_pixel", &FrameCosts::rasterPerBoxPixel},
+                                     {"raster_node", &FrameCosts::rasterPerNode},
+                                     {"raster_triangle_on_pixels", &FrameCosts::rasterPerTriangleOnPixels},
+                                     {"rays_image_pixel", &FrameCosts::raysPerImagePixel},
+                                     {"rays_pixel", &FrameCosts::raysPerPixel},
+                                     {"rays_box_pixel", &FrameCosts::raysPerBoxPixel},
+                                     {"rays_node", &FrameCosts::raysPerNode},
+                                     {"surfel", &FrameCosts::perSurfel},
+                                     {"surfel_pixel", &FrameCosts::perSurfelPixel},
+                                     {"node", &FrameCosts::perNode},
+                                     {"upscale_pixel", &FrameCosts::upscalePerPixel}};
+// Version 2 added these; a version 1 file is still read, with their defaults.
 constexpr int kFileVersion = 2;
-constexpr const char* kAddedInVersion2 = "upscale_pixel";
+constexpr std::string_view kAddedInVersion2[] = {"raster_triangle_on_pixels", "upscale_pixel"};
 
 // Seconds per output pixel of bringing a third-size frame up to width × height (the budget's most common
 // divisor; the pass does the same work per output pixel at any), the median of `runs`. The image's content
@@ -135,6 +142,7 @@ nlohmann::json calibrationJson(const FrameCalibration& calibration) {
                               {"triangles", t.work.triangles},
                               {"geometry_pixels", t.work.geometryPixels},
                               {"geometry_ray_pixels", t.work.geometryRayPixels},
+                              {"triangles_on_pixels", t.work.trianglesOnPixels},
                               {"surfels", t.work.surfels},
                               {"surfel_pixels", t.work.surfelPixels},
                               {"nodes", t.work.nodes},
@@ -153,7 +161,8 @@ FrameCosts frameCostsFromJson(const nlohmann::json& json, std::string_view file)
   if (!per || !per->is_object()) throw InputError(file, "seconds_per", "missing");
   FrameCosts costs;
   for (const CostField& field : kCostFields) {
-    if (version == 1 && field.name == std::string_view(kAddedInVersion2)) continue;
+    if (version == 1 && std::ranges::find(kAddedInVersion2, std::string_view(field.name)) != std::end(kAddedInVersion2))
+      continue;
     const std::string element = std::string("seconds_per.") + field.name;
     if (!per->contains(field.name)) throw InputError(file, element, "missing");
     const nlohmann::json& value = (*per)[field.name];

@@ -135,6 +135,7 @@ FrameWork& FrameWork::operator+=(const FrameWork& other) {
   triangles += other.triangles;
   geometryPixels += other.geometryPixels;
   geometryRayPixels += other.geometryRayPixels;
+  trianglesOnPixels += other.trianglesOnPixels;
   surfels += other.surfels;
   surfelPixels += other.surfelPixels;
   nodes += other.nodes;
@@ -146,6 +147,7 @@ FrameWork& FrameWork::operator-=(const FrameWork& other) {
   triangles -= other.triangles;
   geometryPixels -= other.geometryPixels;
   geometryRayPixels -= other.geometryRayPixels;
+  trianglesOnPixels -= other.trianglesOnPixels;
   surfels -= other.surfels;
   surfelPixels -= other.surfelPixels;
   nodes -= other.nodes;
@@ -158,6 +160,7 @@ FrameWork frameWork(const LodStats& stats, std::uint64_t imagePixels) {
           .triangles = double(stats.triangles),
           .geometryPixels = stats.geometryPixels,
           .geometryRayPixels = stats.geometryRayPixels,
+          .trianglesOnPixels = stats.trianglesOnPixels,
           .surfels = double(stats.surfels),
           .surfelPixels = stats.surfelPixels,
           .nodes = double(stats.nodesGeometry + stats.nodesSurfels),
@@ -167,7 +170,8 @@ FrameWork frameWork(const LodStats& stats, std::uint64_t imagePixels) {
 double predictGeometryCost(const FrameCosts& costs, const FrameWork& work, GeometryDrawer drawer) {
   const double covered = coveredPixels(work);
   const double raster = costs.rasterPerTriangle * work.triangles + costs.rasterPerPixel * covered +
-                        costs.rasterPerBoxPixel * work.geometryPixels + costs.rasterPerNode * work.geometryNodes;
+                        costs.rasterPerBoxPixel * work.geometryPixels + costs.rasterPerNode * work.geometryNodes +
+                        costs.rasterPerTriangleOnPixels * work.trianglesOnPixels;
   // No geometry, no rays: drawLodGeometry's chooser picks the rasterizer for an empty pass.
   const double rays = work.triangles > 0.0
                           ? costs.raysPerImagePixel * work.imagePixels + costs.raysPerPixel * covered +
@@ -247,7 +251,7 @@ FrameCostFit fitFrameCosts(std::span<const TimedFrame> frames, double quantile) 
   CostProblem rest(
       {&FrameCosts::perImagePixel, &FrameCosts::perSurfel, &FrameCosts::perSurfelPixel, &FrameCosts::perNode});
   CostProblem raster({&FrameCosts::rasterPerTriangle, &FrameCosts::rasterPerPixel, &FrameCosts::rasterPerBoxPixel,
-                      &FrameCosts::rasterPerNode});
+                      &FrameCosts::rasterPerNode, &FrameCosts::rasterPerTriangleOnPixels});
   CostProblem rays({&FrameCosts::raysPerImagePixel, &FrameCosts::raysPerPixel, &FrameCosts::raysPerBoxPixel,
                     &FrameCosts::raysPerNode});
   for (const TimedFrame& frame : frames) {
@@ -258,7 +262,8 @@ FrameCostFit fitFrameCosts(std::span<const TimedFrame> frames, double quantile) 
     if (frame.drawer == GeometryDrawer::Rays)
       rays.add({w.imagePixels, coveredPixels(w), w.geometryRayPixels, w.geometryNodes}, frame.geometrySeconds);
     else
-      raster.add({w.triangles, coveredPixels(w), w.geometryPixels, w.geometryNodes}, frame.geometrySeconds);
+      raster.add({w.triangles, coveredPixels(w), w.geometryPixels, w.geometryNodes, w.trianglesOnPixels},
+                 frame.geometrySeconds);
   }
   rest.solveInto(fit.costs, 1);
   fit.rasterFrames = raster.solveInto(fit.costs, kDrawerFrames);

@@ -167,8 +167,12 @@ LodStats FrameRenderer::drawPass(const Camera& camera, Framebuffer& gbuffer, con
 void FrameRenderer::renderReduced(const Camera& camera, const BudgetResolution& resolution, FrameResult& result) {
   const double divisor = resolution.divisor;
   const Camera reduced = reducedCamera(camera, divisor);
-  if (reduced_.width != reduced.width || reduced_.height != reduced.height)
+  // Resized in place when the divisor changes: the largest size drawn so far keeps its memory, where a new
+  // framebuffer would fault in its pages again (tens of MB at 1920×1080).
+  if (reduced_.depth.empty())
     reduced_ = makeFramebuffer(reduced.width, reduced.height, gbuffer_.channels);
+  else if (reduced_.width != reduced.width || reduced_.height != reduced.height)
+    resizeFramebuffer(reduced_, reduced.width, reduced.height);
   LodOptions lod = options_.lod;
   lod.budget = resolution.pass;
   result.stats = drawPass(reduced, reduced_, lod, result.surfelLoadSeconds);

@@ -63,6 +63,7 @@ class BudgetTraversal {
           .triangles = double(hierarchy_.subtreeTriangles[node]),
           .geometryPixels = std::min(pixels, imagePixels_),
           .geometryRayPixels = std::min(pixels, imagePixels_) * rayLevels(double(hierarchy_.subtreeTriangles[node])),
+          .trianglesOnPixels = std::min(double(hierarchy_.subtreeTriangles[node]), std::min(pixels, imagePixels_)),
           .nodes = 1.0,
           .geometryNodes = 1.0};
       if (cost(exact) <= cost(entry.work)) {
@@ -91,6 +92,7 @@ class BudgetTraversal {
         const double pixels = clippedBoxPixels(camera_, instanceWorldBounds(scene_, hierarchy_, node));
         cut.work.geometryPixels += pixels;
         cut.work.geometryRayPixels += pixels * rayLevels(double(triangles));
+        cut.work.trianglesOnPixels += std::min(double(triangles), pixels);
       }
       cut.triangles += triangles;
       cut.geometry.push_back(node);

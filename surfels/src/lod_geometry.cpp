@@ -65,6 +65,7 @@ GeometryWork geometryWork(const Scene& scene, const Hierarchy& hierarchy, std::s
     work.boxPixels += pixels;
     ++work.nodes;
     work.boxRayPixels += pixels * rayLevels(double(triangles));
+    work.trianglesOnPixels += std::min(double(triangles), pixels);
     if ((!rays || !rays->built(std::uint32_t(mesh))) && !counted[std::size_t(mesh)]) {
       counted[std::size_t(mesh)] = 1;
       work.unbuiltTriangles += triangles;
@@ -79,6 +80,7 @@ GeometryCosts estimateGeometryCosts(const GeometryWork& work, const FrameCosts& 
                         .triangles = double(work.triangles),
                         .geometryPixels = work.boxPixels,
                         .geometryRayPixels = work.boxRayPixels,
+                        .trianglesOnPixels = work.trianglesOnPixels,
                         .geometryNodes = double(work.nodes)};
   return {.raster = predictGeometryCost(costs, frame, GeometryDrawer::Raster),
           .rays = predictGeometryCost(costs, frame, GeometryDrawer::Rays) +

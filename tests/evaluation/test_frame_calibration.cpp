@@ -51,13 +51,14 @@ TEST(FrameCalibration, AFileThatIsNotACalibrationIsRefusedByName) {
   nlohmann::json json = good;
   json["pbs_frame_costs"] = 3;
   EXPECT_NE(refusal(json).find("c.json: pbs_frame_costs: version 3"), std::string::npos) << refusal(json);
-  // Version 1 had no upscale term: read with its default.
+  // Version 1 had no upscale term and no term for triangles on pixels: read with their defaults.
   json = good;
   json["pbs_frame_costs"] = 1;
   json["seconds_per"].erase("upscale_pixel");
+  json["seconds_per"].erase("raster_triangle_on_pixels");
   EXPECT_EQ(frameCostsFromJson(json, "c.json"), FrameCosts{});
   json["pbs_frame_costs"] = 2;
-  EXPECT_EQ(refusal(json), "c.json: seconds_per.upscale_pixel: missing");
+  EXPECT_EQ(refusal(json), "c.json: seconds_per.raster_triangle_on_pixels: missing");
   json = good;
   json["seconds_per"].erase("surfel");
   EXPECT_EQ(refusal(json), "c.json: seconds_per.surfel: missing");

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -24,6 +25,7 @@ FrameCosts someCosts() {
   costs.rasterPerPixel = 0.0;  // a term the fit must find zero
   costs.rasterPerBoxPixel = 1.5e-9;
   costs.rasterPerNode = 20e-6;
+  costs.rasterPerTriangleOnPixels = 50e-9;
   costs.raysPerImagePixel = 1.5e-9;
   costs.raysPerPixel = 20e-9;
   costs.raysPerBoxPixel = 0.5e-9;
@@ -45,11 +47,13 @@ std::vector<TimedFrame> framesTimedBy(const FrameCosts& costs) {
                   .triangles = 1e7 * unit(random),
                   .geometryPixels = 4e6 * unit(random),
                   .geometryRayPixels = 6e7 * unit(random),
+                  .trianglesOnPixels = 0.0,
                   .surfels = 1e6 * unit(random),
                   .surfelPixels = 1e7 * unit(random),
                   .nodes = 0.0,
                   .geometryNodes = std::floor(3000.0 * unit(random))};
     frame.work.nodes = frame.work.geometryNodes + std::floor(500.0 * unit(random));
+    frame.work.trianglesOnPixels = std::min(frame.work.triangles, frame.work.geometryPixels) * unit(random);
     frame.drawer = f % 2 ? GeometryDrawer::Rays : GeometryDrawer::Raster;
     frame.geometrySeconds = predictGeometryCost(costs, frame.work, frame.drawer);
     frame.seconds = frame.geometrySeconds + predictNonGeometryCost(costs, frame.work);
@@ -75,6 +79,7 @@ TEST(FrameCosts, TheFitRecoversTheCostsFramesWereTimedBy) {
   EXPECT_TRUE(near(fit.costs.rasterPerPixel, 0.0)) << fit.costs.rasterPerPixel;
   EXPECT_TRUE(near(fit.costs.rasterPerBoxPixel, truth.rasterPerBoxPixel));
   EXPECT_TRUE(near(fit.costs.rasterPerNode, truth.rasterPerNode));
+  EXPECT_TRUE(near(fit.costs.rasterPerTriangleOnPixels, truth.rasterPerTriangleOnPixels));
   EXPECT_TRUE(near(fit.costs.raysPerImagePixel, truth.raysPerImagePixel));
   EXPECT_TRUE(near(fit.costs.raysPerPixel, truth.raysPerPixel));
   EXPECT_TRUE(near(fit.costs.raysPerBoxPixel, truth.raysPerBoxPixel));

@@ -23,6 +23,9 @@ struct FrameWork {
   double triangles = 0.0;          // of the geometry nodes
   double geometryPixels = 0.0;     // Σ of their boxes' clipped pixels (the covered pixels: this, at most the image)
   double geometryRayPixels = 0.0;  // Σ of their boxes' clipped pixels × rayLevels of their meshes
+  // Σ of min(triangles, box pixels) over them: at most the triangles that reach a pixel centre, which the
+  // rasterizer sets up, bins and resolves in full (a sub-pixel one that reaches none is dropped early).
+  double trianglesOnPixels = 0.0;
   double surfels = 0.0;
   double surfelPixels = 0.0;   // Σ of the prefixes' splatPixels
   double nodes = 0.0;          // geometry and surfel nodes drawn

@@ -134,7 +134,7 @@ class FrameRenderer {
   FrameSources sources_;
   SceneSurfels none_;  // exact mode: the LOD traversal with no arrays draws every visible mesh
   Framebuffer gbuffer_;
-  Framebuffer reduced_;  // a budget's lower resolution: made when first needed, remade when its size changes
+  Framebuffer reduced_;  // a budget's lower resolution: made when first needed, resized when its size changes
   std::optional<EmbreeScene> ownRays_;
   std::optional<EmbreeNodeCaster> geometryRays_;  // Surfels mode, unless LodOptions::geometry is Raster
   LazyMeshes::Lease geometryLease_;               // the meshes the last pass drew as geometry (FrameSources::meshes)

@@ -22,8 +22,9 @@ struct GeometryWork {
   // Σ over those instances of their world box's projected area, each at most the image: with the image
   // as a bound, the model's estimate of the pixels the geometry covers.
   double boxPixels = 0.0;
-  double boxRayPixels = 0.0;  // the same, each times its mesh's BVH levels (rayLevels)
-  std::uint64_t nodes = 0;    // the mesh instances in view
+  double boxRayPixels = 0.0;       // the same, each times its mesh's BVH levels (rayLevels)
+  double trianglesOnPixels = 0.0;  // Σ min(triangles, box pixels) over those instances (FrameWork's)
+  std::uint64_t nodes = 0;         // the mesh instances in view
   std::uint64_t imagePixels = 0;
   std::uint64_t unbuiltTriangles = 0;  // of the meshes whose ray BVH is still to be built, each mesh once
 };

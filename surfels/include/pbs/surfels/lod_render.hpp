@@ -50,13 +50,16 @@ struct FrameCosts {
   double rasterPerPixel = 41.6e-9;     // each pixel the geometry covers (its boxes' pixels, at most the image)
   double rasterPerBoxPixel = 0.0;      // each pixel of each geometry box, however many overlap (depth complexity)
   double rasterPerNode = 0.0;          // each geometry node
-  double raysPerImagePixel = 2.9e-9;   // geometry by rays: each pixel of the image (a ray)
-  double raysPerPixel = 55.2e-9;       // each pixel the geometry covers
-  double raysPerBoxPixel = 0.0;        // each pixel of each geometry box, times its mesh's BVH levels
-  double raysPerNode = 0.0;            // each geometry node (an instance of the frame's top-level BVH)
-  double perSurfel = 64e-9;            // each surfel drawn
-  double perSurfelPixel = 2.0e-9;      // each pixel a splat touches (splatPixels)
-  double perNode = 0.0;                // each node drawn, as geometry or as a prefix
+  // Each triangle that may reach a pixel centre (FrameWork::trianglesOnPixels): its full setup, binning and
+  // resolve. 0 until `pbs calibrate` fits it (55–65 ns on the 2-core machine, docs/performance.md).
+  double rasterPerTriangleOnPixels = 0.0;
+  double raysPerImagePixel = 2.9e-9;  // geometry by rays: each pixel of the image (a ray)
+  double raysPerPixel = 55.2e-9;      // each pixel the geometry covers
+  double raysPerBoxPixel = 0.0;       // each pixel of each geometry box, times its mesh's BVH levels
+  double raysPerNode = 0.0;           // each geometry node (an instance of the frame's top-level BVH)
+  double perSurfel = 64e-9;           // each surfel drawn
+  double perSurfelPixel = 2.0e-9;     // each pixel a splat touches (splatPixels)
+  double perNode = 0.0;               // each node drawn, as geometry or as a prefix
   // Each pixel of a frame drawn at a lower resolution and brought up to its size (LodBudget::lowerResolution):
   // 3.4–3.9 ms at 1920×1080 from a half, a third or two thirds of it a side on 2 cores (medians of 40, 8-bit
   // output; docs/performance.md). `pbs calibrate` times it.
@@ -69,6 +72,7 @@ struct FrameCosts {
             .rasterPerPixel = 0.0,
             .rasterPerBoxPixel = 0.0,
             .rasterPerNode = 0.0,
+            .rasterPerTriangleOnPixels = 0.0,
             .raysPerImagePixel = 0.0,
             .raysPerPixel = 0.0,
             .raysPerBoxPixel = 0.0,
@@ -208,6 +212,7 @@ struct LodStats {
   // mesh's) clipped to the image, summed; the pixels the prefixes' splats touch (splatPixels), summed.
   double geometryPixels = 0.0;
   double geometryRayPixels = 0.0;  // each geometry box's pixels times its mesh's BVH levels (rayLevels)
+  double trianglesOnPixels = 0.0;  // Σ min(triangles, box pixels) over the geometry nodes (FrameWork's)
   double surfelPixels = 0.0;
   // The geometry nodes' pass: its drawer (Raster or Rays), its time (part of rasterSeconds) and, of
   // that, the ray caster's BVH builds of meshes no earlier frame needed.
