@@ -11,26 +11,38 @@
 
 namespace pbs {
 
+HeadlightShader::HeadlightShader(const Framebuffer& gbuffer, const Camera& camera)
+    : gbuffer_(gbuffer), partial_(gbuffer.has(kChannelCoverage)) {
+  if (!gbuffer.has(kChannelColor) || !gbuffer.has(kChannelNormal))
+    throw std::invalid_argument("shadeHeadlight: the G-buffer needs the colour and normal channels");
+  // The viewing direction in world space: eye −Z through the inverse view.
+  view_ = glm::normalize(glm::vec3(glm::inverse(camera.view) * glm::dvec4(0.0, 0.0, -1.0, 0.0)));
+}
+
+glm::vec4 HeadlightShader::shade(std::size_t pixel) const {
+  const glm::vec3& n = gbuffer_.normal[pixel];
+  const float length = glm::length(n);
+  const float facing = length > 0.0f ? std::abs(glm::dot(n, view_)) / length : 1.0f;
+  const glm::vec3 base = glm::vec3(gbuffer_.color[pixel]) / 255.0f;
+  const float alpha = partial_ ? gbuffer_.coverage[pixel] : 1.0f;
+  return {base * (kHeadlightAmbient + (1.0f - kHeadlightAmbient) * facing), alpha};
+}
+
+void HeadlightShader::shadeRow(std::uint32_t y, glm::vec4* out) const {
+  const std::size_t first = std::size_t(y) * gbuffer_.width;
+  for (std::size_t x = 0; x < gbuffer_.width; ++x)
+    out[x] = gbuffer_.covered(first + x) ? shade(first + x) : glm::vec4(0.0f);
+}
+
 namespace {
 
 // Calls `shade(pixel, rgba)` for every covered pixel with its shaded colour, in parallel over rows.
 template <typename Shade>
 void forEachShadedPixel(const Framebuffer& gbuffer, const Camera& camera, const Shade& shade) {
-  if (!gbuffer.has(kChannelColor) || !gbuffer.has(kChannelNormal))
-    throw std::invalid_argument("shadeHeadlight: the G-buffer needs the colour and normal channels");
-  // The viewing direction in world space: eye −Z through the inverse view.
-  const glm::vec3 view = glm::normalize(glm::vec3(glm::inverse(camera.view) * glm::dvec4(0.0, 0.0, -1.0, 0.0)));
-  const bool partial = gbuffer.has(kChannelCoverage);
+  const HeadlightShader shader(gbuffer, camera);
   tbb::parallel_for(std::uint32_t(0), gbuffer.height, [&](std::uint32_t y) {
-    for (std::size_t i = std::size_t(y) * gbuffer.width, end = i + gbuffer.width; i < end; ++i) {
-      if (!gbuffer.covered(i)) continue;
-      const glm::vec3& n = gbuffer.normal[i];
-      const float length = glm::length(n);
-      const float facing = length > 0.0f ? std::abs(glm::dot(n, view)) / length : 1.0f;
-      const glm::vec3 base = glm::vec3(gbuffer.color[i]) / 255.0f;
-      const float alpha = partial ? gbuffer.coverage[i] : 1.0f;
-      shade(i, glm::vec4(base * (kHeadlightAmbient + (1.0f - kHeadlightAmbient) * facing), alpha));
-    }
+    for (std::size_t i = std::size_t(y) * gbuffer.width, end = i + gbuffer.width; i < end; ++i)
+      if (gbuffer.covered(i)) shade(i, shader.shade(i));
   });
 }
 

@@ -37,20 +37,25 @@ PBS_CLONE_INLINE glm::vec4 premultiplied(const glm::vec4& c) { return {glm::vec3
 // a + (b − a) t: exactly a where b equals it (glm::mix's a (1 − t) + b t is not), so flat regions stay flat.
 PBS_CLONE_INLINE glm::vec4 lerp(const glm::vec4& a, const glm::vec4& b, float t) { return a + (b - a) * t; }
 
-// The input, and where each output column and row falls in it.
+// The input's rows, and where each output column and row falls in it.
 struct Upscale {
-  std::span<const glm::vec4> source;
+  const UpscaleRows& source;
   std::uint32_t width = 0;
   std::vector<Tap> columns, rows;
 };
 
-Upscale prepare(std::span<const glm::vec4> image, std::uint32_t width, std::uint32_t height, std::uint32_t toWidth,
+Upscale prepare(const UpscaleRows& rows, std::uint32_t width, std::uint32_t height, std::uint32_t toWidth,
                 std::uint32_t toHeight) {
   if (width == 0 || height == 0 || toWidth == 0 || toHeight == 0)
     throw std::invalid_argument("upscaleBilinear: an image of no pixels");
+  return {rows, width, taps(width, toWidth), taps(height, toHeight)};
+}
+
+// The rows of an image held whole.
+UpscaleRows rowsOf(std::span<const glm::vec4> image, std::uint32_t width, std::uint32_t height) {
   if (image.size() != std::size_t(width) * height)
     throw std::invalid_argument("upscaleBilinear: the image is not width × height");
-  return {image, width, taps(width, toWidth), taps(height, toHeight)};
+  return [image, width](std::uint32_t y, glm::vec4*) { return image.data() + std::size_t(y) * width; };
 }
 
 // Input rows premultiplied and interpolated along x to the output's width, the last two a task used: consecutive output
@@ -61,7 +66,8 @@ class WideRows {
   explicit WideRows(const Upscale& u)
       : u_(u),
         pairs_((u.columns.size() + 1) / 2),
-        lines_{std::vector<glm::vec4>(pairs_ * 2), std::vector<glm::vec4>(pairs_ * 2)} {}
+        lines_{std::vector<glm::vec4>(pairs_ * 2), std::vector<glm::vec4>(pairs_ * 2)},
+        input_(u.width) {}
 
   std::size_t pairs() const { return pairs_; }
 
@@ -72,7 +78,7 @@ class WideRows {
     const int slot = rows_[0] == keep ? 1 : 0;
     rows_[slot] = y;
     glm::vec4* line = lines_[slot].data();
-    const glm::vec4* input = u_.source.data() + std::size_t(y) * u_.width;
+    const glm::vec4* input = u_.source(y, input_.data());
     const std::size_t width = u_.columns.size();
     for (std::size_t x = 0; x < width; ++x) {
       const Tap& column = u_.columns[x];
@@ -86,6 +92,7 @@ class WideRows {
   const Upscale& u_;
   std::size_t pairs_;
   std::vector<glm::vec4> lines_[2];
+  std::vector<glm::vec4> input_;  // the scratch row the source may fill
   std::uint32_t rows_[2] = {UINT32_MAX, UINT32_MAX};
 };
 
@@ -154,20 +161,30 @@ void forRows(std::uint32_t toHeight, Rows&& rows) {
 
 }  // namespace
 
-std::vector<glm::vec4> upscaleBilinear(std::span<const glm::vec4> image, std::uint32_t width, std::uint32_t height,
+std::vector<glm::vec4> upscaleBilinear(const UpscaleRows& rows, std::uint32_t width, std::uint32_t height,
                                        std::uint32_t toWidth, std::uint32_t toHeight) {
-  const Upscale u = prepare(image, width, height, toWidth, toHeight);
+  const Upscale u = prepare(rows, width, height, toWidth, toHeight);
   std::vector<glm::vec4> result(std::size_t(toWidth) * toHeight);
   forRows(toHeight, [&](std::uint32_t y0, std::uint32_t y1) { upscaleRowsFloat(u, y0, y1, result.data()); });
   return result;
 }
 
-std::vector<std::uint8_t> upscaleBilinearRgba8(std::span<const glm::vec4> image, std::uint32_t width,
-                                               std::uint32_t height, std::uint32_t toWidth, std::uint32_t toHeight) {
-  const Upscale u = prepare(image, width, height, toWidth, toHeight);
+std::vector<glm::vec4> upscaleBilinear(std::span<const glm::vec4> image, std::uint32_t width, std::uint32_t height,
+                                       std::uint32_t toWidth, std::uint32_t toHeight) {
+  return upscaleBilinear(rowsOf(image, width, height), width, height, toWidth, toHeight);
+}
+
+std::vector<std::uint8_t> upscaleBilinearRgba8(const UpscaleRows& rows, std::uint32_t width, std::uint32_t height,
+                                               std::uint32_t toWidth, std::uint32_t toHeight) {
+  const Upscale u = prepare(rows, width, height, toWidth, toHeight);
   std::vector<std::uint8_t> result(std::size_t(toWidth) * toHeight * 4);
   forRows(toHeight, [&](std::uint32_t y0, std::uint32_t y1) { upscaleRowsRgba8(u, y0, y1, result.data()); });
   return result;
+}
+
+std::vector<std::uint8_t> upscaleBilinearRgba8(std::span<const glm::vec4> image, std::uint32_t width,
+                                               std::uint32_t height, std::uint32_t toWidth, std::uint32_t toHeight) {
+  return upscaleBilinearRgba8(rowsOf(image, width, height), width, height, toWidth, toHeight);
 }
 
 }  // namespace pbs

@@ -164,27 +164,34 @@ LodStats FrameRenderer::drawPass(const Camera& camera, Framebuffer& gbuffer, con
   return pass;
 }
 
+void FrameRenderer::fitGbuffer(const Camera& camera) {
+  if (gbuffer_.width != camera.width || gbuffer_.height != camera.height)
+    resizeFramebuffer(gbuffer_, camera.width, camera.height);
+}
+
 void FrameRenderer::renderReduced(const Camera& camera, const BudgetResolution& resolution, FrameResult& result) {
   const double divisor = resolution.divisor;
   const Camera reduced = reducedCamera(camera, divisor);
-  // Resized in place when the divisor changes: the largest size drawn so far keeps its memory, where a new
-  // framebuffer would fault in its pages again (tens of MB at 1920×1080).
-  if (reduced_.depth.empty())
-    reduced_ = makeFramebuffer(reduced.width, reduced.height, gbuffer_.channels);
-  else if (reduced_.width != reduced.width || reduced_.height != reduced.height)
-    resizeFramebuffer(reduced_, reduced.width, reduced.height);
+  // Drawn in the frame's own G-buffer, shrunk: its memory is already there, where a framebuffer of its own would
+  // fault in tens of MB of fresh pages each time the divisor grows (10 ms and more on 2 cores).
+  fitGbuffer(reduced);
   LodOptions lod = options_.lod;
   lod.budget = resolution.pass;
-  result.stats = drawPass(reduced, reduced_, lod, result.surfelLoadSeconds);
+  result.stats = drawPass(reduced, gbuffer_, lod, result.surfelLoadSeconds);
   result.divisor = divisor;
   result.drawnWidth = reduced.width;
   result.drawnHeight = reduced.height;
   if (options_.image == FrameImage::None) return;
-  const std::vector<glm::vec4> shaded = shadeHeadlight(reduced_, reduced);
+  // Shaded a row at a time as the upscale reads it: no image of the lower resolution is held.
+  const HeadlightShader shader(gbuffer_, reduced);
+  const UpscaleRows rows = [&](std::uint32_t y, glm::vec4* scratch) {
+    shader.shadeRow(y, scratch);
+    return scratch;
+  };
   if (options_.image == FrameImage::Rgba8)
-    result.rgba8 = upscaleBilinearRgba8(shaded, reduced.width, reduced.height, camera.width, camera.height);
+    result.rgba8 = upscaleBilinearRgba8(rows, reduced.width, reduced.height, camera.width, camera.height);
   else
-    result.image = upscaleBilinear(shaded, reduced.width, reduced.height, camera.width, camera.height);
+    result.image = upscaleBilinear(rows, reduced.width, reduced.height, camera.width, camera.height);
 }
 
 FrameResult FrameRenderer::render(const Camera& camera) {
@@ -199,10 +206,12 @@ FrameResult FrameRenderer::render(const Camera& camera) {
   if (resolution.divisor > 1.0) {
     renderReduced(camera, resolution, result);
   } else if (options_.samples == 1) {
+    fitGbuffer(camera);
     result.stats = drawPass(camera, gbuffer_, options_.lod, result.surfelLoadSeconds);
     if (options_.image == FrameImage::Float) result.image = shadeHeadlight(gbuffer_, camera);
     if (options_.image == FrameImage::Rgba8) result.rgba8 = shadeHeadlightRgba8(gbuffer_, camera);
   } else {
+    fitGbuffer(camera);
     SampleSums sums;
     if (options_.image != FrameImage::None) sums.sums.assign(gbuffer_.pixelCount(), glm::vec4(0.0f));
     bool firstPass = true;

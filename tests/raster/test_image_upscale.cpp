@@ -104,11 +104,27 @@ TEST(ImageUpscale, TheBytesAreTheFloatImageRoundedForAnyThreadCount) {
   }
 }
 
+// Rows made as they are read (written into the scratch row) give the same pixels as the image held whole.
+TEST(ImageUpscale, RowsMadeOnDemandUpscaleAsTheWholeImage) {
+  const std::uint32_t w = 17, h = 9, toW = 41, toH = 27;
+  const std::vector<glm::vec4> image = randomImage(w * h, 5);
+  const UpscaleRows rows = [&](std::uint32_t y, glm::vec4* scratch) {
+    std::copy_n(image.begin() + std::ptrdiff_t(y) * w, w, scratch);
+    return scratch;
+  };
+  for (int threads : {1, 3}) {
+    runWithThreads(threads, [&] {
+      EXPECT_EQ(upscaleBilinear(rows, w, h, toW, toH), upscaleBilinear(image, w, h, toW, toH)) << threads;
+      EXPECT_EQ(upscaleBilinearRgba8(rows, w, h, toW, toH), upscaleBilinearRgba8(image, w, h, toW, toH)) << threads;
+    });
+  }
+}
+
 TEST(ImageUpscale, SizesThatDoNotMatchAreRefused) {
   const std::vector<glm::vec4> image(6, glm::vec4(1.0f));
   EXPECT_THROW(upscaleBilinear(image, 3, 3, 6, 6), std::invalid_argument);
   EXPECT_THROW(upscaleBilinear(image, 3, 2, 0, 6), std::invalid_argument);
-  EXPECT_THROW(upscaleBilinearRgba8({}, 0, 0, 6, 6), std::invalid_argument);
+  EXPECT_THROW(upscaleBilinearRgba8(std::span<const glm::vec4>{}, 0, 0, 6, 6), std::invalid_argument);
 }
 
 }  // namespace

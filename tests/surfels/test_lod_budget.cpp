@@ -145,6 +145,16 @@ TEST(LodBudget, ABudgetNoCutFitsDrawsAtALowerResolutionAndUpscales) {
   EXPECT_EQ(render(inSeconds(1e3)).divisor, 1.0) << "an ample budget";
   EXPECT_EQ(render(inSeconds(1e-9), 4).divisor, 1.0) << "supersampled frames keep their resolution";
   EXPECT_EQ(render(budgeted(1.0)).divisor, 1.0) << "a budget of primitives is the same on every machine";
+
+  // One renderer whose frames change resolution (its G-buffer shrinks and grows back) draws each frame as a
+  // fresh renderer would.
+  FrameRenderer reused(s.scene, s.hierarchy, {.mode = RenderMode::Surfels, .lod = inSeconds(1e-9, false)}, camera.width,
+                       camera.height, {.surfels = &s.surfels});
+  EXPECT_EQ(reused.render(camera).image, full.image);
+  reused.setBudget(inSeconds(1e-9).budget);
+  EXPECT_EQ(reused.render(camera).image, reduced.image);
+  reused.setBudget(inSeconds(1e-9, false).budget);
+  EXPECT_EQ(reused.render(camera).image, full.image) << "back at full size";
 }
 
 }  // namespace

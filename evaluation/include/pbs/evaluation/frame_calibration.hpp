@@ -35,7 +35,8 @@ std::vector<CalibrationCut> calibrationCuts(const LodOptions& base);
 struct CalibrationFrame {
   std::string cut;
   std::uint32_t view = 0;
-  // The fastest of the repeats, less reading surfels and building BVHs (work a budget does not pay per frame).
+  // The repeat of median time (the slower of two), less reading surfels and building BVHs (work a budget does not
+  // pay per frame).
   TimedFrame timed;
 };
 
@@ -45,7 +46,7 @@ struct FrameCalibration {
 };
 
 // Renders every camera under every cut in surfels mode, `repeats` times each (at least 1), keeps each
-// frame's fastest time and fits FrameCosts to them (fitFrameCosts, at `quantile`). `sources` as for
+// frame's median time and fits FrameCosts to them (fitFrameCosts, at `quantile`). `sources` as for
 // FrameRenderer (surfels or a cache).
 FrameCalibration calibrateFrameCosts(const Scene& scene, const Hierarchy& hierarchy, const FrameSources& sources,
                                      std::span<const Camera> cameras, std::span<const CalibrationCut> cuts,

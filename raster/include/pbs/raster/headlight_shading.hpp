@@ -22,6 +22,22 @@ inline constexpr float kHeadlightAmbient = 0.3f;
 // std::invalid_argument otherwise. A zero normal (a degenerate surface) shades as facing the camera.
 std::vector<glm::vec4> shadeHeadlight(const Framebuffer& gbuffer, const Camera& camera);
 
+// The same a pixel or a row at a time, for passes that shade as they go (a budget's lower resolution is
+// shaded as it is upscaled). Throws std::invalid_argument as shadeHeadlight does.
+class HeadlightShader {
+ public:
+  HeadlightShader(const Framebuffer& gbuffer, const Camera& camera);
+  // A covered pixel's colour, alpha its coverage (1 without the coverage channel).
+  glm::vec4 shade(std::size_t pixel) const;
+  // Row y into out[0 … width): shadeHeadlight's pixels, bit for bit.
+  void shadeRow(std::uint32_t y, glm::vec4* out) const;
+
+ private:
+  const Framebuffer& gbuffer_;
+  glm::vec3 view_;
+  bool partial_;
+};
+
 // Adds the shaded colours of the G-buffer's covered pixels to `sums` (sized to the G-buffer, else
 // std::invalid_argument) and counts one more sample: one supersampling pass (supersampling.hpp).
 void accumulateHeadlight(const Framebuffer& gbuffer, const Camera& camera, SampleSums& sums);

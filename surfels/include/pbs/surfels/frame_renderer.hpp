@@ -121,6 +121,9 @@ class FrameRenderer {
   // One pass at a budget's lower resolution under the budget left for it, shaded and upscaled to the camera's
   // size.
   void renderReduced(const Camera& camera, const BudgetResolution& resolution, FrameResult& result);
+  // The G-buffer at the camera's size: the frame's, or smaller for a budget's lower resolution (its memory
+  // kept, its pixels unspecified until a pass clears them).
+  void fitGbuffer(const Camera& camera);
   // Makes the meshes of `draws`' geometry nodes loaded (sources_.meshes), letting the ray caster forget
   // those unloaded to stay within the budget.
   void loadGeometry(const LodDraws& draws);
@@ -132,9 +135,8 @@ class FrameRenderer {
   const Hierarchy& hierarchy_;
   FrameOptions options_;
   FrameSources sources_;
-  SceneSurfels none_;  // exact mode: the LOD traversal with no arrays draws every visible mesh
-  Framebuffer gbuffer_;
-  Framebuffer reduced_;  // a budget's lower resolution: made when first needed, resized when its size changes
+  SceneSurfels none_;    // exact mode: the LOD traversal with no arrays draws every visible mesh
+  Framebuffer gbuffer_;  // made at the frame's size; a budget's lower resolutions shrink it (fitGbuffer)
   std::optional<EmbreeScene> ownRays_;
   std::optional<EmbreeNodeCaster> geometryRays_;  // Surfels mode, unless LodOptions::geometry is Raster
   LazyMeshes::Lease geometryLease_;               // the meshes the last pass drew as geometry (FrameSources::meshes)
