@@ -8,7 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <iterator>
-#include <limits>
+#include <string_view>
 
 namespace pbs {
 namespace {
@@ -37,7 +37,7 @@ constexpr int kFileVersion = 2;
 constexpr std::string_view kAddedInVersion2[] = {"raster_triangle_on_pixels", "upscale_pixel"};
 
 // Seconds per output pixel of bringing a third-size frame up to width × height (the budget's most common
-// divisor; the pass does the same work per output pixel at any), the median of `runs`. The image's content
+// divisor; the pass's work is mostly per output pixel), the median of `runs`. The image's content
 // does not matter: the pass has no branch on it.
 double timeUpscalePerPixel(std::uint32_t width, std::uint32_t height, std::uint32_t runs) {
   const std::uint32_t w = std::max(1u, width / 3), h = std::max(1u, height / 3);

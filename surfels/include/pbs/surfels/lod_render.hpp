@@ -51,7 +51,7 @@ struct FrameCosts {
   double rasterPerBoxPixel = 0.0;      // each pixel of each geometry box, however many overlap (depth complexity)
   double rasterPerNode = 0.0;          // each geometry node
   // Each triangle that may reach a pixel centre (FrameWork::trianglesOnPixels): its full setup, binning and
-  // resolve. 0 until `pbs calibrate` fits it (55–65 ns on the 2-core machine, docs/performance.md).
+  // resolve. 0 until `pbs calibrate` fits it (67–108 ns on the 2-core machine: the city and the default scene).
   double rasterPerTriangleOnPixels = 0.0;
   double raysPerImagePixel = 2.9e-9;  // geometry by rays: each pixel of the image (a ray)
   double raysPerPixel = 55.2e-9;      // each pixel the geometry covers
