@@ -119,21 +119,22 @@ LodStats FrameRenderer::drawExactInBatches(const Camera& camera, Framebuffer& gb
   return pass;
 }
 
-LodStats FrameRenderer::drawPass(const Camera& camera, Framebuffer& gbuffer, const LodOptions& lod,
-                                 double& loadSeconds) {
+LodStats FrameRenderer::drawPass(const Camera& camera, Framebuffer& gbuffer, const LodOptions& lod, double& loadSeconds,
+                                 const std::optional<LodDraws>& planned) {
   if (clearsDepth()) clearFramebuffer(gbuffer, 0);
   LodStats pass;
   switch (options_.mode) {
     case RenderMode::Surfels: {
       EmbreeNodeCaster* rays = geometryRays_ ? &*geometryRays_ : nullptr;
       if (!sources_.cache) {
-        pass = renderLod(scene_, hierarchy_, *sources_.surfels, camera, gbuffer, lod, rays);
+        pass = planned ? drawLod(scene_, hierarchy_, *sources_.surfels, *planned, camera, gbuffer, lod, rays)
+                       : renderLod(scene_, hierarchy_, *sources_.surfels, camera, gbuffer, lod, rays);
         break;
       }
-      // One traversal: the stream cuts it to what has arrived, or the cache loads what it draws; then it
-      // is drawn.
+      // One traversal (unless choosing the resolution made it): the stream cuts it to what has arrived, or the
+      // cache loads what it draws; then it is drawn.
       const auto traverse = detail::Clock::now();
-      LodDraws draws = traverseLod(scene_, hierarchy_, *sources_.surfels, camera, lod);
+      LodDraws draws = planned ? *planned : traverseLod(scene_, hierarchy_, *sources_.surfels, camera, lod);
       const double traverseSeconds = detail::secondsSince(traverse);
       if (sources_.stream) {
         draws = sources_.stream->arrived(draws, camera);
@@ -177,7 +178,7 @@ void FrameRenderer::renderReduced(const Camera& camera, const BudgetResolution& 
   fitGbuffer(reduced);
   LodOptions lod = options_.lod;
   lod.budget = resolution.pass;
-  result.stats = drawPass(reduced, gbuffer_, lod, result.surfelLoadSeconds);
+  result.stats = drawPass(reduced, gbuffer_, lod, result.surfelLoadSeconds, resolution.draws);
   result.divisor = divisor;
   result.drawnWidth = reduced.width;
   result.drawnHeight = reduced.height;
@@ -202,14 +203,16 @@ FrameResult FrameRenderer::render(const Camera& camera) {
   const BudgetResolution resolution =
       options_.mode == RenderMode::Surfels && options_.samples == 1
           ? budgetResolution(scene_, hierarchy_, *sources_.surfels, camera, options_.lod)
-          : BudgetResolution{1.0, options_.lod.budget};
+          : BudgetResolution{.divisor = 1.0, .pass = options_.lod.budget};
   if (resolution.divisor > 1.0) {
     renderReduced(camera, resolution, result);
+    result.stats.traverseSeconds += resolution.traverseSeconds;
   } else if (options_.samples == 1) {
     fitGbuffer(camera);
-    result.stats = drawPass(camera, gbuffer_, options_.lod, result.surfelLoadSeconds);
+    result.stats = drawPass(camera, gbuffer_, options_.lod, result.surfelLoadSeconds, resolution.draws);
     if (options_.image == FrameImage::Float) result.image = shadeHeadlight(gbuffer_, camera);
     if (options_.image == FrameImage::Rgba8) result.rgba8 = shadeHeadlightRgba8(gbuffer_, camera);
+    result.stats.traverseSeconds += resolution.traverseSeconds;
   } else {
     fitGbuffer(camera);
     SampleSums sums;

@@ -2,6 +2,7 @@
 // the frame still fits; a node whose refinement does not fit stays, and smaller ones are tried.
 #include "lod_budget.hpp"
 
+#include "elapsed.hpp"
 #include "lod_scale.hpp"
 #include "pbs/raster/projected_box.hpp"
 #include "pbs/scene/scene_draws.hpp"
@@ -137,6 +138,30 @@ class BudgetTraversal {
   const double imagePixels_;
 };
 
+// A refined cut whose blur (cutBlur) is at most this many drawn pixels is kept at its size; a smaller size is
+// taken only when its cut's blur is at most this share of the larger's (the same cut drawn smaller only loses
+// pixels, whatever rounding says).
+constexpr double kCoarseBlur = 4.0;
+constexpr double kFinerBlur = 0.9;
+
+// How coarse a cut drawn at `divisor` (by `reduced`) looks at the frame's size: the mean, over the pixels its
+// nodes' boxes cover (clipped, counted at the frame's size), of the larger of a drawn pixel's side (the
+// divisor) and, for a node drawn as surfels, its discs' diameter. A full-size cut of a few huge discs scores
+// worse than a third of the size refined to geometry, which looks it.
+double cutBlur(const Scene& scene, const Hierarchy& hierarchy, const Camera& reduced, const LodDraws& draws,
+               double divisor) {
+  double weighted = 0.0, pixels = 0.0;
+  const auto add = [&](const Bounds& box, double blur) {
+    const double covered = clippedBoxPixels(reduced, box) * divisor * divisor;
+    weighted += covered * blur;
+    pixels += covered;
+  };
+  for (const LodDraws::Surfels& draw : draws.surfels)
+    add(hierarchy.worldBounds[draw.node], divisor * std::max(1.0, draw.pointSize));
+  for (std::uint32_t node : draws.geometryNodes) add(instanceWorldBounds(scene, hierarchy, node), divisor);
+  return pixels > 0.0 ? weighted / pixels : divisor;
+}
+
 }  // namespace
 
 Camera reducedCamera(const Camera& camera, double divisor) {
@@ -149,21 +174,45 @@ Camera reducedCamera(const Camera& camera, double divisor) {
 BudgetResolution budgetResolution(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
                                   const Camera& camera, const LodOptions& options) {
   const LodBudget& budget = options.budget;
-  if (!(budget.limit > 0.0) || budget.unit != BudgetUnit::Seconds || !budget.lowerResolution) return {1.0, budget};
+  if (!(budget.limit > 0.0) || budget.unit != BudgetUnit::Seconds || !budget.lowerResolution)
+    return {.divisor = 1.0, .pass = budget};
   const double upscale = predictUpscaleCost(options.frameCosts, double(camera.width) * double(camera.height));
   const auto reducedBy = [&](double divisor) {
     LodBudget pass = budget;
     // What is left after the upscale, or a sliver of the limit where the upscale alone would spend it (the
     // coarsest cut is drawn then).
     if (divisor > 1.0) pass.limit = std::max(budget.limit - upscale, budget.limit * 1e-3);
-    return BudgetResolution{divisor, pass};
+    return BudgetResolution{.divisor = divisor, .pass = pass};
   };
-  for (const double divisor : kBudgetDivisors) {
-    const Camera reduced = reducedCamera(camera, divisor);  // named: the traversal keeps a reference to it
+  // The refined cut at a size, kept in it, and its blur; the traversal's time added to `spent`.
+  double spent = 0.0;
+  const auto plan = [&](BudgetResolution& resolution) {
+    const auto start = detail::Clock::now();
+    const Camera reduced = reducedCamera(camera, resolution.divisor);
+    LodOptions lod = options;
+    lod.budget = resolution.pass;
+    resolution.draws = traverseWithBudget(scene, hierarchy, surfels, reduced, lod);
+    spent += detail::secondsSince(start);
+    return cutBlur(scene, hierarchy, reduced, *resolution.draws, resolution.divisor);
+  };
+  for (std::size_t d = 0; d < kBudgetDivisors.size(); ++d) {
+    const Camera reduced = reducedCamera(camera, kBudgetDivisors[d]);  // named: the traversal keeps a reference
     const BudgetTraversal traversal(scene, hierarchy, surfels, reduced, options);
     Cut cut;
     for (std::uint32_t root : scene.roots) traversal.coarsest(root, cut);
-    if (traversal.cost(cut.work) + (divisor > 1.0 ? upscale : 0.0) <= budget.limit) return reducedBy(divisor);
+    if (traversal.cost(cut.work) + (d > 0 ? upscale : 0.0) > budget.limit) continue;
+    BudgetResolution best = reducedBy(kBudgetDivisors[d]);
+    double bestBlur = plan(best);
+    for (std::size_t smaller = d + 1; smaller < kBudgetDivisors.size() && bestBlur > kCoarseBlur * best.divisor;
+         ++smaller) {
+      BudgetResolution candidate = reducedBy(kBudgetDivisors[smaller]);
+      const double blur = plan(candidate);
+      if (!(blur < kFinerBlur * bestBlur)) break;
+      best = std::move(candidate);
+      bestBlur = blur;
+    }
+    best.traverseSeconds = spent;
+    return best;
   }
   return reducedBy(kBudgetDivisors.back());
 }

@@ -4,6 +4,7 @@
 #include "pbs/surfels/lod_render.hpp"
 
 #include <array>
+#include <optional>
 
 namespace pbs {
 
@@ -16,11 +17,16 @@ Camera reducedCamera(const Camera& camera, double divisor);
 // How a budget in seconds draws a frame: the least of kBudgetDivisors at which the coarsest cut (the one
 // traverseWithBudget refines from), plus the upscale below full size (predictUpscaleCost), is predicted to fit
 // the limit, the largest when none does; and the budget of that pass: the limit, less the upscale's price below
-// full size. Divisor 1 and the budget as given for a budget of primitives, none, or one that keeps the
-// resolution. Deterministic.
+// full size. When the refined cut at that size is still coarse (discs several drawn pixels wide: the budget
+// left nothing to refine it with), smaller sizes follow while their refined cut looks finer. Divisor 1 and the
+// budget as given for a budget of primitives, none, or one that keeps the resolution. Deterministic.
 struct BudgetResolution {
   double divisor = 1.0;
   LodBudget pass;
+  // The refined cut at that size under `pass` (traverseWithBudget's), when choosing the size made it: the
+  // frame draws it rather than traversing again. With the seconds its traversals took.
+  std::optional<LodDraws> draws = std::nullopt;
+  double traverseSeconds = 0.0;
 };
 BudgetResolution budgetResolution(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
                                   const Camera& camera, const LodOptions& options);

@@ -5,6 +5,7 @@
 
 #include <pbs/raster/image_metrics.hpp>
 #include <pbs/raster/image_upscale.hpp>
+#include <pbs/surfels/frame_cost.hpp>
 #include <pbs/raster/projected_box.hpp>
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/scene/generate.hpp>
@@ -138,9 +139,23 @@ TEST(LodBudget, ABudgetNoCutFitsDrawsAtALowerResolutionAndUpscales) {
 
   // Between the two, a growing budget draws at finer resolutions, through the ladder's middle.
   std::vector<double> divisors;
-  for (double limit = 1e-6; limit < 1e-1; limit *= 1.5) divisors.push_back(render(inSeconds(limit)).divisor);
+  double middleLimit = 0.0;
+  for (double limit = 1e-6; limit < 1e-1; limit *= 1.5) {
+    divisors.push_back(render(inSeconds(limit)).divisor);
+    if (middleLimit == 0.0 && divisors.back() > 1.0 && divisors.back() < 8.0) middleLimit = limit;
+  }
   EXPECT_TRUE(std::is_sorted(divisors.rbegin(), divisors.rend()));
-  EXPECT_TRUE(std::any_of(divisors.begin(), divisors.end(), [](double d) { return d > 1.0 && d < 8.0; }));
+  ASSERT_GT(middleLimit, 0.0) << "a budget drawn in the ladder's middle";
+  // There the cut chosen with the size is drawn: the frame a traversal at that size under the budget left after
+  // the upscale makes, upscaled.
+  const FrameResult middle = render(inSeconds(middleLimit));
+  Camera middleCamera = camera;
+  middleCamera.width = middle.drawnWidth;
+  middleCamera.height = middle.drawnHeight;
+  const double left = std::max(middleLimit - predictUpscaleCost(FrameCosts{}, double(camera.width) * camera.height),
+                               middleLimit * 1e-3);
+  EXPECT_EQ(middle.image, upscaleBilinear(renderAt(middleCamera, inSeconds(left, false)).image, middleCamera.width,
+                                          middleCamera.height, camera.width, camera.height));
   EXPECT_EQ(divisors.back(), 1.0);
   EXPECT_EQ(render(inSeconds(1e3)).divisor, 1.0) << "an ample budget";
   EXPECT_EQ(render(inSeconds(1e-9), 4).divisor, 1.0) << "supersampled frames keep their resolution";
@@ -155,6 +170,35 @@ TEST(LodBudget, ABudgetNoCutFitsDrawsAtALowerResolutionAndUpscales) {
   EXPECT_EQ(reused.render(camera).image, reduced.image);
   reused.setBudget(inSeconds(1e-9, false).budget);
   EXPECT_EQ(reused.render(camera).image, full.image) << "back at full size";
+}
+
+// Priced in primitives (a surfel or a triangle a unit, the upscale free), a limit just above the full-size
+// coarsest cut (here the root's whole array) fits that cut and nothing finer, and no smaller size refines it
+// either (its children's arrays are as long at any size): the frame keeps its size rather than drawing the same
+// cut with fewer pixels.
+TEST(LodBudget, ASmallerSizeIsNotTakenForTheSameCut) {
+  const Scene box = test::sceneOf(test::tessellatedBox(20), {glm::dmat4(1.0)});
+  const test::SurfeledScene s = test::surfeled(generateCity({box}, {.levels = 3, .fanout = 4}));
+  // Far enough that the root's surfels stand for the city, large enough that their discs are many pixels.
+  Camera camera = test::approachCameras(s, 4, 4.0)[0];
+  camera.width *= 4;
+  camera.height *= 4;
+  const auto inPrimitives = [](double limit, bool lowerResolution) {
+    LodOptions options = inSeconds(limit, lowerResolution);
+    options.frameCosts = FrameCosts::primitives();
+    options.geometry = GeometryDrawer::Raster;  // primitives() prices no ray
+    return options;
+  };
+  const auto renderWith = [&](const LodOptions& lod) {
+    FrameRenderer renderer(s.scene, s.hierarchy, {.mode = RenderMode::Surfels, .lod = lod}, camera.width, camera.height,
+                           {.surfels = &s.surfels});
+    return renderer.render(camera);
+  };
+  const FrameResult coarsest = renderWith(inPrimitives(1.0, false));
+  ASSERT_EQ(coarsest.stats.nodesSurfels + coarsest.stats.nodesGeometry, 1u) << "the root's array";
+  const FrameResult chosen = renderWith(inPrimitives(double(coarsest.stats.surfels) * 1.01, true));
+  EXPECT_EQ(chosen.divisor, 1.0);
+  EXPECT_EQ(chosen.image, coarsest.image);
 }
 
 }  // namespace

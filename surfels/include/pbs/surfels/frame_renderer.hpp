@@ -116,8 +116,9 @@ class FrameRenderer {
  private:
   // One pass at the camera's pixel centres into `gbuffer` (the camera's size) under `lod` (the frame's, or
   // a lower resolution's with the upscale taken out of its budget); adds its prefix and mesh loading to
-  // `loadSeconds`.
-  LodStats drawPass(const Camera& camera, Framebuffer& gbuffer, const LodOptions& lod, double& loadSeconds);
+  // `loadSeconds`. `planned`: the cut traverseLod would make with these arguments, already made.
+  LodStats drawPass(const Camera& camera, Framebuffer& gbuffer, const LodOptions& lod, double& loadSeconds,
+                    const std::optional<LodDraws>& planned = std::nullopt);
   // One pass at a budget's lower resolution under the budget left for it, shaded and upscaled to the camera's
   // size.
   void renderReduced(const Camera& camera, const BudgetResolution& resolution, FrameResult& result);
