@@ -199,23 +199,29 @@ double predictUpscaleCost(const FrameCosts& costs, double framePixels) { return 
 double splatPixels(const Camera& camera, const glm::dmat4& world, const SplatArray& splats,
                    const LodDraws::Surfels& draw) {
   constexpr int kSide = 4;
+  if (splats.box.empty()) return 0.0;
   const double imagePixels = double(camera.width) * double(camera.height);
   const glm::dmat4 clipFromObject = camera.clipFromWorld() * world;
-  const glm::dvec3 center = splats.box.center(), size = splats.box.size();
+  const glm::dvec3 size = splats.box.size();
   const double radius = draw.radius * lod::frameScale(world);
   // Eye-space units per pixel at w = 1 (w is the depth for a perspective camera, 1 for an orthographic one).
   const double pixelsPerUnit = camera.projection[1][1] * camera.height / 2.0;
+  // The lattice's points in clip space, stepped from its first by one column of the transform per axis (the
+  // map is affine): a budget prices every node it weighs, thousands a frame on a large scene's far views.
+  const glm::dvec4 first = clipFromObject * glm::dvec4(splats.box.min + size * (0.5 / kSide), 1.0);
+  const glm::dvec4 step[3] = {clipFromObject[0] * (size.x / kSide), clipFromObject[1] * (size.y / kSide),
+                              clipFromObject[2] * (size.z / kSide)};
   double sum = 0.0;
   for (int z = 0; z < kSide; ++z) {
     for (int y = 0; y < kSide; ++y) {
-      for (int x = 0; x < kSide; ++x) {
-        const glm::dvec3 at = center + (glm::dvec3(x, y, z) + 0.5) / double(kSide) * size - size / 2.0;
-        const glm::dvec4 clip = clipFromObject * glm::dvec4(at, 1.0);
+      glm::dvec4 clip = first + step[2] * double(z) + step[1] * double(y);
+      for (int x = 0; x < kSide; ++x, clip += step[0]) {
         if (!(clip.w > 0.0)) continue;
-        const double side = 2.0 * radius * pixelsPerUnit / clip.w + 1.0;
+        const double perW = 1.0 / clip.w;
+        const double side = 2.0 * radius * pixelsPerUnit * perW + 1.0;
         // Off screen by more than the splat: culled.
         const double marginX = side / camera.width, marginY = side / camera.height;
-        if (std::abs(clip.x / clip.w) > 1.0 + marginX || std::abs(clip.y / clip.w) > 1.0 + marginY) continue;
+        if (std::abs(clip.x * perW) > 1.0 + marginX || std::abs(clip.y * perW) > 1.0 + marginY) continue;
         sum += std::min(side * side, imagePixels);
       }
     }
