@@ -57,9 +57,11 @@ void run(const CalibrateOptions& options) {
   const FrameCosts& c = calibration.fit.costs;
   std::printf("%s: %zu frames at %ux%u (%zu cuts of %zu views)\n", loaded.name.c_str(), calibration.frames.size(),
               width, height, cuts.size(), cameras.size());
-  std::printf("ns per image pixel %.2f, surfel %.2f, surfel pixel %.2f, node %.0f, upscaled pixel %.2f\n",
-              c.perImagePixel * 1e9, c.perSurfel * 1e9, c.perSurfelPixel * 1e9, c.perNode * 1e9,
-              c.upscalePerPixel * 1e9);
+  std::printf(
+      "ns per image pixel %.2f, surfel %.2f, surfel pixel %.2f, node %.0f, node a budget weighs %.0f, upscaled pixel "
+      "%.2f\n",
+      c.perImagePixel * 1e9, c.perSurfel * 1e9, c.perSurfelPixel * 1e9, c.perNode * 1e9, c.perNodeWeighed * 1e9,
+      c.upscalePerPixel * 1e9);
   std::printf(
       "geometry by the rasterizer (%zu frames): ns per triangle %.2f (more %.2f if on pixels), covered pixel %.2f, box "
       "pixel %.2f, node %.0f\n",

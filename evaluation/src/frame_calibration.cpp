@@ -31,10 +31,11 @@ constexpr CostField kCostFields[] = {{"image_pixel", &FrameCosts::perImagePixel}
                                      {"surfel", &FrameCosts::perSurfel},
                                      {"surfel_pixel", &FrameCosts::perSurfelPixel},
                                      {"node", &FrameCosts::perNode},
+                                     {"node_weighed", &FrameCosts::perNodeWeighed},
                                      {"upscale_pixel", &FrameCosts::upscalePerPixel}};
 // Version 2 added these; a version 1 file is still read, with their defaults.
 constexpr int kFileVersion = 2;
-constexpr std::string_view kAddedInVersion2[] = {"raster_triangle_on_pixels", "upscale_pixel"};
+constexpr std::string_view kAddedInVersion2[] = {"raster_triangle_on_pixels", "node_weighed", "upscale_pixel"};
 
 // Seconds per output pixel of bringing a third-size frame up to width × height (the budget's most common
 // divisor; the pass's work is mostly per output pixel), the median of `runs`. The image's content
@@ -52,6 +53,24 @@ double timeUpscalePerPixel(std::uint32_t width, std::uint32_t height, std::uint3
   }
   std::nth_element(seconds.begin(), seconds.begin() + seconds.size() / 2, seconds.end());
   return seconds[seconds.size() / 2] / (double(width) * double(height));
+}
+
+// Seconds per node a budget's traversal weighs (FrameWork::nodesWeighed): each camera's cut chosen for 33 ms by
+// `costs`, the median over the cameras of its traversal's time per node weighed.
+double timeNodeWeighing(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
+                        std::span<const Camera> cameras, LodOptions lod, const FrameCosts& costs) {
+  lod.budget = LodBudget::seconds(0.033);
+  lod.frameCosts = costs;
+  std::vector<double> perNode;
+  for (const Camera& camera : cameras) {
+    const auto start = std::chrono::steady_clock::now();
+    const LodDraws draws = traverseLod(scene, hierarchy, surfels, camera, lod);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (draws.nodesWeighed > 0) perNode.push_back(seconds / double(draws.nodesWeighed));
+  }
+  if (perNode.empty()) return costs.perNodeWeighed;
+  std::nth_element(perNode.begin(), perNode.begin() + std::ptrdiff_t(perNode.size() / 2), perNode.end());
+  return perNode[perNode.size() / 2];
 }
 
 }  // namespace
@@ -117,6 +136,9 @@ FrameCalibration calibrateFrameCosts(const Scene& scene, const Hierarchy& hierar
     }
   }
   calibration.fit = fitFrameCosts(timed, quantile);
+  const SceneSurfels& surfels = sources.surfels ? *sources.surfels : sources.cache->surfels();
+  calibration.fit.costs.perNodeWeighed =
+      timeNodeWeighing(scene, hierarchy, surfels, cameras, cuts.front().lod, calibration.fit.costs);
   calibration.fit.costs.upscalePerPixel =
       timeUpscalePerPixel(cameras[0].width, cameras[0].height, 4 * std::max(repeats, 1u) + 1);
   progress.ended(step, std::to_string(total) + " frames");

@@ -140,6 +140,7 @@ FrameWork& FrameWork::operator+=(const FrameWork& other) {
   surfelPixels += other.surfelPixels;
   nodes += other.nodes;
   geometryNodes += other.geometryNodes;
+  nodesWeighed += other.nodesWeighed;
   return *this;
 }
 
@@ -152,6 +153,7 @@ FrameWork& FrameWork::operator-=(const FrameWork& other) {
   surfelPixels -= other.surfelPixels;
   nodes -= other.nodes;
   geometryNodes -= other.geometryNodes;
+  nodesWeighed -= other.nodesWeighed;
   return *this;
 }
 
@@ -164,7 +166,8 @@ FrameWork frameWork(const LodStats& stats, std::uint64_t imagePixels) {
           .surfels = double(stats.surfels),
           .surfelPixels = stats.surfelPixels,
           .nodes = double(stats.nodesGeometry + stats.nodesSurfels),
-          .geometryNodes = double(stats.nodesGeometry)};
+          .geometryNodes = double(stats.nodesGeometry),
+          .nodesWeighed = double(stats.nodesWeighed)};
 }
 
 double predictGeometryCost(const FrameCosts& costs, const FrameWork& work, GeometryDrawer drawer) {
@@ -187,7 +190,8 @@ double predictGeometryCost(const FrameCosts& costs, const FrameWork& work, Geome
 
 double predictNonGeometryCost(const FrameCosts& costs, const FrameWork& work) {
   return costs.perImagePixel * work.imagePixels + costs.perSurfel * work.surfels +
-         costs.perSurfelPixel * work.surfelPixels + costs.perNode * work.nodes;
+         costs.perSurfelPixel * work.surfelPixels + costs.perNode * work.nodes +
+         costs.perNodeWeighed * work.nodesWeighed;
 }
 
 double predictFrameCost(const FrameCosts& costs, const FrameWork& work, GeometryDrawer drawer) {

@@ -52,6 +52,7 @@ class BudgetTraversal {
   void coarsest(std::uint32_t node, Cut& cut) const {
     const Bounds& box = hierarchy_.worldBounds[node];
     if (box.empty() || outsideClipVolume(camera_, box)) return;
+    cut.work.nodesWeighed += 1.0;
     const double pixels = projectedBoxPixels(camera_, box);
     const std::uint32_t array = node < surfels_.arrayOfNode.size() ? surfels_.arrayOfNode[node] : kNoSurfels;
     // A box that reaches the eye has no finite size: its surfels would be discs without bound near the eye,
@@ -104,7 +105,9 @@ class BudgetTraversal {
         continue;
       }
       const Bounds& box = hierarchy_.worldBounds[child];
-      if (!box.empty() && !outsideClipVolume(camera_, box)) refine(child, cut, Descent::Geometry);
+      if (box.empty() || outsideClipVolume(camera_, box)) continue;
+      cut.work.nodesWeighed += 1.0;
+      refine(child, cut, Descent::Geometry);
     }
   }
 
@@ -242,6 +245,8 @@ LodDraws traverseWithBudget(const Scene& scene, const Hierarchy& hierarchy, cons
     refined -= entry.work;
     refined += finer.work;
     if (traversal.cost(refined) > options.budget.limit) {
+      // Weighing the finer cut was spent all the same.
+      total.nodesWeighed += finer.work.nodesWeighed;
       kept.push_back(entry);
       continue;
     }
@@ -258,6 +263,7 @@ LodDraws traverseWithBudget(const Scene& scene, const Hierarchy& hierarchy, cons
     draws.surfels.push_back(entry.draw);
     draws.surfelCount += entry.draw.count;
   }
+  draws.nodesWeighed = std::uint64_t(total.nodesWeighed);
   return draws;
 }
 

@@ -151,6 +151,7 @@ LodStats drawLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurf
   stats.geometryPixels = geometry.work.boxPixels;
   stats.geometryRayPixels = geometry.work.boxRayPixels;
   stats.trianglesOnPixels = geometry.work.trianglesOnPixels;
+  stats.nodesWeighed = draws.nodesWeighed;
   for (const LodDraws::Surfels& draw : draws.surfels)
     stats.surfelPixels += splatPixels(camera, hierarchy.world[draw.node], surfels.arrays[draw.array], draw);
   stats.geometryDrawer = geometry.drawer;

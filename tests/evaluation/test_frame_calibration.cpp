@@ -56,6 +56,7 @@ TEST(FrameCalibration, AFileThatIsNotACalibrationIsRefusedByName) {
   json["pbs_frame_costs"] = 1;
   json["seconds_per"].erase("upscale_pixel");
   json["seconds_per"].erase("raster_triangle_on_pixels");
+  json["seconds_per"].erase("node_weighed");
   EXPECT_EQ(frameCostsFromJson(json, "c.json"), FrameCosts{});
   json["pbs_frame_costs"] = 2;
   EXPECT_EQ(refusal(json), "c.json: seconds_per.raster_triangle_on_pixels: missing");

@@ -201,5 +201,25 @@ TEST(LodBudget, ASmallerSizeIsNotTakenForTheSameCut) {
   EXPECT_EQ(chosen.image, coarsest.image);
 }
 
+// The budget's own traversal is part of the frame: priced per node it weighs, a dearer weighing leaves less of
+// the limit to draw with, so the cut is coarser; the frame reports the nodes weighed.
+TEST(LodBudget, ABudgetPaysForTheNodesItWeighs) {
+  const Scene box = test::sceneOf(test::tessellatedBox(20), {glm::dmat4(1.0)});
+  const test::SurfeledScene s = test::surfeled(generateCity({box}, {.levels = 3, .fanout = 4}));
+  const Camera camera = test::approachCameras(s, 4, 2.0)[1];
+  const auto drawn = [&](double perNodeWeighed) {
+    LodOptions lod = inSeconds(0.02, false);
+    lod.frameCosts.perNodeWeighed = perNodeWeighed;
+    FrameRenderer renderer(s.scene, s.hierarchy, {.mode = RenderMode::Surfels, .lod = lod}, camera.width, camera.height,
+                           {.surfels = &s.surfels});
+    return renderer.render(camera).stats;
+  };
+  const LodStats free = drawn(0.0), dear = drawn(2e-3);
+  // (A refinement tried and refused was weighed all the same, so the dear frame weighs no more nodes.)
+  EXPECT_GE(free.nodesWeighed, dear.nodesWeighed);
+  EXPECT_GT(dear.nodesWeighed, 0u);
+  EXPECT_GT(free.nodesSurfels + free.nodesGeometry, dear.nodesSurfels + dear.nodesGeometry);
+}
+
 }  // namespace
 }  // namespace pbs

@@ -46,8 +46,9 @@ struct FrameCalibration {
 };
 
 // Renders every camera under every cut in surfels mode, `repeats` times each (at least 1), keeps each
-// frame's median time and fits FrameCosts to them (fitFrameCosts, at `quantile`). `sources` as for
-// FrameRenderer (surfels or a cache).
+// frame's median time and fits FrameCosts to them (fitFrameCosts, at `quantile`); then times a budget's
+// traversal per node it weighs (FrameCosts::perNodeWeighed) and the upscale to the cameras' size
+// (FrameCosts::upscalePerPixel). `sources` as for FrameRenderer (surfels or a cache).
 FrameCalibration calibrateFrameCosts(const Scene& scene, const Hierarchy& hierarchy, const FrameSources& sources,
                                      std::span<const Camera> cameras, std::span<const CalibrationCut> cuts,
                                      std::uint32_t repeats, double quantile, const ProgressEvents& progress = {});

@@ -30,6 +30,7 @@ struct FrameWork {
   double surfelPixels = 0.0;   // Σ of the prefixes' splatPixels
   double nodes = 0.0;          // geometry and surfel nodes drawn
   double geometryNodes = 0.0;  // of which geometry
+  double nodesWeighed = 0.0;   // nodes a budget's traversal priced (each box projected, each prefix's splats)
 
   FrameWork& operator+=(const FrameWork& other);
   FrameWork& operator-=(const FrameWork& other);

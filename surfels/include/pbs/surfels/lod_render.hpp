@@ -60,6 +60,9 @@ struct FrameCosts {
   double perSurfel = 64e-9;           // each surfel drawn
   double perSurfelPixel = 2.0e-9;     // each pixel a splat touches (splatPixels)
   double perNode = 0.0;               // each node drawn, as geometry or as a prefix
+  // Each node a budget's traversal prices (FrameWork::nodesWeighed): 1.3 µs on the 2-core machine (the city's
+  // far views, docs/performance.md). `pbs calibrate` times it.
+  double perNodeWeighed = 1.3e-6;
   // Each pixel of a frame drawn at a lower resolution and brought up to its size (LodBudget::lowerResolution):
   // 3.4–3.9 ms at 1920×1080 from a half, a third or two thirds of it a side on 2 cores (medians of 40, 8-bit
   // output; docs/performance.md). `pbs calibrate` times it.
@@ -80,6 +83,7 @@ struct FrameCosts {
             .perSurfel = 1.0,
             .perSurfelPixel = 0.0,
             .perNode = 0.0,
+            .perNodeWeighed = 0.0,
             .upscalePerPixel = 0.0};
   }
   bool operator==(const FrameCosts&) const = default;
@@ -176,6 +180,7 @@ struct LodDraws {
   std::vector<Surfels> surfels;              // in traversal order
   std::uint64_t triangles = 0;
   std::uint64_t surfelCount = 0;
+  std::uint64_t nodesWeighed = 0;  // by a budget's traversal (FrameWork::nodesWeighed); 0 for the threshold's
 };
 
 // The traversal alone: frustum culling of node boxes, the threshold and band decisions, prefix sizes.
@@ -213,6 +218,7 @@ struct LodStats {
   double geometryPixels = 0.0;
   double geometryRayPixels = 0.0;  // each geometry box's pixels times its mesh's BVH levels (rayLevels)
   double trianglesOnPixels = 0.0;  // Σ min(triangles, box pixels) over the geometry nodes (FrameWork's)
+  std::uint64_t nodesWeighed = 0;  // LodDraws'
   double surfelPixels = 0.0;
   // The geometry nodes' pass: its drawer (Raster or Rays), its time (part of rasterSeconds) and, of
   // that, the ray caster's BVH builds of meshes no earlier frame needed.
