@@ -60,9 +60,9 @@ struct FrameCosts {
   double perSurfel = 64e-9;           // each surfel drawn
   double perSurfelPixel = 2.0e-9;     // each pixel a splat touches (splatPixels)
   double perNode = 0.0;               // each node drawn, as geometry or as a prefix
-  // Each node a budget's traversal prices (FrameWork::nodesWeighed): 1.3 µs on the 2-core machine (the city's
-  // far views, docs/performance.md). `pbs calibrate` times it.
-  double perNodeWeighed = 1.3e-6;
+  // Each node a budget's traversal prices (FrameWork::nodesWeighed): `pbs calibrate` timed 407 ns on the default
+  // scene and 651 ns on the billion-triangle city, on the 2-core machine (docs/performance.md).
+  double perNodeWeighed = 0.65e-6;
   // Each pixel of a frame drawn at a lower resolution and brought up to its size (LodBudget::lowerResolution):
   // 3.4–3.9 ms at 1920×1080 from a half, a third or two thirds of it a side on 2 cores (medians of 40, 8-bit
   // output; docs/performance.md). `pbs calibrate` times it.
