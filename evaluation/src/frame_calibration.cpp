@@ -37,6 +37,14 @@ constexpr CostField kCostFields[] = {{"image_pixel", &FrameCosts::perImagePixel}
 constexpr int kFileVersion = 2;
 constexpr std::string_view kAddedInVersion2[] = {"raster_triangle_on_pixels", "node_weighed", "upscale_pixel"};
 
+// The middle value of a timing's runs, the upper of the two middle ones for an even count (as the repeats of a
+// calibration frame count the slower of two); `values` not empty.
+double upperMedian(std::vector<double> values) {
+  const auto middle = values.begin() + std::ptrdiff_t(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
 // Seconds per output pixel of bringing a third-size frame up to width × height (the budget's most common
 // divisor; the pass's work is mostly per output pixel), the median of `runs`. The image's content
 // does not matter: the pass has no branch on it.
@@ -51,8 +59,7 @@ double timeUpscalePerPixel(std::uint32_t width, std::uint32_t height, std::uint3
     const std::vector<std::uint8_t> bytes = upscaleBilinearRgba8(image, w, h, width, height);
     seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
-  std::nth_element(seconds.begin(), seconds.begin() + seconds.size() / 2, seconds.end());
-  return seconds[seconds.size() / 2] / (double(width) * double(height));
+  return upperMedian(std::move(seconds)) / (double(width) * double(height));
 }
 
 // Seconds per node a budget's traversal weighs (FrameWork::nodesWeighed): each camera's cut chosen for 33 ms by
@@ -68,9 +75,7 @@ double timeNodeWeighing(const Scene& scene, const Hierarchy& hierarchy, const Sc
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (draws.nodesWeighed > 0) perNode.push_back(seconds / double(draws.nodesWeighed));
   }
-  if (perNode.empty()) return costs.perNodeWeighed;
-  std::nth_element(perNode.begin(), perNode.begin() + std::ptrdiff_t(perNode.size() / 2), perNode.end());
-  return perNode[perNode.size() / 2];
+  return perNode.empty() ? costs.perNodeWeighed : upperMedian(std::move(perNode));
 }
 
 }  // namespace

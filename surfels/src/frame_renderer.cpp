@@ -206,13 +206,11 @@ FrameResult FrameRenderer::render(const Camera& camera) {
           : BudgetResolution{.divisor = 1.0, .pass = options_.lod.budget};
   if (resolution.divisor > 1.0) {
     renderReduced(camera, resolution, result);
-    result.stats.traverseSeconds += resolution.traverseSeconds;
   } else if (options_.samples == 1) {
     fitGbuffer(camera);
     result.stats = drawPass(camera, gbuffer_, options_.lod, result.surfelLoadSeconds, resolution.draws);
     if (options_.image == FrameImage::Float) result.image = shadeHeadlight(gbuffer_, camera);
     if (options_.image == FrameImage::Rgba8) result.rgba8 = shadeHeadlightRgba8(gbuffer_, camera);
-    result.stats.traverseSeconds += resolution.traverseSeconds;
   } else {
     fitGbuffer(camera);
     SampleSums sums;
@@ -236,6 +234,8 @@ FrameResult FrameRenderer::render(const Camera& camera) {
     if (options_.image != FrameImage::None) result.image = resolveSamples(sums);
     if (options_.image == FrameImage::Rgba8) result.rgba8 = toRgba8(std::exchange(result.image, {}));
   }
+  // Choosing a budget's resolution traversed the cut the frame drew (and any it weighed against it).
+  result.stats.traverseSeconds += resolution.traverseSeconds;
   result.seconds = detail::secondsSince(start);
   return result;
 }
