@@ -16,6 +16,9 @@ namespace {
 constexpr int kMaxDims = 1 << 20;
 // A rebuild happens whenever the count has grown this much: on a surface the spacing then halves.
 constexpr std::size_t kGrowth = 4;
+// Points an occupied cell may hold on average before the cells shrink, and how often they may.
+constexpr double kCrowdedCell = 4.0;
+constexpr int kMaxShrinks = 3;
 
 }  // namespace
 
@@ -120,15 +123,28 @@ void NearestPointGrid::link(std::uint32_t entry) {
 void NearestPointGrid::rebuild() {
   const std::size_t count = inserted_.size();
   rebuildAt_ = std::max<std::size_t>(16, kGrowth * count);
-  // On a surface the spacing of n points is about extent / sqrt(n); cells of twice that keep a
-  // typical nearest neighbour within the first shell around the query's cell.
+  // On a surface spread over the box the spacing of n points is about extent / sqrt(n); cells of twice
+  // that keep a typical nearest neighbour within the first shell around the query's cell.
   const float maxExtent = std::max({extent_.x, extent_.y, extent_.z});
+  const float smallest = maxExtent / static_cast<float>(kMaxDims - 1);
   cellSize_ = maxExtent > 0.0f ? 2.0f * maxExtent / std::sqrt(static_cast<float>(count)) : 1.0f;
-  cellSize_ = std::max(cellSize_, maxExtent / static_cast<float>(kMaxDims - 1));
-  dims_ = glm::min(glm::ivec3(glm::floor(extent_ / cellSize_)) + 1, glm::ivec3(kMaxDims));
   head_.assign(std::bit_ceil(rebuildAt_), -1);
   next_.resize(count);
-  for (std::uint32_t e = 0; e < count; ++e) link(e);
+  // Points that fill a small part of the box (the buildings of a city block, a few parts far apart) crowd
+  // its cells, and a query would read every point of 27 crowded cells: the cells shrink by the surface's
+  // rule until an occupied cell holds few points. (Queries are exact at any cell size.)
+  for (int attempt = 0;; ++attempt) {
+    cellSize_ = std::max(cellSize_, smallest);
+    dims_ = glm::min(glm::ivec3(glm::floor(extent_ / cellSize_)) + 1, glm::ivec3(kMaxDims));
+    std::fill(head_.begin(), head_.end(), -1);
+    for (std::uint32_t e = 0; e < count; ++e) link(e);
+    if (attempt == kMaxShrinks || cellSize_ <= smallest) break;
+    // Occupied slots stand for occupied cells (the table has four slots a point, so few cells share one).
+    const auto occupied = std::size_t(std::count_if(head_.begin(), head_.end(), [](std::int32_t e) { return e >= 0; }));
+    const double crowding = occupied > 0 ? double(count) / double(occupied) : 0.0;
+    if (crowding <= kCrowdedCell) break;
+    cellSize_ *= static_cast<float>(std::sqrt(kCrowdedCell / crowding));
+  }
 }
 
 void NearestPointGrid::insert(std::uint32_t index) {
@@ -142,7 +158,16 @@ void NearestPointGrid::insert(std::uint32_t index) {
   link(static_cast<std::uint32_t>(inserted_.size() - 1));
 }
 
-float NearestPointGrid::nearestSquared(const glm::vec3& query, std::uint32_t skip) const {
+float NearestPointGrid::nearestByScan(const glm::vec3& query, std::uint32_t skip, float best) const {
+  for (std::size_t e = 0; e < position_.size() && best > 0.0f; ++e) {
+    if (inserted_[e] == skip) continue;
+    const glm::vec3 d = position_[e] - query;
+    best = std::min(best, glm::dot(d, d));
+  }
+  return best;
+}
+
+float NearestPointGrid::nearestSquared(const glm::vec3& query, std::uint32_t skip, float limitSquared) const {
   float best = std::numeric_limits<float>::infinity();
   if (inserted_.empty()) return best;
   const glm::ivec3 c = cellOf(query);
@@ -150,7 +175,7 @@ float NearestPointGrid::nearestSquared(const glm::vec3& query, std::uint32_t ski
     // Skip cells that cannot hold anything nearer than the best so far (cheaper than their memory).
     const glm::vec3 boxLo = lo_ + glm::vec3(x, y, z) * cellSize_;
     const glm::vec3 gap = glm::max(glm::max(boxLo - query, query - (boxLo + cellSize_)), glm::vec3(0.0f));
-    if (glm::dot(gap, gap) > best) return;
+    if (glm::dot(gap, gap) > std::min(best, limitSquared)) return;
     for (std::int32_t e = head_[slotOf({x, y, z})]; e >= 0; e = next_[e]) {
       const std::uint32_t index = inserted_[e];
       if (index == skip) continue;
@@ -162,9 +187,17 @@ float NearestPointGrid::nearestSquared(const glm::vec3& query, std::uint32_t ski
   };
   const glm::ivec3 far = glm::max(c, dims_ - 1 - c);
   const int lastShell = std::max({far.x, far.y, far.z});
+  // Shells grow as s²: a query far from every point (an outlier's, or one in empty space of cells shrunk to
+  // crowded points) reads every point instead once the shells would visit more cells than there are points.
+  const auto cellsWithin = [&](const glm::ivec3& lo, const glm::ivec3& hi) {
+    const glm::dvec3 side = glm::dvec3(hi - lo + 1);
+    return side.x * side.y * side.z;
+  };
+  const double cellBudget = double(inserted_.size()) + 64.0;
   for (int s = 0; s <= lastShell; ++s) {
     const glm::ivec3 lo = glm::max(c - s, glm::ivec3(0));
     const glm::ivec3 hi = glm::min(c + s, dims_ - 1);
+    if (cellsWithin(lo, hi) > cellBudget) return nearestByScan(query, skip, best);
     for (int z = lo.z; z <= hi.z; ++z) {
       for (int y = lo.y; y <= hi.y; ++y) {
         if (std::abs(z - c.z) == s || std::abs(y - c.y) == s) {
@@ -177,7 +210,7 @@ float NearestPointGrid::nearestSquared(const glm::vec3& query, std::uint32_t ski
     }
     // Every point outside the shells searched so far is at least s cells away.
     const float reach = static_cast<float>(s) * cellSize_;
-    if (best <= reach * reach) break;
+    if (std::min(best, limitSquared) <= reach * reach) break;
   }
   return best;
 }

@@ -37,8 +37,11 @@ class NearestPointGrid {
 
   void insert(std::uint32_t index);
 
-  // Squared distance from `query` to the nearest inserted point other than `skip`; +inf when none.
-  float nearestSquared(const glm::vec3& query, std::uint32_t skip = kNone) const;
+  // Squared distance from `query` to the nearest inserted point other than `skip`; +inf when none. With
+  // `limitSquared`, the search stops at that squared distance: nearer points are found exactly, and a value
+  // above the limit (+inf or a farther point's) says none is within it.
+  float nearestSquared(const glm::vec3& query, std::uint32_t skip = kNone,
+                       float limitSquared = std::numeric_limits<float>::infinity()) const;
 
  private:
   // Re-links every inserted point with a cell size matched to the current count.
@@ -46,6 +49,8 @@ class NearestPointGrid {
   glm::ivec3 cellOf(const glm::vec3& p) const;
   std::uint32_t slotOf(const glm::ivec3& cell) const;
   void link(std::uint32_t entry);
+  // min(best, the squared distance to the nearest inserted point other than `skip`), every point read.
+  float nearestByScan(const glm::vec3& query, std::uint32_t skip, float best) const;
 
   std::span<const glm::vec3> points_;
   glm::vec3 lo_{0.0f};

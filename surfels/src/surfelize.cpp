@@ -303,7 +303,7 @@ double twoSidedShare(std::span<const Surfel> surfels, double reach) {
   for (std::uint32_t i = 0; i < surfels.size(); ++i) {
     if (surfels[i].normal == glm::vec3(0.0f)) continue;
     ++facing;
-    twins += grid.nearestSquared(surfels[i].position - lift * surfels[i].normal, i) <= reach2;
+    twins += grid.nearestSquared(surfels[i].position - lift * surfels[i].normal, i, reach2) <= reach2;
   }
   return facing > 0 ? double(twins) / double(facing) : 0.0;
 }

@@ -189,6 +189,30 @@ TEST(BlueNoiseMetrics, MeanNearestNeighbourOfAGrid) {
   EXPECT_EQ(meanNearestNeighbourDistance(points, order, 1), 0.0);
 }
 
+// Points crowded into a few small clusters of a large box, and one far outlier: the grid shrinks its cells
+// to the clusters, and a query whose nearest point lies hundreds of cells away reads every point instead.
+// Both must leave the exact nearest distances, so the mean is the brute force's to the bit.
+TEST(BlueNoiseMetrics, MeanNearestNeighbourOfCrowdedClustersIsExact) {
+  SeededRandom rng(12);
+  std::vector<glm::vec3> points;
+  for (int cluster = 0; cluster < 6; ++cluster) {
+    const glm::vec3 centre(rng.unit() * 1000.0, rng.unit() * 1000.0, rng.unit() * 1000.0);
+    for (const glm::vec3& p : uniformSpherePoints(500, std::uint64_t(cluster))) points.push_back(centre + 0.5f * p);
+  }
+  points.emplace_back(-5000.0f, 0.0f, 0.0f);
+  const auto order = orderRandom(points, std::uint32_t(points.size()), 4);
+  for (std::size_t count : {std::size_t(40), points.size()}) {
+    double sum = 0.0;
+    for (std::size_t k = 0; k < count; ++k) {
+      float nearest = std::numeric_limits<float>::infinity();
+      for (std::size_t j = 0; j < count; ++j)
+        if (j != k) nearest = std::min(nearest, squaredDistance(points[order[j]], points[order[k]]));
+      sum += std::sqrt(double(nearest));
+    }
+    EXPECT_EQ(meanNearestNeighbourDistance(points, order, count), sum / double(count)) << count;
+  }
+}
+
 TEST(StiffInputs, EmptyInput) {
   const std::vector<glm::vec3> none;
   EXPECT_TRUE(orderRandom(none, 10, 1).empty());
