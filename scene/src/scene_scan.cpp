@@ -70,10 +70,13 @@ SceneScan scanScene(const Scene& scene, const Hierarchy& structure, const SceneS
         }
       });
     }
-    tbb::parallel_for(std::size_t(0), areasOf[m].size(), [&](std::size_t i) {
-      const std::uint32_t q = areasOf[m][i];
-      areas[q] = meshArea(mesh, areaQueries[q].linear);
-    });
+    if (!areasOf[m].empty()) {
+      const TriangleAreaVectors vectors(mesh);
+      tbb::parallel_for(std::size_t(0), areasOf[m].size(), [&](std::size_t i) {
+        const std::uint32_t q = areasOf[m][i];
+        areas[q] = vectors.areaUnder(areaQueries[q].linear);
+      });
+    }
   };
   SceneFingerprinter fingerprint(scene);
   std::uint32_t next = 0;

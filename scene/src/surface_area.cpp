@@ -22,11 +22,19 @@ std::optional<double> similarityScaleSquared(const glm::dmat3& linear) {
   return s2;
 }
 
-// Every mesh's own area (identity transform), computed in parallel, once.
-std::vector<double> meshAreas(const Scene& scene) {
-  std::vector<double> areas(scene.meshes.size());
-  tbb::parallel_for(std::size_t(0), scene.meshes.size(),
-                    [&](std::size_t m) { areas[m] = meshArea(scene.meshes[m], glm::dmat3(1.0)); });
+// Every mesh's area vectors, and from them its own area (identity transform), computed in parallel, once.
+struct MeshAreas {
+  std::vector<TriangleAreaVectors> vectors;
+  std::vector<double> unit;
+};
+MeshAreas meshAreas(const Scene& scene) {
+  MeshAreas areas;
+  areas.vectors.resize(scene.meshes.size(), TriangleAreaVectors(Mesh{}));
+  areas.unit.resize(scene.meshes.size());
+  tbb::parallel_for(std::size_t(0), scene.meshes.size(), [&](std::size_t m) {
+    areas.vectors[m] = TriangleAreaVectors(scene.meshes[m]);
+    areas.unit[m] = areas.vectors[m].areaUnder(glm::dmat3(1.0));
+  });
   return areas;
 }
 
@@ -77,36 +85,57 @@ std::vector<double> sumOwnFrameAreas(const Scene& scene, const Hierarchy& hierar
 
 }  // namespace
 
-double meshArea(const Mesh& mesh, const glm::dmat3& linear) {
+TriangleAreaVectors::TriangleAreaVectors(const Mesh& mesh) {
+  const std::size_t triangles = mesh.indices.size() / 3;
+  x_.resize(triangles);
+  y_.resize(triangles);
+  z_.resize(triangles);
+  for (std::size_t t = 0; t < triangles; ++t) {
+    const glm::dvec3 a(mesh.positions[mesh.indices[3 * t]]);
+    const glm::dvec3 b(mesh.positions[mesh.indices[3 * t + 1]]);
+    const glm::dvec3 c(mesh.positions[mesh.indices[3 * t + 2]]);
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    x_[t] = n.x;
+    y_[t] = n.y;
+    z_[t] = n.z;
+  }
+}
+
+double TriangleAreaVectors::areaUnder(const glm::dmat3& linear) const {
+  // (L u) × (L v) = cof(L) (u × v), whose columns are the crossed pairs of L's columns.
+  const glm::dmat3 cofactor(glm::cross(linear[1], linear[2]), glm::cross(linear[2], linear[0]),
+                            glm::cross(linear[0], linear[1]));
+  const bool identity = linear == glm::dmat3(1.0);  // then the vectors themselves, bit for bit
   double area = 0.0;
-  for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
-    const glm::dvec3 a = linear * glm::dvec3(mesh.positions[mesh.indices[i]]);
-    const glm::dvec3 b = linear * glm::dvec3(mesh.positions[mesh.indices[i + 1]]);
-    const glm::dvec3 c = linear * glm::dvec3(mesh.positions[mesh.indices[i + 2]]);
-    area += 0.5 * glm::length(glm::cross(b - a, c - a));
+  for (std::size_t t = 0; t < x_.size(); ++t) {
+    const glm::dvec3 n(x_[t], y_[t], z_[t]);
+    area += 0.5 * glm::length(identity ? n : cofactor * n);
   }
   return area;
 }
 
+double meshArea(const Mesh& mesh, const glm::dmat3& linear) { return TriangleAreaVectors(mesh).areaUnder(linear); }
+
 double subtreeSurfaceArea(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node) {
+  const MeshAreas areas = meshAreas(scene);
   const auto areaOf = [&](std::uint32_t mesh, const glm::dmat3& linear) {
-    return meshArea(scene.meshes[mesh], linear);
+    return areas.vectors[mesh].areaUnder(linear);
   };
-  return areaUnder(scene, meshAreas(scene), node, glm::dmat3(hierarchy.world[node]), areaOf);
+  return areaUnder(scene, areas.unit, node, glm::dmat3(hierarchy.world[node]), areaOf);
 }
 
 std::vector<double> ownFrameSurfaceAreas(const Scene& scene, const Hierarchy& hierarchy) {
-  const std::vector<double> unitAreas = meshAreas(scene);
+  const MeshAreas areas = meshAreas(scene);
   std::vector<double> underLocal(scene.nodes.size(), -1.0);
   const std::vector<std::uint32_t> irregular = irregularNodes(scene, hierarchy);
   tbb::parallel_for(std::size_t(0), irregular.size(), [&](std::size_t i) {
     const std::uint32_t n = irregular[i];
     const auto areaOf = [&](std::uint32_t mesh, const glm::dmat3& linear) {
-      return meshArea(scene.meshes[mesh], linear);
+      return areas.vectors[mesh].areaUnder(linear);
     };
-    underLocal[n] = areaUnder(scene, unitAreas, n, glm::dmat3(scene.nodes[n].local), areaOf);
+    underLocal[n] = areaUnder(scene, areas.unit, n, glm::dmat3(scene.nodes[n].local), areaOf);
   });
-  return sumOwnFrameAreas(scene, hierarchy, unitAreas, underLocal);
+  return sumOwnFrameAreas(scene, hierarchy, areas.unit, underLocal);
 }
 
 std::vector<MeshAreaQuery> ownFrameAreaQueries(const Scene& scene, const Hierarchy& hierarchy) {

@@ -25,6 +25,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cmath>
 
 namespace pbs {
@@ -84,6 +85,49 @@ TEST(SurfaceArea, OwnFrameAreasOfAllNodesMatchTheOneNodeSum) {
   for (std::uint32_t n : hierarchy.preorder)
     EXPECT_NEAR(areas[n], subtreeSurfaceArea(scene, analyzeSubtree(scene, n), n), 1e-12 * areas[n]) << n;
   EXPECT_NEAR(areas[3], 24.0, 1e-9) << "a box [-1, 1]³ in its own frame";
+}
+
+// The area under a linear map by its definition, in long double: each triangle's vertices mapped, then crossed.
+double mappedTriangleArea(const Mesh& mesh, const glm::dmat3& linear) {
+  using Vector = std::array<long double, 3>;
+  const auto map = [&](const glm::vec3& p) {
+    Vector v{};
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) v[r] += (long double)linear[c][r] * (long double)p[c];
+    return v;
+  };
+  long double area = 0.0L;
+  for (std::size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+    const Vector a = map(mesh.positions[mesh.indices[i]]), b = map(mesh.positions[mesh.indices[i + 1]]),
+                 c = map(mesh.positions[mesh.indices[i + 2]]);
+    const Vector u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const Vector n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    area += 0.5L * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  }
+  return double(area);
+}
+
+// meshArea takes each triangle's cross product through the map's cofactor matrix: the definition's value
+// under shears, non-uniform and singular (zero-thickness) scales, and a degenerate triangle adds nothing.
+TEST(SurfaceArea, MeshAreaUnderAnyLinearMapIsTheMappedTrianglesArea) {
+  Mesh mesh;
+  SeededRandom rng(3);
+  for (int i = 0; i < 300; ++i)
+    mesh.positions.emplace_back(rng.unit() * 4.0 - 2.0, rng.unit() * 4.0 - 2.0, rng.unit() * 4.0 - 2.0);
+  for (std::uint32_t i = 0; i + 2 < 300; i += 3) mesh.indices.insert(mesh.indices.end(), {i, i + 1, i + 2});
+  mesh.indices.insert(mesh.indices.end(), {5, 5, 7});  // degenerate
+  const glm::dmat3 shear(glm::dvec3(2.0, 0.0, 0.0), glm::dvec3(0.7, 0.5, 0.0), glm::dvec3(-0.3, 0.2, 3.0));
+  const glm::dmat3 flat(glm::dvec3(1.0, 0.0, 0.0), glm::dvec3(0.0, 1.0, 0.0), glm::dvec3(0.0, 0.0, 0.0));
+  const glm::dmat3 stretched =
+      glm::dmat3(glm::rotate(glm::dmat4(1.0), 0.4, glm::dvec3(1.0, 2.0, 0.5))) *
+      glm::dmat3(glm::dvec3(1e6, 0.0, 0.0), glm::dvec3(0.0, 1e-3, 0.0), glm::dvec3(0.0, 0.0, 1.0));
+  for (const glm::dmat3& linear : {shear, flat, stretched, glm::dmat3(-1.0)}) {
+    const double expected = mappedTriangleArea(mesh, linear);
+    EXPECT_NEAR(meshArea(mesh, linear), expected, 1e-12 * expected);
+  }
+  EXPECT_NEAR(meshArea(mesh, glm::dmat3(1.0)), mappedTriangleArea(mesh, glm::dmat3(1.0)),
+              1e-12 * meshArea(mesh, glm::dmat3(1.0)));
+  EXPECT_EQ(meshArea(mesh, glm::dmat3(0.0)), 0.0);
 }
 
 TEST(Surfelize, InstancesShareArraysAndNodesGetStablePaths) {
