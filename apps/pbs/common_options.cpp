@@ -106,14 +106,14 @@ void addLodOptions(CLI::App& command, LodOptions& lod) {
       command
           .add_option_function<double>(
               "--budget-primitives", [&lod](double limit) { lod.budget = LodBudget::primitives(limit); },
-              "choose the cut by a budget instead of --threshold-pixels: refine the nodes largest on screen while "
+              "choose the cut by a budget: refine the nodes largest on screen, none below --threshold-pixels, while "
               "the triangles plus surfels drawn stay within this many")
           ->check(positiveNumber());
   CLI::Option* milliseconds =
       command
           .add_option_function<double>(
               "--budget-ms", [&lod](double ms) { lod.budget = LodBudget::seconds(ms / 1e3); },
-              "choose the cut by a frame time instead of --threshold-pixels: refine the nodes largest on screen "
+              "choose the cut by a frame time: refine the nodes largest on screen, none below --threshold-pixels, "
               "while the frame's predicted time (--calibration) stays within this many milliseconds")
           ->check(positiveNumber())
           ->excludes(primitives);

@@ -21,6 +21,9 @@ namespace {
 // A node of the cut drawn as its surfels.
 struct SurfelEntry {
   double size = 0.0;  // projected size, pixels: the refinement order
+  // At or below the node's descent threshold: the threshold's traversal draws it as this prefix, and so does
+  // the budget, refining no further (its children would cost more per pixel and look no better).
+  bool finest = false;
   FrameWork work;
   LodDraws::Surfels draw;
 };
@@ -128,7 +131,7 @@ class BudgetTraversal {
     // Only a budget in seconds prices pixels.
     if (options_.budget.unit == BudgetUnit::Seconds)
       work.surfelPixels = splatPixels(camera_, hierarchy_.world[node], splats, draw);
-    return {size, work, draw};
+    return {size, size <= lod::descentThreshold(splats, at, size, options_), work, draw};
   }
 
   const Scene& scene_;
@@ -239,6 +242,10 @@ LodDraws traverseWithBudget(const Scene& scene, const Hierarchy& hierarchy, cons
   while (!open.empty()) {
     const SurfelEntry entry = open.top();
     open.pop();
+    if (entry.finest) {
+      kept.push_back(entry);
+      continue;
+    }
     Cut finer;
     traversal.refine(entry.draw.node, finer);
     FrameWork refined = total;

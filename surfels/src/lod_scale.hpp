@@ -45,4 +45,16 @@ inline LodDraws::Surfels prefixDraw(std::uint32_t node, std::uint32_t array, con
   return {node, array, count, radius, pointSize, full};
 }
 
+// The projected size (pixels) up to which a node is drawn as its array's prefix rather than descended into:
+// options.threshold, or lower where the array cannot meet the demand at the top of the transition band
+// (options.descendExhausted). The demand grows with size², so the size at which it equals the array's length
+// is size · √(length / demand(size)).
+inline double descentThreshold(const SplatArray& splats, const NodeScale& at, double size, const LodOptions& options) {
+  if (!options.descendExhausted || !(size > 0.0)) return options.threshold;
+  const double demand = prefixDemand(splats, size, at.worldPixel, at.scale, options);
+  if (!(demand > 0.0)) return options.threshold;
+  const double sufficient = size * std::sqrt(double(splats.size()) / demand) / (1.0 + options.band);
+  return std::min(options.threshold, sufficient);
+}
+
 }  // namespace pbs::lod

@@ -30,7 +30,8 @@ class Traversal {
     const double size = std::sqrt(projectedBoxPixels(camera_, box));
     const NodeScale at =
         array != kNoSurfels ? lod::nodeScale(camera_, hierarchy_.world[node], surfels_.arrays[array]) : NodeScale{};
-    const double threshold = array != kNoSurfels ? thresholdOf(array, at, size) : options_.threshold;
+    const double threshold =
+        array != kNoSurfels ? lod::descentThreshold(surfels_.arrays[array], at, size, options_) : options_.threshold;
     const double upper = threshold * (1.0 + options_.band);
     if (array != kNoSurfels && size < upper) {
       // Inside the band the node's prefix first stays whole while the children grow in, then shrinks
@@ -62,18 +63,6 @@ class Traversal {
       draws.triangles += scene_.meshes[std::size_t(mesh)].triangleCount();
     }
     for (std::uint32_t child : scene_.nodes[node].children) visit(child, growth);
-  }
-
-  // The node's threshold: options_.threshold, or lower where the array cannot meet the demand at the
-  // top of the band (descendExhausted). The demand grows with size², so the size at which it equals the
-  // array's length is size · √(length / demand(size)).
-  double thresholdOf(std::uint32_t array, const NodeScale& at, double size) const {
-    if (!options_.descendExhausted || !(size > 0.0)) return options_.threshold;
-    const SplatArray& splats = surfels_.arrays[array];
-    const double demand = prefixDemand(splats, size, at.worldPixel, at.scale, options_);
-    if (!(demand > 0.0)) return options_.threshold;
-    const double sufficient = size * std::sqrt(double(splats.size()) / demand) / (1.0 + options_.band);
-    return std::min(options_.threshold, sufficient);
   }
 
   void drawSurfels(std::uint32_t node, std::uint32_t array, const NodeScale& at, double size, double factor) {

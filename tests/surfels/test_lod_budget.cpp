@@ -1,6 +1,6 @@
 // The cut chosen by a budget (LodOptions::budget): within the limit, the coarsest cut when the limit is
-// below it, every visible triangle when it is ample, closer to the exact picture as the budget grows, and
-// the same draws every time.
+// below it, no node refined below its descent threshold (every visible triangle when that threshold is tiny
+// and the budget ample), closer to the exact picture as the budget grows, and the same draws every time.
 #include "surfeled_scene.hpp"
 
 #include <pbs/raster/image_metrics.hpp>
@@ -21,9 +21,13 @@
 namespace pbs {
 namespace {
 
-LodOptions budgeted(double limit) {
+// A budget of `limit` primitives that may refine nodes down to `thresholdPixels` on screen: the ample budgets
+// below refine to every triangle at a threshold this small.
+constexpr double kRefineAll = 1e-3;
+LodOptions budgeted(double limit, double thresholdPixels = kRefineAll) {
   LodOptions options;
   options.budget = LodBudget::primitives(limit);
+  options.threshold = thresholdPixels;
   return options;
 }
 
@@ -31,6 +35,7 @@ std::uint64_t primitives(const LodDraws& draws) { return draws.triangles + draws
 
 TEST(LodBudget, StaysWithinTheLimitAndIsDeterministic) {
   const test::SurfeledScene s = test::surfeled(test::twoIdenticalGroups());
+  int stoppedAtTheThreshold = 0;  // views where an ample budget at the default threshold keeps surfels
   for (const Camera& camera : test::approachCameras(s, 4)) {
     const LodDraws coarsest = traverseLod(s.scene, s.hierarchy, s.surfels, camera, budgeted(1.0));
     // A root whose box reaches the eye has no finite size and is descended into, whatever the budget.
@@ -45,6 +50,16 @@ TEST(LodBudget, StaysWithinTheLimitAndIsDeterministic) {
     const LodDraws ample = traverseLod(s.scene, s.hierarchy, s.surfels, camera, budgeted(1e9));
     EXPECT_TRUE(ample.surfels.empty()) << "an ample budget refines down to every visible triangle";
     EXPECT_GT(ample.triangles, 0u);
+    // At the default threshold an ample budget stops where the threshold's traversal does: no node it keeps
+    // as surfels is larger than that on screen (its children would cost more and look no better).
+    const double threshold = LodOptions{}.threshold;
+    const LodDraws stopped = traverseLod(s.scene, s.hierarchy, s.surfels, camera, budgeted(1e9, threshold));
+    const LodDraws fixed = traverseLod(s.scene, s.hierarchy, s.surfels, camera, LodOptions{});
+    EXPECT_EQ(stopped.surfels.empty(), fixed.surfels.empty());
+    for (const LodDraws::Surfels& draw : stopped.surfels)
+      EXPECT_LE(std::sqrt(projectedBoxPixels(camera, s.hierarchy.worldBounds[draw.node])), threshold) << draw.node;
+    EXPECT_LE(primitives(stopped), primitives(ample));
+    stoppedAtTheThreshold += !stopped.surfels.empty();
     for (double limit : {2000.0, 4000.0, 8000.0, 16000.0}) {
       // Not more primitives for more budget, necessarily: a node's triangles may cost less than its prefix.
       const LodDraws draws = traverseLod(s.scene, s.hierarchy, s.surfels, camera, budgeted(limit));
@@ -60,6 +75,7 @@ TEST(LodBudget, StaysWithinTheLimitAndIsDeterministic) {
       }
     }
   }
+  EXPECT_GT(stoppedAtTheThreshold, 0) << "some view must leave nodes below the threshold";
 }
 
 // A city of 64 boxes in three levels, seen from the start of its approach: the least budget draws the
