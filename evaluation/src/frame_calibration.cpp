@@ -80,6 +80,9 @@ double timeNodeWeighing(const Scene& scene, const Hierarchy& hierarchy, const Sc
 
 }  // namespace
 
+// The smallest size on screen a calibration's budget cuts descend from.
+constexpr double kCalibrationThresholdPixels = 1.0;
+
 std::vector<CalibrationCut> calibrationCuts(const LodOptions& base) {
   std::vector<std::pair<std::string, LodOptions>> cuts;
   for (double threshold : {32.0, 128.0}) {
@@ -91,6 +94,9 @@ std::vector<CalibrationCut> calibrationCuts(const LodOptions& base) {
   for (double primitives : {250e3, 1e6, 4e6, 16e6}) {
     LodOptions lod = base;
     lod.budget = LodBudget::primitives(primitives);
+    // Refining below any threshold, so the cuts reach from the coarsest to mostly triangles: the fit needs
+    // frames of every mix, though a budget itself stops at the threshold.
+    lod.threshold = kCalibrationThresholdPixels;
     cuts.emplace_back("primitives=" + std::to_string(std::uint64_t(primitives)), lod);
   }
   std::vector<CalibrationCut> drawn;

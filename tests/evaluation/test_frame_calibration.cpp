@@ -30,6 +30,16 @@ TEST(FrameCalibration, TimesEveryViewUnderEveryCutAndReadsBackWhatItWrote) {
     rays += frame.timed.drawer == GeometryDrawer::Rays;
   }
   EXPECT_GT(rays, 0u) << "half the cuts draw their geometry by rays";
+  // The budget cuts refine past any threshold, so the fit sees frames of mostly triangles too: the largest
+  // draws more triangles than the threshold's cut on some view (a budget alone would stop where it stops).
+  std::vector<double> thresholdTriangles(cameras.size()), budgetTriangles(cameras.size());
+  for (const CalibrationFrame& frame : calibration.frames) {
+    if (frame.cut == "threshold=128+geometry=raster") thresholdTriangles[frame.view] = frame.timed.work.triangles;
+    if (frame.cut == "primitives=16000000+geometry=raster") budgetTriangles[frame.view] = frame.timed.work.triangles;
+  }
+  std::size_t finer = 0;
+  for (std::size_t v = 0; v < cameras.size(); ++v) finer += budgetTriangles[v] > thresholdTriangles[v];
+  EXPECT_GT(finer, 0u);
   const nlohmann::json json = calibrationJson(calibration);
   EXPECT_EQ(json["frames"].size(), calibration.frames.size());
   EXPECT_EQ(frameCostsFromJson(json, "c.json"), calibration.fit.costs);
