@@ -29,7 +29,7 @@ struct MeshAreas {
 };
 MeshAreas meshAreas(const Scene& scene) {
   MeshAreas areas;
-  areas.vectors.resize(scene.meshes.size(), TriangleAreaVectors(Mesh{}));
+  areas.vectors.resize(scene.meshes.size());
   areas.unit.resize(scene.meshes.size());
   tbb::parallel_for(std::size_t(0), scene.meshes.size(), [&](std::size_t m) {
     areas.vectors[m] = TriangleAreaVectors(scene.meshes[m]);

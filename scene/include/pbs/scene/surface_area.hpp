@@ -30,6 +30,7 @@ double meshArea(const Mesh& mesh, const glm::dmat3& linear);
 // areaUnder(linear) is meshArea(mesh, linear), and the same to the bit under the identity.
 class TriangleAreaVectors {
  public:
+  TriangleAreaVectors() = default;  // of a mesh without triangles
   explicit TriangleAreaVectors(const Mesh& mesh);
   double areaUnder(const glm::dmat3& linear) const;
 
