@@ -78,10 +78,10 @@ double timeNodeWeighing(const Scene& scene, const Hierarchy& hierarchy, const Sc
   return perNode.empty() ? costs.perNodeWeighed : upperMedian(std::move(perNode));
 }
 
-}  // namespace
-
 // The smallest size on screen a calibration's budget cuts descend from.
 constexpr double kCalibrationThresholdPixels = 1.0;
+
+}  // namespace
 
 std::vector<CalibrationCut> calibrationCuts(const LodOptions& base) {
   std::vector<std::pair<std::string, LodOptions>> cuts;

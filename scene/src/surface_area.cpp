@@ -105,16 +105,10 @@ double TriangleAreaVectors::areaUnder(const glm::dmat3& linear) const {
   // (L u) × (L v) = cof(L) (u × v), whose columns are the crossed pairs of L's columns.
   const glm::dmat3 cofactor(glm::cross(linear[1], linear[2]), glm::cross(linear[2], linear[0]),
                             glm::cross(linear[0], linear[1]));
-  const bool identity = linear == glm::dmat3(1.0);  // then the vectors themselves, bit for bit
   double area = 0.0;
-  for (std::size_t t = 0; t < x_.size(); ++t) {
-    const glm::dvec3 n(x_[t], y_[t], z_[t]);
-    area += 0.5 * glm::length(identity ? n : cofactor * n);
-  }
+  for (std::size_t t = 0; t < x_.size(); ++t) area += 0.5 * glm::length(cofactor * glm::dvec3(x_[t], y_[t], z_[t]));
   return area;
 }
-
-double meshArea(const Mesh& mesh, const glm::dmat3& linear) { return TriangleAreaVectors(mesh).areaUnder(linear); }
 
 double subtreeSurfaceArea(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node) {
   const MeshAreas areas = meshAreas(scene);

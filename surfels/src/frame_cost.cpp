@@ -235,6 +235,15 @@ double splatPixels(const Camera& camera, const glm::dmat4& world, const SplatArr
 
 double rayLevels(double triangles) { return std::log2(2.0 + triangles); }
 
+FrameWork geometryNodeWork(double triangles, double boxPixels) {
+  return {.triangles = triangles,
+          .geometryPixels = boxPixels,
+          .geometryRayPixels = boxPixels * rayLevels(triangles),
+          .trianglesOnPixels = std::min(triangles, boxPixels),
+          .nodes = 1.0,
+          .geometryNodes = 1.0};
+}
+
 double clippedBoxPixels(const Camera& camera, const Bounds& box) {
   if (box.empty() || outsideClipVolume(camera, box)) return 0.0;
   // A box around or behind the eye projects to +infinity: it fills at most the image.

@@ -63,14 +63,8 @@ class BudgetTraversal {
     if (array != kNoSurfels && std::isfinite(pixels)) {
       const SurfelEntry entry = surfelEntry(node, array, pixels);
       // A subtree whose every triangle costs less than its prefix is drawn exactly: cheaper and better.
-      const FrameWork exact{
-          .imagePixels = imagePixels_,
-          .triangles = double(hierarchy_.subtreeTriangles[node]),
-          .geometryPixels = std::min(pixels, imagePixels_),
-          .geometryRayPixels = std::min(pixels, imagePixels_) * rayLevels(double(hierarchy_.subtreeTriangles[node])),
-          .trianglesOnPixels = std::min(double(hierarchy_.subtreeTriangles[node]), std::min(pixels, imagePixels_)),
-          .nodes = 1.0,
-          .geometryNodes = 1.0};
+      const FrameWork exact =
+          geometryNodeWork(double(hierarchy_.subtreeTriangles[node]), std::min(pixels, imagePixels_));
       if (cost(exact) <= cost(entry.work)) {
         refine(node, cut, Descent::Geometry);
       } else if (entry.draw.count > 0) {
@@ -89,16 +83,11 @@ class BudgetTraversal {
     const std::int32_t mesh = scene_.nodes[node].mesh;
     if (mesh >= 0) {
       const std::uint64_t triangles = scene_.meshes[std::size_t(mesh)].triangleCount();
-      cut.work.triangles += double(triangles);
-      cut.work.nodes += 1.0;
-      cut.work.geometryNodes += 1.0;
       // Only a budget in seconds prices pixels.
-      if (options_.budget.unit == BudgetUnit::Seconds) {
-        const double pixels = clippedBoxPixels(camera_, instanceWorldBounds(scene_, hierarchy_, node));
-        cut.work.geometryPixels += pixels;
-        cut.work.geometryRayPixels += pixels * rayLevels(double(triangles));
-        cut.work.trianglesOnPixels += std::min(double(triangles), pixels);
-      }
+      const double pixels = options_.budget.unit == BudgetUnit::Seconds
+                                ? clippedBoxPixels(camera_, instanceWorldBounds(scene_, hierarchy_, node))
+                                : 0.0;
+      cut.work += geometryNodeWork(double(triangles), pixels);
       cut.triangles += triangles;
       cut.geometry.push_back(node);
     }

@@ -21,13 +21,11 @@ double subtreeSurfaceArea(const Scene& scene, const Hierarchy& hierarchy, std::u
 // triangles cost one pass over each distinct mesh plus the instances under non-similarity transforms.
 std::vector<double> ownFrameSurfaceAreas(const Scene& scene, const Hierarchy& hierarchy);
 
-// The summed area of the mesh's triangles under `linear`.
-double meshArea(const Mesh& mesh, const glm::dmat3& linear);
-
-// A mesh's areas under many linear maps: per triangle the vector (b − a) × (c − a), in double, once. A map L
-// takes it to cof(L) times it (cof(L) = det(L) L^−T, defined for singular L too), so each area is one
-// matrix product a triangle, not three vertex transforms (a generated city asks for 20,000 of them).
-// areaUnder(linear) is meshArea(mesh, linear), and the same to the bit under the identity.
+// A mesh's areas under linear maps: per triangle the vector (b − a) × (c − a), in double, once. A map L takes
+// it to cof(L) times it (cof(L) = det(L) L^−T, defined for singular L too), so each area is one matrix product
+// a triangle, not three vertex transforms (a generated city asks for 20,000 of them). areaUnder(linear): the
+// summed area of the mesh's triangles under `linear`; under the identity, the vectors' own lengths to the bit
+// (cof(I) = I, and I times a finite vector is that vector).
 class TriangleAreaVectors {
  public:
   TriangleAreaVectors() = default;  // of a mesh without triangles
@@ -39,10 +37,10 @@ class TriangleAreaVectors {
 };
 
 // ownFrameSurfaceAreas for a scene whose vertices are read elsewhere (a scan over its meshes): first the
-// mesh areas it needs, each meshArea(scene.meshes[mesh], linear) — every mesh under the identity, in mesh
-// order, then those of instances under non-similarity transforms, in the order the sums use them — then
-// the areas from their answers, bit for bit those of ownFrameSurfaceAreas(scene, hierarchy). Neither reads
-// a vertex; `hierarchy` needs only its preorder (analyzeStructure's will do).
+// mesh areas it needs, each TriangleAreaVectors(scene.meshes[mesh]).areaUnder(linear) — every mesh under the identity,
+// in mesh order, then those of instances under non-similarity transforms, in the order the sums use them — then the
+// areas from their answers, bit for bit those of ownFrameSurfaceAreas(scene, hierarchy). Neither reads a vertex;
+// `hierarchy` needs only its preorder (analyzeStructure's will do).
 struct MeshAreaQuery {
   std::uint32_t mesh;
   glm::dmat3 linear;

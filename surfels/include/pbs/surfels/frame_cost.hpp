@@ -60,6 +60,10 @@ double splatPixels(const Camera& camera, const glm::dmat4& world, const SplatArr
 // a binary BVH over them.
 double rayLevels(double triangles);
 
+// The work of one geometry node of `triangles` whose box fills `boxPixels` (clipped to the image; 0 where
+// pixels are not priced): its triangles, pixels, ray pixels and triangles on pixels, one node.
+FrameWork geometryNodeWork(double triangles, double boxPixels);
+
 // The pixels a box fills at most: its projected box, clipped to the image; 0 outside the clip volume.
 double clippedBoxPixels(const Camera& camera, const Bounds& box);
 
