@@ -11,6 +11,7 @@
 #include "pbs/surfels/geometry_drawer.hpp"
 #include "pbs/surfels/scene_surfels.hpp"
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -90,6 +91,9 @@ struct FrameCosts {
 };
 
 enum class BudgetUnit : std::uint32_t { Primitives, Seconds };
+
+// The resolution divisors a budget in seconds may draw a frame at, finest first (LodBudget::lowerResolution).
+inline constexpr std::array<double, 7> kBudgetDivisors{1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0};
 
 // A frame's cost, estimated from what it draws: a greedy refinement spends it (LodOptions::budget).
 struct LodBudget {
