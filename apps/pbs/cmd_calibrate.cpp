@@ -40,11 +40,10 @@ void run(const CalibrateOptions& options) {
   SurfelFileReader file(options.surfels);
   LoadedScene loaded = loadAndAnalyze(options.scene, LoadOptions{}, file);
   SurfelCache surfels(std::move(file), loaded.scene, loaded.hierarchy, options.cacheMb << 20);
-  std::vector<Camera> views;
+  std::vector<Camera> cameras;
   for (const char* path : {"orbit", "approach", "flythrough"})
     for (const PathView& view : pathViews(loaded, path, parseOrbit("30,20,2.5"), options.frames, width, height))
-      views.push_back(view.camera);
-  const std::vector<Camera> cameras = calibrationCameras(views);
+      cameras.push_back(view.camera);
   const std::vector<CalibrationCut> cuts = calibrationCuts(options.lod);
   const FrameCalibration calibration =
       calibrateFrameCosts(loaded.scene, loaded.hierarchy, {.cache = &surfels}, cameras, cuts, options.repeats,
@@ -56,9 +55,8 @@ void run(const CalibrateOptions& options) {
     return;
   }
   const FrameCosts& c = calibration.fit.costs;
-  std::printf("%s: %zu frames at %ux%u and lower resolutions (%zu cuts of %zu views at %zu sizes)\n",
-              loaded.name.c_str(), calibration.frames.size(), width, height, cuts.size(), views.size(),
-              cameras.size() / std::max<std::size_t>(views.size(), 1));
+  std::printf("%s: %zu frames at %ux%u (%zu cuts of %zu views)\n", loaded.name.c_str(), calibration.frames.size(),
+              width, height, cuts.size(), cameras.size());
   std::printf(
       "ns per image pixel %.2f, surfel %.2f, surfel pixel %.2f, node %.0f, node a budget weighs %.0f, upscaled pixel "
       "%.2f\n",

@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cmath>
 #include <iterator>
-#include <memory>
 #include <string_view>
 
 namespace pbs {
@@ -79,9 +78,6 @@ double timeNodeWeighing(const Scene& scene, const Hierarchy& hierarchy, const Sc
   return perNode.empty() ? costs.perNodeWeighed : upperMedian(std::move(perNode));
 }
 
-// The sizes calibrationCameras draws each view at: full, and two of kBudgetDivisors a budget falls back to.
-constexpr double kCalibrationDivisors[] = {1.0, 3.0, 8.0};
-
 // The smallest size on screen a calibration's budget cuts descend from.
 constexpr double kCalibrationThresholdPixels = 1.0;
 
@@ -113,13 +109,6 @@ std::vector<CalibrationCut> calibrationCuts(const LodOptions& base) {
   return drawn;
 }
 
-std::vector<Camera> calibrationCameras(std::span<const Camera> views) {
-  std::vector<Camera> cameras;
-  for (double divisor : kCalibrationDivisors)
-    for (const Camera& view : views) cameras.push_back(reducedCamera(view, divisor));
-  return cameras;
-}
-
 FrameCalibration calibrateFrameCosts(const Scene& scene, const Hierarchy& hierarchy, const FrameSources& sources,
                                      std::span<const Camera> cameras, std::span<const CalibrationCut> cuts,
                                      std::uint32_t repeats, double quantile, const ProgressEvents& progress) {
@@ -130,18 +119,14 @@ FrameCalibration calibrateFrameCosts(const Scene& scene, const Hierarchy& hierar
   const std::size_t total = cuts.size() * cameras.size();
   std::vector<TimedFrame> timed;
   for (std::size_t c = 0; c < cuts.size(); ++c) {
-    // A renderer per run of cameras of one size (a renderer draws frames of its size).
-    std::unique_ptr<FrameRenderer> renderer;
+    FrameRenderer renderer(scene, hierarchy, {.mode = RenderMode::Surfels, .lod = cuts[c].lod}, cameras[0].width,
+                           cameras[0].height, sources);
     for (std::uint32_t v = 0; v < cameras.size(); ++v) {
-      if (!renderer || cameras[v].width != cameras[v - 1].width || cameras[v].height != cameras[v - 1].height)
-        renderer = std::make_unique<FrameRenderer>(scene, hierarchy,
-                                                   FrameOptions{.mode = RenderMode::Surfels, .lod = cuts[c].lod},
-                                                   cameras[v].width, cameras[v].height, sources);
       // The repeat of median time (the slower of two): a budgeted frame is drawn once, and takes what a frame
       // typically takes, not the least it can.
       std::vector<TimedFrame> runs;
       for (std::uint32_t r = 0; r < std::max(repeats, 1u); ++r) {
-        const FrameResult result = renderer->render(cameras[v]);
+        const FrameResult result = renderer.render(cameras[v]);
         runs.push_back({.work = frameWork(result.stats, std::uint64_t(cameras[v].width) * cameras[v].height),
                         .seconds = result.recurringSeconds(),
                         .geometrySeconds = result.stats.geometrySeconds - result.stats.bvhBuildSeconds,

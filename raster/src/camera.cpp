@@ -1,7 +1,6 @@
 // Camera construction and the world ↔ window mapping of camera.hpp, in double precision.
 #include "pbs/raster/camera.hpp"
 
-#include <algorithm>
 #include <cmath>
 
 namespace pbs {
@@ -31,13 +30,6 @@ Camera perspectiveCamera(const glm::dmat4& view, double fovY, double near, doubl
   projection[2][3] = -1.0;
   projection[3][2] = -2.0 * far * near / (far - near);
   return Camera{view, projection, width, height};
-}
-
-Camera reducedCamera(const Camera& camera, double divisor) {
-  Camera reduced = camera;
-  reduced.width = std::max(1u, std::uint32_t(std::lround(double(camera.width) / divisor)));
-  reduced.height = std::max(1u, std::uint32_t(std::lround(double(camera.height) / divisor)));
-  return reduced;
 }
 
 glm::dmat4 windowFromClipMatrix(const Camera& camera) {

@@ -159,6 +159,13 @@ double cutBlur(const Scene& scene, const Hierarchy& hierarchy, const Camera& red
 
 }  // namespace
 
+Camera reducedCamera(const Camera& camera, double divisor) {
+  Camera reduced = camera;
+  reduced.width = std::max(1u, std::uint32_t(std::lround(double(camera.width) / divisor)));
+  reduced.height = std::max(1u, std::uint32_t(std::lround(double(camera.height) / divisor)));
+  return reduced;
+}
+
 BudgetResolution budgetResolution(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
                                   const Camera& camera, const LodOptions& options) {
   const LodBudget& budget = options.budget;

@@ -3,9 +3,16 @@
 
 #include "pbs/surfels/lod_render.hpp"
 
+#include <array>
 #include <optional>
 
 namespace pbs {
+
+// The resolution divisors a budget in seconds may draw a frame at, finest first (LodBudget::lowerResolution).
+inline constexpr std::array<double, 7> kBudgetDivisors{1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0};
+
+// The same view drawn at width / divisor × height / divisor pixels (rounded, at least 1).
+Camera reducedCamera(const Camera& camera, double divisor);
 
 // How a budget in seconds draws a frame: the least of kBudgetDivisors at which the coarsest cut (the one
 // traverseWithBudget refines from), plus the upscale below full size (predictUpscaleCost), is predicted to fit

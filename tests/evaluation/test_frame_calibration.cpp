@@ -1,13 +1,11 @@
-// calibrateFrameCosts: every cut times every view (at full size and a budget's lower ones), the fit is of those
-// frames, and the calibration file reads back the costs it wrote or names what is wrong with it.
+// calibrateFrameCosts: every cut times every view, the fit is of those frames, and the calibration file
+// reads back the costs it wrote or names what is wrong with it.
 #include "surfeled_scene.hpp"
 
 #include <pbs/evaluation/frame_calibration.hpp>
 #include <pbs/scene/input_error.hpp>
 
 #include <gtest/gtest.h>
-
-#include <algorithm>
 
 #include <string>
 #include <vector>
@@ -45,41 +43,6 @@ TEST(FrameCalibration, TimesEveryViewUnderEveryCutAndReadsBackWhatItWrote) {
   const nlohmann::json json = calibrationJson(calibration);
   EXPECT_EQ(json["frames"].size(), calibration.frames.size());
   EXPECT_EQ(frameCostsFromJson(json, "c.json"), calibration.fit.costs);
-}
-
-TEST(FrameCalibration, TimesEveryViewAtTheLowerResolutionsABudgetDrawsAtToo) {
-  const test::SurfeledScene s = test::surfeled(test::twoIdenticalGroups());
-  const std::vector<Camera> views = test::approachCameras(s, 2);
-  const std::vector<Camera> cameras = calibrationCameras(views);
-  ASSERT_GT(cameras.size(), views.size());
-  ASSERT_EQ(cameras.size() % views.size(), 0u);
-  // Each view at full size first (the upscale is timed at the first camera's size), then smaller, every size a
-  // divisor a budget draws at.
-  std::vector<std::uint32_t> widths;
-  for (std::size_t c = 0; c < cameras.size(); ++c) {
-    const Camera& view = views[c % views.size()];
-    EXPECT_EQ(cameras[c].view, view.view);
-    EXPECT_EQ(cameras[c].projection, view.projection);
-    if (c < views.size()) {
-      EXPECT_EQ(cameras[c].width, view.width);
-    }
-    const bool budgetSize = std::ranges::any_of(kBudgetDivisors, [&](double divisor) {
-      const Camera reduced = reducedCamera(view, divisor);
-      return reduced.width == cameras[c].width && reduced.height == cameras[c].height;
-    });
-    EXPECT_TRUE(budgetSize) << cameras[c].width << "x" << cameras[c].height;
-    widths.push_back(cameras[c].width);
-  }
-  EXPECT_LT(*std::ranges::min_element(widths), views[0].width / 4) << "down to a budget's smallest sizes";
-
-  const std::vector<CalibrationCut> cuts = calibrationCuts(LodOptions{});
-  const FrameCalibration calibration =
-      calibrateFrameCosts(s.scene, s.hierarchy, {.surfels = &s.surfels}, cameras, cuts, 1, 0.5);
-  ASSERT_EQ(calibration.frames.size(), cuts.size() * cameras.size());
-  for (const CalibrationFrame& frame : calibration.frames) {
-    const Camera& camera = cameras[frame.view];
-    EXPECT_EQ(frame.timed.work.imagePixels, double(camera.width) * camera.height) << frame.cut << " " << frame.view;
-  }
 }
 
 std::string refusal(const nlohmann::json& json) {

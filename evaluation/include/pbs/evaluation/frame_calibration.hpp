@@ -32,10 +32,6 @@ struct CalibrationCut {
 // each with its geometry drawn by the rasterizer and by rays (so both drawers' terms are fitted).
 std::vector<CalibrationCut> calibrationCuts(const LodOptions& base);
 
-// The cameras a calibration times: every view at its size, then every view at lower resolutions a budget draws
-// frames at (kBudgetDivisors), so that the fit also sees frames of few pixels and many small nodes.
-std::vector<Camera> calibrationCameras(std::span<const Camera> views);
-
 struct CalibrationFrame {
   std::string cut;
   std::uint32_t view = 0;
@@ -49,7 +45,7 @@ struct FrameCalibration {
   std::vector<CalibrationFrame> frames;
 };
 
-// Renders every camera (of the same size as the one before it, mostly: a size is a renderer) under every cut in surfels mode, `repeats` times each (at least 1), keeps each
+// Renders every camera under every cut in surfels mode, `repeats` times each (at least 1), keeps each
 // frame's median time and fits FrameCosts to them (fitFrameCosts, at `quantile`); then times a budget's
 // traversal per node it weighs (FrameCosts::perNodeWeighed) and the upscale to the cameras' size
 // (FrameCosts::upscalePerPixel). `sources` as for FrameRenderer (surfels or a cache).

@@ -32,10 +32,6 @@ Camera orthographicCamera(const glm::dmat4& view, double left, double right, dou
 Camera perspectiveCamera(const glm::dmat4& view, double fovY, double near, double far, std::uint32_t width,
                          std::uint32_t height);
 
-// The same view drawn at width / divisor × height / divisor pixels (rounded, at least 1): what a frame drawn at
-// a lower resolution and upscaled sees.
-Camera reducedCamera(const Camera& camera, double divisor);
-
 // Whether a matrix into clip space keeps w ≡ 1 (its w row is (0, 0, 0, 1): an orthographic
 // projection of affine transforms), so that the division by w can be skipped exactly.
 inline bool keepsUnitW(const glm::dmat4& m) {

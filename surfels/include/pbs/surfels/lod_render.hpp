@@ -11,7 +11,6 @@
 #include "pbs/surfels/geometry_drawer.hpp"
 #include "pbs/surfels/scene_surfels.hpp"
 
-#include <array>
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -91,9 +90,6 @@ struct FrameCosts {
 };
 
 enum class BudgetUnit : std::uint32_t { Primitives, Seconds };
-
-// The resolution divisors a budget in seconds may draw a frame at, finest first (LodBudget::lowerResolution).
-inline constexpr std::array<double, 7> kBudgetDivisors{1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0};
 
 // A frame's cost, estimated from what it draws: a greedy refinement spends it (LodOptions::budget).
 struct LodBudget {
