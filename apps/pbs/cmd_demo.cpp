@@ -76,9 +76,11 @@ void run(const DemoOptions& options) {
   // The surfels against the exact renderer a user without a GPU has, Embree's rays at 1 and 4 samples
   // per pixel, all measured against the converged reference: rays at kReferenceSamples.
   const EmbreeScene rays(loaded.scene, loaded.hierarchy);
+  LodOptions lod;
+  lod.descendWhereRaysCheaper = true;  // every command's default (addLodOptions)
   const auto frameOf = [&](RenderMode mode, std::uint32_t samples) {
-    FrameRenderer renderer(loaded.scene, loaded.hierarchy, {.mode = mode, .lod = {}, .samples = samples}, options.width,
-                           options.height, {.surfels = &surfels, .simplified = nullptr, .rays = &rays});
+    FrameRenderer renderer(loaded.scene, loaded.hierarchy, {.mode = mode, .lod = lod, .samples = samples},
+                           options.width, options.height, {.surfels = &surfels, .simplified = nullptr, .rays = &rays});
     return renderer.render(camera);
   };
   const FrameResult reference = frameOf(RenderMode::Embree, kReferenceSamples);

@@ -95,6 +95,8 @@ FrameCosts readCalibration(const std::string& file) {
 }  // namespace
 
 void addLodOptions(CLI::App& command, LodOptions& lod) {
+  // The commands draw surfels mode through FrameRenderer, which has rays to draw geometry with.
+  lod.descendWhereRaysCheaper = true;
   // Defined before the budgets, so that CLI11 (which runs callbacks in definition order) has read the
   // costs whatever the order on the command line.
   command
@@ -167,6 +169,13 @@ void addLodOptions(CLI::App& command, LodOptions& lod) {
                   "a node whose array is too short for its size: descend (lower its threshold, the default) or "
                   "grow (draw the whole array with larger points, the paper's cap)")
       ->transform(CLI::CheckedTransformer(exhausted));
+  const std::map<std::string, bool> cheaperRays = {{"descend", true}, {"keep", false}};
+  command
+      .add_option("--rays-cheaper", lod.descendWhereRaysCheaper,
+                  "a node below the threshold whose subtree drawn by rays is predicted to cost less than its "
+                  "surfels: descend (draw it exactly, the default) or keep (its surfels: the threshold alone "
+                  "decides, the paper's rule)")
+      ->transform(CLI::CheckedTransformer(cheaperRays));
   const std::map<std::string, PrefixRule> rules = {{"coverage", PrefixRule::Coverage},
                                                    {"packing", PrefixRule::Packing}};
   command.add_option("--prefix-rule", lod.prefixRule, "coverage (paper, default) or packing (authors' later rule)")

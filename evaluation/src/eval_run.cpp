@@ -83,9 +83,10 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
   const EmbreeScene* sharedRays = rays ? &*rays : nullptr;
 
   // A frame's kind says how near the view is under the one threshold: an option that descends sooner
-  // (descendExhausted) must not move its own frames to the near kind's laxer targets.
+  // (descendExhausted, descendWhereRaysCheaper) must not move its own frames to the near kind's laxer targets.
   LodOptions kindLod = inputs.kindLod;
   kindLod.descendExhausted = false;
+  kindLod.descendWhereRaysCheaper = false;
   std::vector<RgbaImage> reference;
   {
     FrameRenderer renderer(

@@ -60,6 +60,9 @@ void apply(const std::string& option, const std::string& key, const std::string&
     if (value != "descend" && value != "grow")
       throw SweepError(option, "exhausted is descend or grow, got '" + value + "'");
     setting.lod.descendExhausted = value == "descend";
+  } else if (key == "rays") {
+    if (value != "descend" && value != "keep") throw SweepError(option, "rays is descend or keep, got '" + value + "'");
+    setting.lod.descendWhereRaysCheaper = value == "descend";
   } else if (key == "band") {
     setting.lod.band = parseNumber(option, key, value, 0.0, 10.0);
   } else if (key == "rule") {
@@ -117,9 +120,8 @@ bool EvalSetting::drawsLike(const EvalSetting& o) const {
 }
 
 std::string sweepKeys() {
-  return "embree, exact, overdraw, threshold, primitives, ms, exhausted, point, splat, cull, gain, band, rule, "
-         "geometry, "
-         "ordering, simplify";
+  return "embree, exact, overdraw, threshold, primitives, ms, exhausted, rays, point, splat, cull, gain, band, rule, "
+         "geometry, ordering, simplify";
 }
 
 std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& baseline, const std::string& option) {

@@ -162,6 +162,7 @@ Hierarchy walkFrom(const Scene& scene, std::span<const std::uint32_t> starts, bo
   h.worldBounds.assign(count, Bounds{});
   h.instanceBounds.assign(count, Bounds{});
   h.subtreeTriangles.assign(count, 0);
+  h.subtreeMeshNodes.assign(count, 0);
   h.preorder.reserve(count);
 
   std::vector<std::uint32_t> stack(starts.rbegin(), starts.rend());
@@ -205,18 +206,20 @@ void boundInstances(const Scene& scene, Hierarchy& h) {
   });
 }
 
-// Subtree boxes and triangle counts, children into parents, from the instances' boxes.
+// Subtree boxes, triangle and mesh node counts, children into parents, from the instances' boxes.
 void sumSubtrees(const Scene& scene, Hierarchy& h) {
   for (std::uint32_t n : h.preorder) {
     if (scene.nodes[n].mesh < 0) continue;
     h.worldBounds[n] = h.instanceBounds[n];
     h.subtreeTriangles[n] = scene.meshes[std::size_t(scene.nodes[n].mesh)].triangleCount();
+    h.subtreeMeshNodes[n] = 1;
   }
   for (auto it = h.preorder.rbegin(); it != h.preorder.rend(); ++it) {
     const std::int32_t p = h.parent[*it];
     if (p < 0) continue;
     h.worldBounds[p].extend(h.worldBounds[*it]);
     h.subtreeTriangles[p] += h.subtreeTriangles[*it];
+    h.subtreeMeshNodes[p] += h.subtreeMeshNodes[*it];
   }
 }
 

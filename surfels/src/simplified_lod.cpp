@@ -16,6 +16,7 @@ LodStats renderSimplifiedLod(const Scene& scene, const Scene& simplified, const 
   const auto traverseStart = Clock::now();
   LodOptions noBand = options;
   noBand.band = 0.0;
+  noBand.descendWhereRaysCheaper = false;  // the simplified meshes stand in for the surfels, rasterized
   const LodDraws draws = traverseLod(scene, hierarchy, surfels, camera, noBand);
   std::vector<std::uint32_t> small;
   for (const LodDraws::Surfels& draw : draws.surfels) {

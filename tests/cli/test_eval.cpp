@@ -42,6 +42,8 @@ std::size_t count(const std::string& text, const std::string& what) {
 // `pbs eval` on the two-groups scene and its surfels, writing into a scratch folder. Tests that need the
 // groups drawn as surfels pass --exhausted grow: arrays of 4000 surfels are too short for a group that
 // fills a good part of even a 160-pixel view, and would be descended into.
+// The groups are small enough that rays draw every node cheaper than its surfels: `--rays-cheaper keep` where a
+// test needs surfels drawn.
 struct EvalRun {
   ScratchDir scratch;
   std::string scene, surfels;
@@ -111,7 +113,8 @@ TEST(EvalCli, ExactReferenceReadsMeshesAsFramesDrawThem) {
 
 TEST(EvalCli, PeersSurfelsAndSweepsAgainstTheReference) {
   const EvalRun eval;
-  const test::CommandResult run = eval.run("--size 96x64 --frames 2 --sweep overdraw=1 --sweep point=4 --quiet");
+  const test::CommandResult run =
+      eval.run("--size 96x64 --frames 2 --rays-cheaper keep --sweep overdraw=1 --sweep point=4 --quiet");
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_TRUE(run.err.empty()) << "--quiet: " << run.err;
 
@@ -218,6 +221,7 @@ TEST(EvalCli, BaselineOptionsApplyToEverySetting) {
   const EvalRun eval;
   const test::CommandResult run = eval.run(
       "--size 96x64 --frames 1 --peers exact=1 --reference-samples 4 --point-size 0.5 --exhausted grow --overdraw 4 "
+      "--rays-cheaper keep "
       "--sweep overdraw=4 --sweep point=0.5+overdraw=4 --quiet");
   ASSERT_EQ(run.status, 0) << run.err;
   const std::vector<test::CsvRow> rows = eval.rows();

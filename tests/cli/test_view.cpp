@@ -55,8 +55,9 @@ TEST(View, FramesAreTheBytesPbsRenderWritesForTheSameCamera) {
     const nlohmann::json stats = nlohmann::json::parse(frame->get_header_value("X-Pbs-Stats"));
     EXPECT_EQ(stats["drawn_by"], mode);
     const std::filesystem::path rendered = view.scratch / (mode + ".png");
-    const CommandResult render = runPbs("render " + quoted(view.scene) + " --surfels " + quoted(view.surfels) +
-                                        " --mode " + mode + " --orbit 75,35,2.2 --size 160x96 -o " + quoted(rendered));
+    const CommandResult render =
+        runPbs("render " + quoted(view.scene) + " --surfels " + quoted(view.surfels) + " --mode " + mode +
+               " --rays-cheaper keep --orbit 75,35,2.2 --size 160x96 -o " + quoted(rendered));
     ASSERT_EQ(render.status, 0) << render.err;
     EXPECT_TRUE(frame->body == readFile(rendered)) << mode << ": the served PNG differs from pbs render's";
   }

@@ -27,7 +27,9 @@ struct ViewedGroups {
   std::pair<std::string, std::string> files = groupsWithSurfels(scratch);
   std::filesystem::path scene = scratch / "groups.glb";
   std::filesystem::path surfels = scratch / "groups.surfels";
-  ViewServer server{{"view", scene.string(), "--surfels", surfels.string()}};
+  // The groups are small enough that rays draw every node cheaper than its surfels: the threshold alone decides
+  // here, so that frames show surfels.
+  ViewServer server{{"view", scene.string(), "--surfels", surfels.string(), "--rays-cheaper", "keep"}};
   httplib::Client client{"127.0.0.1", server.port};
 
   nlohmann::json description() {

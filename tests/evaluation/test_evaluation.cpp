@@ -89,6 +89,11 @@ TEST(EvalSettings, PeersThenTheBaselineThenSweepsAndDuplicatesDropped) {
   EXPECT_EQ(settings[4].lod.overdraw, 2.0);
   EXPECT_EQ(settings[6].lod.pointSize, 1.0f);
   EXPECT_EQ(settings[6].lod.threshold, 64.0);
+  const std::vector<EvalSetting> rays = evalSettings({}, {"rays=keep,descend"}, LodOptions{});
+  ASSERT_EQ(rays.size(), 2u) << "the baseline (rays=keep, the library's default) and the other";
+  EXPECT_FALSE(rays[0].lod.descendWhereRaysCheaper);
+  EXPECT_TRUE(rays[1].lod.descendWhereRaysCheaper);
+  EXPECT_EQ(rays[1].name, "rays=descend");
 }
 
 TEST(EvalSettings, BadTextsAreRefusedNamingTheirOption) {
@@ -103,7 +108,7 @@ TEST(EvalSettings, BadTextsAreRefusedNamingTheirOption) {
   EXPECT_EQ(refusal({}, {"colour=1"}).rfind("--sweep: unknown key 'colour'", 0), 0u) << refusal({}, {"colour=1"});
   EXPECT_EQ(refusal({"overdraw=2"}, {}).rfind("--peers:", 0), 0u) << "peers are exact renderers";
   for (const char* bad : {"overdraw=", "overdraw=1,x", "ordering=best", "embree=3", "point=1,2+threshold=3", "point=1+",
-                          "simplify=0", "simplify=1.5", "exhausted=sometimes"})
+                          "simplify=0", "simplify=1.5", "exhausted=sometimes", "rays=sometimes"})
     EXPECT_EQ(refusal({}, {bad}).rfind("--sweep:", 0), 0u) << bad;
 }
 

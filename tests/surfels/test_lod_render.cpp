@@ -193,6 +193,58 @@ TEST(TraverseLod, AnArrayTooShortForItsSizeIsDescendedInto) {
   EXPECT_TRUE(rootDrawsSurfels(2.0, false)) << "the paper's cap draws the whole array instead";
 }
 
+// The root under a threshold ten times its size, its array long enough: by the threshold alone drawn as
+// surfels. With descendWhereRaysCheaper, it is descended into from the size at which its subtree's rays are
+// priced below its prefix, √(c·n / (p_s − p_r)) (c per node, n its mesh nodes, p_s and p_r per box pixel), with
+// the transition band above that size as above any threshold; not where the rasterizer draws the geometry.
+TEST(TraverseLod, ASubtreeWhoseRaysCostLessThanItsSurfelsIsDescendedFromTheSizeWhereTheyDo) {
+  const SurfeledScene s = surfeled(twoIdenticalGroups());
+  const Camera camera = orbitAround(s, 3.0);
+  const double rootSize = std::sqrt(projectedBoxPixels(camera, s.hierarchy.worldBounds[0]));
+  const SplatArray& root = s.surfels.arrays[s.surfels.arrayOfNode[0]];
+  const double meshNodes = double(s.hierarchy.subtreeMeshNodes[0]);
+  ASSERT_EQ(meshNodes, 4.0) << "two groups of two boxes";
+  LodOptions options;
+  options.threshold = 10.0 * rootSize;
+  options.band = 0.0;
+  options.descendExhausted = false;
+  options.descendWhereRaysCheaper = true;
+  options.frameCosts.perSurfel = 60e-9;
+  options.frameCosts.raysPerPixel = 40e-9;
+  options.frameCosts.raysPerBoxPixel = 0.0;
+  // Prices per box pixel: the prefix's surfels (coverage × overdraw of them) and one ray.
+  const double surfelPrice =
+      options.frameCosts.perSurfel * prefixDemand(root, rootSize, 1.0, 1.0, options) / (rootSize * rootSize);
+  ASSERT_GT(surfelPrice, options.frameCosts.raysPerPixel);
+  // The per-node price that puts the crossover at `crossover` pixels.
+  const auto crossoverAt = [&](double crossover) {
+    options.frameCosts.raysPerNode =
+        crossover * crossover * (surfelPrice - options.frameCosts.raysPerPixel) / meshNodes;
+  };
+  const auto drawn = [&] {
+    std::set<std::uint32_t> nodes;
+    for (const auto& d : traverseLod(s.scene, s.hierarchy, s.surfels, camera, options).surfels) nodes.insert(d.node);
+    return nodes;
+  };
+  crossoverAt(1.02 * rootSize);
+  EXPECT_TRUE(drawn().contains(0)) << "just below the crossover: its surfels";
+  crossoverAt(0.98 * rootSize);
+  EXPECT_FALSE(drawn().contains(0)) << "just above: descended into";
+  options.descendWhereRaysCheaper = false;
+  EXPECT_TRUE(drawn().contains(0)) << "the threshold alone";
+  options.descendWhereRaysCheaper = true;
+  options.geometry = GeometryDrawer::Raster;
+  EXPECT_TRUE(drawn().contains(0)) << "no rays to draw the subtree with";
+  options.geometry = GeometryDrawer::Auto;
+
+  // Inside the band above the crossover, both representations, as inside any threshold's band.
+  options.band = 0.5;
+  crossoverAt(rootSize / 1.1);
+  const std::set<std::uint32_t> band = drawn();
+  EXPECT_TRUE(band.contains(0)) << "the root's surfels, whole";
+  EXPECT_TRUE(band.contains(1) || band.contains(2)) << "and its children's, growing in";
+}
+
 std::vector<glm::vec4> renderImage(const SurfeledScene& s, const Camera& camera, const LodOptions& options,
                                    const SceneSurfels& surfels) {
   // Blended splats need the coverage channel (their partly covered pixels).
@@ -434,6 +486,28 @@ TEST_P(Transitions, DoNotPopOnASharedScene) {
 
 INSTANTIATE_TEST_SUITE_P(RenderLod, Transitions, testing::Values(SplatMode::Nearest, SplatMode::Blend),
                          [](const testing::TestParamInfo<SplatMode>& info) { return splatModeName(info.param); });
+
+// The commands descend where rays are priced below the surfels (the groups' few boxes: at every size on
+// screen here), `--rays-cheaper keep` keeps the threshold's cut, and `--geometry raster` has no rays to price.
+TEST(RenderCli, NodesWhoseRaysCostLessThanTheirSurfelsAreDrawnExactlyByDefault) {
+  ScratchDir scratch;
+  const auto [scene, surfels] = groupsWithSurfels(scratch);
+  const auto drawn = [&](const std::string& more) {
+    const test::CommandResult run =
+        test::runPbs("render " + scene + " --surfels " + surfels + " --size 160x100 --orbit 30,20,8 --json -o '" +
+                     (scratch / "f.png").string() + "'" + more);
+    EXPECT_EQ(run.status, 0) << run.err;
+    const nlohmann::json report = nlohmann::json::parse(run.out);
+    return std::pair(report["surfels"].get<std::uint64_t>(), report["triangles"].get<std::uint64_t>());
+  };
+  const auto [surfelsKept, trianglesKept] = drawn(" --rays-cheaper keep");
+  ASSERT_GT(surfelsKept, 0u);
+  const auto [surfelsByDefault, trianglesByDefault] = drawn("");
+  EXPECT_LT(surfelsByDefault, surfelsKept);
+  EXPECT_GT(trianglesByDefault, trianglesKept);
+  EXPECT_EQ(drawn(" --geometry raster"), drawn(" --geometry raster --rays-cheaper keep"));
+  EXPECT_EQ(test::runPbs("render " + scene + " --surfels " + surfels + " --rays-cheaper sometimes -o x.png").status, 2);
+}
 
 TEST(RenderCli, ModesWriteImagesThatCompare) {
   ScratchDir scratch;

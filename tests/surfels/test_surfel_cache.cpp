@@ -155,8 +155,9 @@ TEST(SurfelFileReader, RangesAreSlicesOfThePrefix) {
 TEST(SurfelCacheCli, RenderWithATinyCacheDrawsTheSameFrames) {
   ScratchDir scratch;
   const auto [scene, surfels] = test::groupsWithSurfels(scratch);
-  const std::string common = "render " + scene + " --surfels " + surfels +
-                             " --size 160x120 --path approach --frames 4 --exhausted grow --json -o ";
+  const std::string common =
+      "render " + scene + " --surfels " + surfels +
+      " --size 160x120 --path approach --frames 4 --exhausted grow --rays-cheaper keep --json -o ";
   const test::CommandResult tiny = test::runPbs(common + "'" + (scratch / "tiny").string() + "' --cache-mb 1");
   const test::CommandResult large = test::runPbs(common + "'" + (scratch / "large").string() + "'");
   ASSERT_EQ(tiny.status, 0) << tiny.err;

@@ -25,6 +25,7 @@ struct Hierarchy {
   std::vector<Bounds> worldBounds;              // tight box of every world-space vertex in the subtree
   std::vector<Bounds> instanceBounds;           // tight world box of the node's own mesh; empty without one
   std::vector<std::uint64_t> subtreeTriangles;  // counting every instance
+  std::vector<std::uint32_t> subtreeMeshNodes;  // nodes with a mesh in the subtree, the node's own included
   std::vector<std::uint32_t> preorder;          // every reachable node, parents before children
 };
 

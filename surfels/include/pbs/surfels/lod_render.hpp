@@ -56,10 +56,13 @@ struct FrameCosts {
   double raysPerImagePixel = 2.9e-9;  // geometry by rays: each pixel of the image (a ray)
   double raysPerPixel = 55.2e-9;      // each pixel the geometry covers
   double raysPerBoxPixel = 0.0;       // each pixel of each geometry box, times its mesh's BVH levels
-  double raysPerNode = 0.0;           // each geometry node (an instance of the frame's top-level BVH)
-  double perSurfel = 64e-9;           // each surfel drawn
-  double perSurfelPixel = 2.0e-9;     // each pixel a splat touches (splatPixels)
-  double perNode = 0.0;               // each node drawn, as geometry or as a prefix
+  // Each geometry node (an instance of the frame's top-level BVH): `pbs calibrate default` fitted 9.4 µs (the
+  // city 5-10 µs). It is what keeps a subtree of many nodes drawn as surfels where rays could draw it
+  // (lod::raysCheaperAbove).
+  double raysPerNode = 9.4e-6;
+  double perSurfel = 64e-9;        // each surfel drawn
+  double perSurfelPixel = 2.0e-9;  // each pixel a splat touches (splatPixels)
+  double perNode = 0.0;            // each node drawn, as geometry or as a prefix
   // Each node a budget's traversal prices (FrameWork::nodesWeighed): `pbs calibrate` timed 407 ns on the default
   // scene and 651 ns on the billion-triangle city, on the 2-core machine (docs/performance.md).
   double perNodeWeighed = 0.65e-6;
@@ -149,6 +152,14 @@ struct LodOptions {
   // a white tank turn pink) and opens holes. false keeps the one threshold for every node and draws an
   // exhausted array whole with larger points (the paper's cap).
   bool descendExhausted = true;
+  // A node whose subtree drawn by rays is predicted (frameCosts) to cost less than its prefix is descended into,
+  // below the threshold too: per pixel a prefix of overdraw 16 costs about twenty rays, and only the rays' price
+  // per node keeps a subtree of many nodes drawn as surfels (lod::raysCheaperAbove). Exact where that is
+  // cheaper; the transition band lies above the lowered threshold as above any. Only where rays may draw the
+  // geometry (`geometry` not Raster) and the frame has a ray caster to draw it with (FrameRenderer's surfels
+  // mode), so the commands turn it on (`--rays-cheaper descend`, their default); false here, for a traversal
+  // without one: the threshold alone (the paper's rule).
+  bool descendWhereRaysCheaper = false;
   // With a limit: the cut is chosen by cost instead of by the threshold. From the coarsest cut (every
   // visible node with an array drawn as surfels, the rest descended), the node largest on screen is
   // refined (drawn as its own mesh and its children) while the cost stays within the limit; nodes whose
