@@ -134,7 +134,10 @@ LodStats FrameRenderer::drawPass(const Camera& camera, Framebuffer& gbuffer, con
       // One traversal (unless choosing the resolution made it): the stream cuts it to what has arrived, or the
       // cache loads what it draws; then it is drawn.
       const auto traverse = detail::Clock::now();
-      LodDraws draws = planned ? *planned : traverseLod(scene_, hierarchy_, *sources_.surfels, camera, lod);
+      // A stream's frames are the threshold's cuts (no rays to price: SurfelStream plans for surfels).
+      LodDraws draws = planned ? *planned
+                               : traverseLodForDrawer(scene_, hierarchy_, *sources_.surfels, camera, lod,
+                                                      sources_.stream ? nullptr : rays);
       const double traverseSeconds = detail::secondsSince(traverse);
       if (sources_.stream) {
         draws = sources_.stream->arrived(draws, camera);

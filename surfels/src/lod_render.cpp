@@ -115,10 +115,24 @@ void drawBlended(const Hierarchy& hierarchy, const SceneSurfels& surfels, const 
 std::optional<SplatMode> splatModeFromName(std::string_view name) { return kSplatNames.parse(name); }
 const char* splatModeName(SplatMode mode) { return kSplatNames.name(mode).data(); }
 
+LodDraws traverseLodForDrawer(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
+                              const Camera& camera, const LodOptions& options, const EmbreeNodeCaster* rays) {
+  LodOptions thresholdOnly = options;
+  thresholdOnly.descendWhereRaysCheaper = false;
+  if (!options.descendWhereRaysCheaper || !rays || options.geometry == GeometryDrawer::Raster)
+    return traverseLod(scene, hierarchy, surfels, camera, thresholdOnly);
+  LodDraws draws = traverseLod(scene, hierarchy, surfels, camera, options);
+  if (options.geometry == GeometryDrawer::Auto &&
+      chooseGeometryDrawer(geometryWork(scene, hierarchy, draws.geometryNodes, camera, rays), options.frameCosts,
+                           options.bvhBuildFrames) == GeometryDrawer::Raster)
+    return traverseLod(scene, hierarchy, surfels, camera, thresholdOnly);
+  return draws;
+}
+
 LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
                    Framebuffer& framebuffer, const LodOptions& options, EmbreeNodeCaster* rays) {
   const auto traverseStart = Clock::now();
-  const LodDraws draws = traverseLod(scene, hierarchy, surfels, camera, options);
+  const LodDraws draws = traverseLodForDrawer(scene, hierarchy, surfels, camera, options, rays);
   const double traverseSeconds = secondsSince(traverseStart);
   LodStats stats = drawLod(scene, hierarchy, surfels, draws, camera, framebuffer, options, rays);
   stats.traverseSeconds = traverseSeconds;

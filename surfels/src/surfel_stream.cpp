@@ -49,6 +49,8 @@ SurfelStream::SurfelStream(SurfelCache& cache, const Scene& scene, const Hierarc
       meshArrived_(scene.meshes.size(), 0) {
   if (!(options.bytesPerSecond > 0.0) || !std::isfinite(options.bytesPerSecond))
     throw std::invalid_argument("a stream needs a positive, finite bandwidth");
+  // The threshold's cut: a link delivers meshes last, so it plans for surfels, as FrameRenderer draws a stream.
+  lod_.descendWhereRaysCheaper = false;
 }
 
 std::vector<SurfelStream::Need> SurfelStream::needsOf(const LodDraws& draws, const Camera& camera) const {

@@ -487,9 +487,11 @@ TEST_P(Transitions, DoNotPopOnASharedScene) {
 INSTANTIATE_TEST_SUITE_P(RenderLod, Transitions, testing::Values(SplatMode::Nearest, SplatMode::Blend),
                          [](const testing::TestParamInfo<SplatMode>& info) { return splatModeName(info.param); });
 
-// The commands descend where rays are priced below the surfels (the groups' few boxes: at every size on
-// screen here), `--rays-cheaper keep` keeps the threshold's cut, and `--geometry raster` has no rays to price.
-TEST(RenderCli, NodesWhoseRaysCostLessThanTheirSurfelsAreDrawnExactlyByDefault) {
+// Where rays draw the geometry, the commands descend into nodes whose rays are priced below their surfels (the
+// groups' few boxes: at every size on screen here); `--rays-cheaper keep` keeps the threshold's cut, and so does
+// a frame whose geometry the rasterizer draws: `--geometry raster`, or `auto` on a single view, whose rays
+// would first have to build their BVHs.
+TEST(RenderCli, NodesWhoseRaysCostLessThanTheirSurfelsAreDrawnExactlyWhereRaysDraw) {
   ScratchDir scratch;
   const auto [scene, surfels] = groupsWithSurfels(scratch);
   const auto drawn = [&](const std::string& more) {
@@ -500,12 +502,13 @@ TEST(RenderCli, NodesWhoseRaysCostLessThanTheirSurfelsAreDrawnExactlyByDefault) 
     const nlohmann::json report = nlohmann::json::parse(run.out);
     return std::pair(report["surfels"].get<std::uint64_t>(), report["triangles"].get<std::uint64_t>());
   };
-  const auto [surfelsKept, trianglesKept] = drawn(" --rays-cheaper keep");
-  ASSERT_GT(surfelsKept, 0u);
-  const auto [surfelsByDefault, trianglesByDefault] = drawn("");
-  EXPECT_LT(surfelsByDefault, surfelsKept);
-  EXPECT_GT(trianglesByDefault, trianglesKept);
-  EXPECT_EQ(drawn(" --geometry raster"), drawn(" --geometry raster --rays-cheaper keep"));
+  const auto thresholdCut = drawn(" --geometry rays --rays-cheaper keep");
+  ASSERT_GT(thresholdCut.first, 0u);
+  const auto [surfelsByRays, trianglesByRays] = drawn(" --geometry rays");
+  EXPECT_LT(surfelsByRays, thresholdCut.first);
+  EXPECT_GT(trianglesByRays, thresholdCut.second);
+  EXPECT_EQ(drawn(" --geometry raster"), thresholdCut);
+  EXPECT_EQ(drawn(""), thresholdCut) << "a single view: its rays would build their BVHs first";
   EXPECT_EQ(test::runPbs("render " + scene + " --surfels " + surfels + " --rays-cheaper sometimes -o x.png").status, 2);
 }
 

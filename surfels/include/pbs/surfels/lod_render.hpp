@@ -249,6 +249,13 @@ class EmbreeNodeCaster;
 LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
                    Framebuffer& framebuffer, const LodOptions& options, EmbreeNodeCaster* rays = nullptr);
 
+// The traversal renderLod makes: traverseLod, where options.descendWhereRaysCheaper holds only for a cut whose
+// geometry rays will draw (options.geometry Rays, or Auto choosing them for that cut, their BVH builds priced as
+// drawLodGeometry prices them). Otherwise, and without `rays`, the threshold's cut: a single view whose BVHs
+// are yet to build is drawn by the rasterizer, whose price is per triangle.
+LodDraws traverseLodForDrawer(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
+                              const Camera& camera, const LodOptions& options, const EmbreeNodeCaster* rays);
+
 // renderLod's drawing half, for `draws` that traverseLod made with the same arguments (a caller that
 // loads the drawn prefixes first traverses once). Every drawn prefix must be loaded (std::logic_error).
 // The stats' traverseSeconds is 0.
