@@ -6,6 +6,7 @@
 #   scripts/evaluate.sh [OUT] [SIZE] [FRAMES]   (defaults: /tmp/pbs-evaluate 960x540 12)
 # PBS_EVAL_PEERS=embree=1,4,16 measures only those peers (the default adds exact=1, the rasterizer, which
 # is never the faster exact renderer on these scenes and takes seconds a frame on the cities at 1920x1080).
+# PBS_EVAL_SWEEP=rays=keep measures that setting beside the defaults in the same runs (default: none).
 # Scenes and .surfels files already in OUT are reused. Run it on a quiet machine: it reports times.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -35,6 +36,6 @@ for scene in default city unique; do
   timed "$out/first-frame-surfels-$scene.log" $pbs render "$file" --surfels "$out/$scene.surfels" --size "$size" --json
   for path in orbit approach flythrough; do
     $pbs eval "$file" --surfels "$out/$scene.surfels" -o "$out/$scene-$path" --size "$size" --frames "$frames" \
-      --path "$path" "${peers[@]}" --sweep surfels --quiet | tee "$out/$scene-$path.txt"
+      --path "$path" "${peers[@]}" --sweep "${PBS_EVAL_SWEEP:-surfels}" --quiet | tee "$out/$scene-$path.txt"
   done
 done
