@@ -155,10 +155,10 @@ struct LodOptions {
   // A node whose subtree drawn by rays is predicted (frameCosts) to cost less than its prefix is descended into,
   // below the threshold too: per pixel a prefix of overdraw 16 costs about twenty rays, and only the rays' price
   // per node keeps a subtree of many nodes drawn as surfels (lod::raysCheaperAbove). Exact where that is
-  // cheaper; the transition band lies above the lowered threshold as above any. Only where rays may draw the
-  // geometry (`geometry` not Raster) and the frame has a ray caster to draw it with (FrameRenderer's surfels
-  // mode), so the commands turn it on (`--rays-cheaper descend`, their default); false here, for a traversal
-  // without one: the threshold alone (the paper's rule).
+  // cheaper; the transition band lies above the lowered threshold as above any. It holds where rays draw the
+  // cut's geometry (traverseLodForDrawer, which renderLod and FrameRenderer traverse with), so the commands turn
+  // it on (`--rays-cheaper descend`, their default); false here, for a traversal with no ray caster behind it:
+  // the threshold alone (the paper's rule).
   bool descendWhereRaysCheaper = false;
   // With a limit: the cut is chosen by cost instead of by the threshold. From the coarsest cut (every
   // visible node with an array drawn as surfels, the rest descended), the node largest on screen is
