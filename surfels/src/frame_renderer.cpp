@@ -119,6 +119,13 @@ LodStats FrameRenderer::drawExactInBatches(const Camera& camera, Framebuffer& gb
   return pass;
 }
 
+LodDraws FrameRenderer::cut(const Camera& camera) const {
+  if (options_.mode != RenderMode::Surfels) throw std::logic_error("FrameRenderer::cut: surfels mode only");
+  const SceneSurfels& surfels = sources_.surfels ? *sources_.surfels : sources_.cache->surfels();
+  return traverseLodForDrawer(scene_, hierarchy_, surfels, camera, options_.lod,
+                              sources_.stream || !geometryRays_ ? nullptr : &*geometryRays_);
+}
+
 LodStats FrameRenderer::drawPass(const Camera& camera, Framebuffer& gbuffer, const LodOptions& lod, double& loadSeconds,
                                  const std::optional<LodDraws>& planned) {
   if (clearsDepth()) clearFramebuffer(gbuffer, 0);

@@ -169,6 +169,35 @@ TEST(LodGeometry, RaysAgreeWithTheRasterizerUnderTheSurfels) {
   range.expectWithinThresholds("city");
 }
 
+// FrameRenderer::cut is the cut its frames draw: with rays drawing the geometry, the nodes whose rays cost less
+// than their surfels descended (fewer surfels than the threshold's cut); with the rasterizer, the threshold's.
+TEST(LodGeometry, AFrameRenderersCutIsWhatItsFramesDraw) {
+  const SurfeledScene s = surfeled(test::twoIdenticalGroups());
+  const Camera camera = orbitAround(s.scene, s.hierarchy, 8.0, 160, 100);
+  LodOptions lod;
+  lod.descendWhereRaysCheaper = true;
+  LodOptions thresholdOnly = lod;
+  thresholdOnly.descendWhereRaysCheaper = false;
+  const LodDraws threshold = traverseLod(s.scene, s.hierarchy, s.surfels, camera, thresholdOnly);
+  ASSERT_GT(threshold.surfelCount, 0u);
+  for (const GeometryDrawer drawer : {GeometryDrawer::Rays, GeometryDrawer::Raster}) {
+    lod.geometry = drawer;
+    FrameRenderer renderer(s.scene, s.hierarchy, {.mode = RenderMode::Surfels, .lod = lod}, camera.width, camera.height,
+                           {.surfels = &s.surfels});
+    const LodDraws cut = renderer.cut(camera);
+    const FrameResult frame = renderer.render(camera);
+    EXPECT_EQ(cut.surfelCount, frame.stats.surfels) << geometryDrawerName(drawer);
+    EXPECT_EQ(cut.triangles, frame.stats.triangles) << geometryDrawerName(drawer);
+    if (drawer == GeometryDrawer::Rays) {
+      EXPECT_LT(cut.surfelCount, threshold.surfelCount) << "rays cost less than these boxes' surfels";
+    } else {
+      EXPECT_EQ(cut.surfelCount, threshold.surfelCount) << "the rasterizer's price is per triangle";
+      EXPECT_EQ(cut.geometryNodes, threshold.geometryNodes);
+    }
+  }
+  EXPECT_THROW(FrameRenderer(s.scene, s.hierarchy, {.mode = RenderMode::Exact}, 16, 16).cut(camera), std::logic_error);
+}
+
 // A wall (a mesh without surfels, so always geometry) with a small box in front of it and one behind,
 // both drawn as surfels: the one in front shows, the one behind is hidden, whichever drawer drew the wall.
 TEST(LodGeometry, SurfelsComposeByDepthOverRayCastGeometry) {

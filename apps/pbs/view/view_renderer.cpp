@@ -111,6 +111,11 @@ const EmbreeScene& ViewRenderer::rays() {
 
 FrameResult ViewRenderer::renderFrame(RenderMode mode, std::uint32_t samples, FrameImage image,
                                       const ViewRequest& request) {
+  return keptRenderer(mode, samples, image, request).render(camera(request));
+}
+
+FrameRenderer& ViewRenderer::keptRenderer(RenderMode mode, std::uint32_t samples, FrameImage image,
+                                          const ViewRequest& request) {
   if (mode == RenderMode::Surfels) requireSurfels();
   // A viewer keeps drawing with the BVHs that rays build: each frame is charged its share of a build, as
   // if a second of frames at 30 a second shared it.
@@ -138,7 +143,7 @@ FrameResult ViewRenderer::renderFrame(RenderMode mode, std::uint32_t samples, Fr
   }
   kept->lastUse = ++uses_;
   if (mode == RenderMode::Surfels) kept->renderer->setLod(lod);
-  return kept->renderer->render(camera(request));
+  return *kept->renderer;
 }
 
 ViewFrame ViewRenderer::renderComparison(const ViewRequest& request) {
@@ -169,9 +174,8 @@ ViewFrame ViewRenderer::renderComparison(const ViewRequest& request) {
 }
 
 LodDraws ViewRenderer::traverse(const ViewRequest& request) {
-  requireSurfels();
-  return traverseLod(scene_.loaded.scene, scene_.loaded.hierarchy, scene_.surfels->surfels(), camera(request),
-                     request.lod);
+  // The surfel frame's own cut: whether rays draw its geometry decides which nodes it descends into.
+  return keptRenderer(RenderMode::Surfels, request.samples, FrameImage::Rgba8, request).cut(camera(request));
 }
 
 Framebuffer ViewRenderer::drawWithIds(const LodDraws& draws, const ViewRequest& request) {

@@ -77,6 +77,9 @@ class ViewRenderer {
   // The whole scene's BVH, built on first use. Meshes read on demand are all read for it, and kept.
   const EmbreeScene& rays();
   FrameResult renderFrame(RenderMode mode, std::uint32_t samples, FrameImage image, const ViewRequest& request);
+  // The renderer kept for these settings (made, dropping the least recently used, if none is), its LOD options
+  // the request's.
+  FrameRenderer& keptRenderer(RenderMode mode, std::uint32_t samples, FrameImage image, const ViewRequest& request);
   // Difference or FLIP map of the surfel (else exact) frame against a 16-sample exact reference.
   ViewFrame renderComparison(const ViewRequest& request);
   // `draws` (with their prefixes loaded and their meshes leased here) into a G-buffer with node ids.

@@ -97,6 +97,10 @@ class FrameRenderer {
   // Bit-identical for any thread count. The camera must be width × height. A budget in seconds may draw it
   // at a lower resolution (FrameResult::divisor); only with one sample per pixel.
   FrameResult render(const Camera& camera);
+  // Surfels mode: the cut a full-resolution frame from `camera` draws with the current LOD options
+  // (traverseLodForDrawer, with this renderer's ray caster), for a caller that shows or picks what drew it.
+  // std::logic_error in another mode.
+  LodDraws cut(const Camera& camera) const;
   // What every frame uses, for reports: the G-buffer's channels (coverage only for blended surfels), and
   // whether each pass clears its depth (the rasterizer's modes: colour and normal are read only where
   // depth says a pixel is covered, so they are never cleared) or clears nothing (Embree writes every
