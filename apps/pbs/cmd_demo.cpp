@@ -77,7 +77,7 @@ void run(const DemoOptions& options) {
   // per pixel, all measured against the converged reference: rays at kReferenceSamples.
   const EmbreeScene rays(loaded.scene, loaded.hierarchy);
   LodOptions lod;
-  lod.descendWhereRaysCheaper = true;  // every command's default (addLodOptions)
+  applyCommandLodDefaults(lod);
   const auto frameOf = [&](RenderMode mode, std::uint32_t samples) {
     FrameRenderer renderer(loaded.scene, loaded.hierarchy, {.mode = mode, .lod = lod, .samples = samples},
                            options.width, options.height, {.surfels = &surfels, .simplified = nullptr, .rays = &rays});

@@ -64,9 +64,13 @@ struct OctreeChoice {
 };
 void addOctreeOptions(CLI::App& command, OctreeChoice& octree);
 
-// The LOD options of `pbs render` (and the baseline `pbs eval` sweeps from): --threshold-pixels (old
-// spelling --threshold, still working with a warning), --band, --overdraw, --point-size, --prefix-rule,
-// --geometry.
+// What the commands draw with where LodOptions' own default differs: rays where they cost less than surfels
+// (LodOptions::descendWhereRaysCheaper; the commands' frames have a ray caster behind them).
+void applyCommandLodDefaults(LodOptions& lod);
+
+// The LOD options of `pbs render` (and the baseline `pbs eval` sweeps from), on applyCommandLodDefaults:
+// --threshold-pixels (old spelling --threshold, still working with a warning), --band, --overdraw, --point-size,
+// --prefix-rule, --geometry, --rays-cheaper and the budgets.
 void addLodOptions(CLI::App& command, LodOptions& lod);
 
 // A samples-per-pixel option (`--samples`, `--reference-samples`): 1, 4, 16, 64 or 256 (supersampling.hpp).

@@ -94,9 +94,13 @@ FrameCosts readCalibration(const std::string& file) {
 
 }  // namespace
 
-void addLodOptions(CLI::App& command, LodOptions& lod) {
+void applyCommandLodDefaults(LodOptions& lod) {
   // The commands draw surfels mode through FrameRenderer, which has rays to draw geometry with.
   lod.descendWhereRaysCheaper = true;
+}
+
+void addLodOptions(CLI::App& command, LodOptions& lod) {
+  applyCommandLodDefaults(lod);
   // Defined before the budgets, so that CLI11 (which runs callbacks in definition order) has read the
   // costs whatever the order on the command line.
   command

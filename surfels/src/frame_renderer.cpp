@@ -121,8 +121,12 @@ LodStats FrameRenderer::drawExactInBatches(const Camera& camera, Framebuffer& gb
 
 LodDraws FrameRenderer::cut(const Camera& camera) const {
   if (options_.mode != RenderMode::Surfels) throw std::logic_error("FrameRenderer::cut: surfels mode only");
-  const SceneSurfels& surfels = sources_.surfels ? *sources_.surfels : sources_.cache->surfels();
-  return traverseLodForDrawer(scene_, hierarchy_, surfels, camera, options_.lod,
+  return cutFor(camera, options_.lod);
+}
+
+LodDraws FrameRenderer::cutFor(const Camera& camera, const LodOptions& lod) const {
+  // A stream's frames are the threshold's cuts (no rays to price: SurfelStream plans for surfels).
+  return traverseLodForDrawer(scene_, hierarchy_, *sources_.surfels, camera, lod,
                               sources_.stream || !geometryRays_ ? nullptr : &*geometryRays_);
 }
 
@@ -141,10 +145,7 @@ LodStats FrameRenderer::drawPass(const Camera& camera, Framebuffer& gbuffer, con
       // One traversal (unless choosing the resolution made it): the stream cuts it to what has arrived, or the
       // cache loads what it draws; then it is drawn.
       const auto traverse = detail::Clock::now();
-      // A stream's frames are the threshold's cuts (no rays to price: SurfelStream plans for surfels).
-      LodDraws draws = planned ? *planned
-                               : traverseLodForDrawer(scene_, hierarchy_, *sources_.surfels, camera, lod,
-                                                      sources_.stream ? nullptr : rays);
+      LodDraws draws = planned ? *planned : cutFor(camera, lod);
       const double traverseSeconds = detail::secondsSince(traverse);
       if (sources_.stream) {
         draws = sources_.stream->arrived(draws, camera);

@@ -120,8 +120,7 @@ class BudgetTraversal {
     // Only a budget in seconds prices pixels.
     if (options_.budget.unit == BudgetUnit::Seconds)
       work.surfelPixels = splatPixels(camera_, hierarchy_.world[node], splats, draw);
-    return {size, size <= lod::descentThreshold(splats, at, size, lod::subtreeGeometry(hierarchy_, node), options_),
-            work, draw};
+    return {size, size <= lod::descentThreshold(splats, at, size, hierarchy_, node, options_), work, draw};
   }
 
   const Scene& scene_;

@@ -119,8 +119,8 @@ LodDraws traverseLodForDrawer(const Scene& scene, const Hierarchy& hierarchy, co
                               const Camera& camera, const LodOptions& options, const EmbreeNodeCaster* rays) {
   LodOptions thresholdOnly = options;
   thresholdOnly.descendWhereRaysCheaper = false;
-  if (!options.descendWhereRaysCheaper || !rays || options.geometry == GeometryDrawer::Raster)
-    return traverseLod(scene, hierarchy, surfels, camera, thresholdOnly);
+  if (!options.descendWhereRaysCheaper || !rays) return traverseLod(scene, hierarchy, surfels, camera, thresholdOnly);
+  // With the rasterizer named, raysCheaperAbove already descends nowhere.
   LodDraws draws = traverseLod(scene, hierarchy, surfels, camera, options);
   if (options.geometry == GeometryDrawer::Auto &&
       chooseGeometryDrawer(geometryWork(scene, hierarchy, draws.geometryNodes, camera, rays), options.frameCosts,

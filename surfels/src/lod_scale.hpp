@@ -48,47 +48,38 @@ inline LodDraws::Surfels prefixDraw(std::uint32_t node, std::uint32_t array, con
   return {node, array, count, radius, pointSize, full};
 }
 
-// What a node's subtree draws as geometry: its triangles and the nodes that carry them (each instance).
-struct SubtreeGeometry {
-  double triangles = 0.0;
-  double meshNodes = 0.0;
-};
-
-inline SubtreeGeometry subtreeGeometry(const Hierarchy& hierarchy, std::uint32_t node) {
-  return {double(hierarchy.subtreeTriangles[node]), double(hierarchy.subtreeMeshNodes[node])};
-}
-
-// The projected size (pixels) above which the node's subtree drawn by rays is predicted (options.frameCosts)
-// to cost less than its prefix; infinite where it never does. Per pixel of the node's box the prefix pays
-// for its surfels (their number grows with the size², as the box's pixels do) and the rays for their pixels,
-// but the rays also pay for each node of the subtree they draw whatever its size: with c the per-node price,
-// n the nodes and p_s > p_r the two prices per pixel, the sizes above √(c·n / (p_s − p_r)). Only where rays
-// may draw the geometry: the rasterizer's price is per triangle, which is what the paper's surfels save.
-inline double raysCheaperAbove(const SplatArray& splats, const NodeScale& at, double size,
-                               const SubtreeGeometry& subtree, const LodOptions& options) {
+// The projected size (pixels) above which node `node`'s subtree drawn by rays is predicted (options.frameCosts)
+// to cost less than its prefix, which asks for `demand` surfels at `size`; infinite where it never does. Per
+// pixel of the node's box the prefix pays for its surfels (their number grows with the size², as the box's
+// pixels do) and the rays for their pixels, but the rays also pay for each node of the subtree they draw
+// whatever its size: with c the per-node price, n the mesh nodes and p_s > p_r the two prices per pixel, the
+// sizes above √(c·n / (p_s − p_r)). Only where rays may draw the geometry: the rasterizer's price is per
+// triangle, which is what the paper's surfels save.
+inline double raysCheaperAbove(double demand, double size, const Hierarchy& hierarchy, std::uint32_t node,
+                               const LodOptions& options) {
   constexpr double kNever = std::numeric_limits<double>::infinity();
+  const double meshNodes = double(hierarchy.subtreeMeshNodes[node]);
   if (!options.descendWhereRaysCheaper || options.geometry == GeometryDrawer::Raster || !(size > 0.0) ||
-      !(subtree.meshNodes > 0.0))
+      !(meshNodes > 0.0))
     return kNever;
   const FrameCosts& costs = options.frameCosts;
-  const double boxPixels = size * size;
-  const double surfelPrice = costs.perSurfel * prefixDemand(splats, size, at.worldPixel, at.scale, options) / boxPixels;
-  const double rayPrice = costs.raysPerPixel + costs.raysPerBoxPixel * rayLevels(subtree.triangles);
+  const double surfelPrice = costs.perSurfel * demand / (size * size);
+  const double rayPrice =
+      costs.raysPerPixel + costs.raysPerBoxPixel * rayLevels(double(hierarchy.subtreeTriangles[node]));
   if (!(surfelPrice > rayPrice)) return kNever;
-  return std::sqrt(costs.raysPerNode * subtree.meshNodes / (surfelPrice - rayPrice));
+  return std::sqrt(costs.raysPerNode * meshNodes / (surfelPrice - rayPrice));
 }
 
-// The projected size (pixels) up to which a node is drawn as its array's prefix rather than descended into:
-// options.threshold, or lower where the array cannot meet the demand at the top of the transition band
+// The projected size (pixels) up to which node `node` is drawn as its array's prefix rather than descended
+// into: options.threshold, or lower where the array cannot meet the demand at the top of the transition band
 // (options.descendExhausted: the demand grows with size², so the size at which it equals the array's length
 // is size · √(length / demand(size))), or where its subtree's rays cost less than its prefix
 // (raysCheaperAbove). The transition band lies above whichever it is, so neither change pops.
-inline double descentThreshold(const SplatArray& splats, const NodeScale& at, double size,
-                               const SubtreeGeometry& subtree, const LodOptions& options) {
-  double threshold = std::min(options.threshold, raysCheaperAbove(splats, at, size, subtree, options));
-  if (!options.descendExhausted || !(size > 0.0)) return threshold;
+inline double descentThreshold(const SplatArray& splats, const NodeScale& at, double size, const Hierarchy& hierarchy,
+                               std::uint32_t node, const LodOptions& options) {
   const double demand = prefixDemand(splats, size, at.worldPixel, at.scale, options);
-  if (!(demand > 0.0)) return threshold;
+  const double threshold = std::min(options.threshold, raysCheaperAbove(demand, size, hierarchy, node, options));
+  if (!options.descendExhausted || !(size > 0.0) || !(demand > 0.0)) return threshold;
   const double sufficient = size * std::sqrt(double(splats.size()) / demand) / (1.0 + options.band);
   return std::min(threshold, sufficient);
 }

@@ -126,6 +126,8 @@ class FrameRenderer {
   // One pass at a budget's lower resolution under the budget left for it, shaded and upscaled to the camera's
   // size.
   void renderReduced(const Camera& camera, const BudgetResolution& resolution, FrameResult& result);
+  // The cut a surfels pass under `lod` draws (traverseLodForDrawer with this renderer's ray caster).
+  LodDraws cutFor(const Camera& camera, const LodOptions& lod) const;
   // The G-buffer at the camera's size: the frame's, or smaller for a budget's lower resolution (its memory
   // kept, its pixels unspecified until a pass clears them).
   void fitGbuffer(const Camera& camera);
