@@ -100,7 +100,7 @@ class ChunkWriter {
     const TriangleSpan& span = batch_.spans[source.span];
     // Negative area is counter-clockwise in clip space (y up): a front face unless mirrored.
     const bool front = (area2 < 0) != span.mirrored;
-    if (batch_.options.cullBackFaces && !front) return;
+    if (span.cullBackFaces && !front) return;
     if (area2 < 0) {
       std::swap(v1, v2);
       area2 = -area2;

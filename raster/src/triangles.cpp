@@ -78,6 +78,7 @@ TriangleSpan partSpan(const TriangleBatch& batch, const TriangleDraw& draw, cons
   const glm::dmat3 linear(draw.worldFromObject);
   span.normalFromObject = glm::transpose(glm::inverse(linear));
   span.mirrored = glm::determinant(linear) < 0.0;
+  span.cullBackFaces = batch.options.cullBackFaces || draw.cullBackFaces;
   return span;
 }
 

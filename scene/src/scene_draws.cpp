@@ -62,7 +62,8 @@ std::vector<std::uint32_t> subtreeNodes(const Scene& scene, std::uint32_t root) 
 }
 
 void drawNodeTriangles(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
-                       const Camera& camera, Framebuffer& framebuffer, const TriangleOptions& options) {
+                       const Camera& camera, Framebuffer& framebuffer, const TriangleOptions& options,
+                       std::span<const std::uint8_t> hiddenBackFaces) {
   const SceneMaterials materials = makeSceneMaterials(scene);
   std::vector<TriangleDraw> draws;
   for (std::uint32_t node : nodes) {
@@ -79,6 +80,7 @@ void drawNodeTriangles(const Scene& scene, const Hierarchy& hierarchy, std::span
     draw.worldFromObject = hierarchy.world[node];
     draw.nodeId = node;
     draw.instanceId = std::uint32_t(meshIndex);
+    draw.cullBackFaces = std::size_t(meshIndex) < hiddenBackFaces.size() && hiddenBackFaces[std::size_t(meshIndex)];
     draws.push_back(draw);
   }
   drawTriangles(framebuffer, camera, draws, options);

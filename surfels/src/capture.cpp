@@ -124,7 +124,8 @@ CaptureResult captureNode(const Scene& scene, const Hierarchy& hierarchy, std::u
                       [&](const Camera& camera, Framebuffer& framebuffer) { embree.render(camera, framebuffer); });
   }
   return captureBox(box, options, [&](const Camera& camera, Framebuffer& framebuffer) {
-    drawNodeTriangles(scene, hierarchy, nodes, camera, framebuffer, TriangleOptions{.cullBackFaces = false});
+    drawNodeTriangles(scene, hierarchy, nodes, camera, framebuffer, TriangleOptions{.cullBackFaces = false},
+                      options.closedMeshes);
   });
 }
 

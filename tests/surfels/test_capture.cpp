@@ -2,6 +2,7 @@
 // counts, raster/Embree agreement on the shared scenes, stiff inputs, textures and determinism.
 #include "pbs/raster/thread_arena.hpp"
 #include "pbs/scene/load_scene.hpp"
+#include "pbs/scene/mesh_closure.hpp"
 #include "pbs/surfels/capture.hpp"
 #include "test_fixtures.hpp"
 #include "test_support.hpp"
@@ -226,6 +227,22 @@ TEST(Capture, SidesSeenAreTwoForAnOpenSheetAndOneForAClosedMesh) {
   const CaptureResult inside = captureNode(inward, analyzeHierarchy(inward), 0, options);
   EXPECT_EQ(inside.seenFromBehind, inside.surfels.size());
   EXPECT_EQ(inside.sidesSeen(), 1.0);
+}
+
+// A closed mesh's back faces, left out, change no surfel: the views see the cube from outside, its mirror
+// image too (whose front faces turn clockwise in the world).
+TEST(Capture, LeavingOutAClosedMeshsBackFacesChangesNoSurfel) {
+  const std::array<std::uint8_t, 1> closed{1};
+  for (const glm::dmat4& world :
+       {placed({0.3, -0.2, 0.1}, 2.0), glm::scale(glm::dmat4(1.0), glm::dvec3(-1.0, 1.0, 1.0))}) {
+    const Scene scene = sceneOf(cubeMesh(), {world});
+    ASSERT_TRUE(closedOutward(scene.meshes[0]));
+    const Hierarchy hierarchy = analyzeHierarchy(scene);
+    const CaptureResult all = captureNode(scene, hierarchy, 0, {.resolution = 64});
+    const CaptureResult front = captureNode(scene, hierarchy, 0, {.resolution = 64, .closedMeshes = closed});
+    ASSERT_GT(all.surfels.size(), 1000u);
+    EXPECT_TRUE(sameSurfels(all, front));
+  }
 }
 
 // A zero normal (a degenerate surface) stays zero whatever the view; others are turned to face it.

@@ -29,6 +29,9 @@ struct TriangleDraw {
   glm::dmat4 worldFromObject{1.0};
   std::uint32_t nodeId = 0;      // written to PixelIds::node
   std::uint32_t instanceId = 0;  // written to PixelIds::instance
+  // This draw's back faces are left out (as TriangleOptions::cullBackFaces does for every draw): for a
+  // closed mesh seen from outside, which hides them behind its front faces.
+  bool cullBackFaces = false;
 };
 
 struct TriangleOptions {

@@ -45,8 +45,11 @@ void drawSceneTriangles(const Scene& scene, const Hierarchy& hierarchy, const Ca
 // The nodes of `root`'s subtree, parents before children (root first): what a node's capture draws.
 std::vector<std::uint32_t> subtreeNodes(const Scene& scene, std::uint32_t root);
 
-// drawSceneTriangles restricted to the mesh instances of `nodes`, drawn in the given order.
+// drawSceneTriangles restricted to the mesh instances of `nodes`, drawn in the given order. The meshes
+// flagged in `hiddenBackFaces` (one byte per mesh, or none) have their back faces left out: the caller
+// knows that the camera sees each of them from outside and that it is closed (closedOutward).
 void drawNodeTriangles(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
-                       const Camera& camera, Framebuffer& framebuffer, const TriangleOptions& options = {});
+                       const Camera& camera, Framebuffer& framebuffer, const TriangleOptions& options = {},
+                       std::span<const std::uint8_t> hiddenBackFaces = {});
 
 }  // namespace pbs

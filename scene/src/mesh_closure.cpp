@@ -1,0 +1,75 @@
+// closedOutward: the edge-pairing test and the signed volume of a mesh.
+#include "pbs/scene/mesh_closure.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace pbs {
+namespace {
+
+// A position's bits, for welding vertices that share a position.
+struct PositionBits {
+  std::uint32_t x, y, z;
+  bool operator==(const PositionBits&) const = default;
+};
+
+struct PositionHash {
+  std::size_t operator()(const PositionBits& p) const {
+    std::uint64_t h = p.x * 0x9E3779B97F4A7C15ull;
+    h ^= (h >> 29) + p.y * 0xBF58476D1CE4E5B9ull;
+    h ^= (h >> 31) + p.z * 0x94D049BB133111EBull;
+    return std::size_t(h ^ (h >> 32));
+  }
+};
+
+}  // namespace
+
+bool closedOutward(const Mesh& mesh) {
+  const std::vector<glm::vec3>& positions = mesh.positions;
+  const std::vector<std::uint32_t>& indices = mesh.indices;
+  if (indices.size() < 3) return false;
+  // Welded vertex ids: the first vertex at each position names it.
+  std::unordered_map<PositionBits, std::uint32_t, PositionHash> idOf;
+  idOf.reserve(positions.size());
+  std::vector<std::uint32_t> weld(positions.size());
+  for (std::uint32_t v = 0; v < positions.size(); ++v) {
+    const glm::vec3& p = positions[v];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return false;
+    // +0 and −0 are one position.
+    const PositionBits bits{std::bit_cast<std::uint32_t>(p.x + 0.0f), std::bit_cast<std::uint32_t>(p.y + 0.0f),
+                            std::bit_cast<std::uint32_t>(p.z + 0.0f)};
+    weld[v] = idOf.try_emplace(bits, v).first->second;
+  }
+  std::vector<std::uint64_t> edges;  // directed, from << 32 | to
+  edges.reserve(indices.size());
+  // Six times the signed volume, about a vertex of the mesh: a closed mesh's volume does not depend on
+  // the point, and one near it keeps a mesh far from the origin from cancelling its digits away.
+  const glm::dvec3 origin = indices[0] < positions.size() ? glm::dvec3(positions[indices[0]]) : glm::dvec3(0.0);
+  double volume = 0.0;
+  for (std::size_t t = 0; t + 3 <= indices.size(); t += 3) {
+    const std::uint32_t i0 = indices[t], i1 = indices[t + 1], i2 = indices[t + 2];
+    if (i0 >= positions.size() || i1 >= positions.size() || i2 >= positions.size()) return false;
+    const std::uint32_t a = weld[i0], b = weld[i1], c = weld[i2];
+    if (a == b || b == c || c == a) continue;
+    edges.push_back(std::uint64_t(a) << 32 | b);
+    edges.push_back(std::uint64_t(b) << 32 | c);
+    edges.push_back(std::uint64_t(c) << 32 | a);
+    const glm::dvec3 p0 = glm::dvec3(positions[i0]) - origin, p1 = glm::dvec3(positions[i1]) - origin,
+                     p2 = glm::dvec3(positions[i2]) - origin;
+    volume += glm::dot(p0, glm::cross(p1, p2));
+  }
+  if (edges.empty()) return false;
+  std::sort(edges.begin(), edges.end());
+  if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return false;  // an edge run twice one way
+  for (const std::uint64_t edge : edges) {
+    const std::uint64_t reversed = edge << 32 | edge >> 32;
+    if (!std::binary_search(edges.begin(), edges.end(), reversed)) return false;
+  }
+  return volume > 0.0;
+}
+
+}  // namespace pbs
