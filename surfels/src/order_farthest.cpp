@@ -49,8 +49,10 @@ constexpr int kBlockShift = 2;  // blocks of 4 × 4 × 4 cells
 
 glm::ivec3 dimsFor(const glm::vec3& extent, float cellSize) { return glm::ivec3(glm::floor(extent / cellSize)) + 1; }
 
-// Cells about the spacing of the last chosen points (extent / sqrt(max) on a surface), but no more
-// cells than twice the points, so memory and empty-cell visits stay linear.
+// Cells about 1.6 times the spacing of the last chosen points (extent / sqrt(max) on a surface), but no
+// more cells than twice the points, so memory and empty-cell visits stay linear. Larger cells rescan more
+// points per choice in vector lanes but visit fewer cells and keep a smaller heap: at 1.6 pbs surfelize
+// default took 0.93x the time of 1.0 (four alternated pairs), 0.6 took 1.15x, 2.2 and 3.0 no less than 1.6.
 CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t max) {
   CellSortedPoints grid;
   // Finite, at most 1e18 wide, and 0 wide below float's smallest normal (so cellSize never becomes 0).
@@ -59,7 +61,7 @@ CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t 
   const glm::vec3 extent = box.extent;
   const float maxExtent = std::max({extent.x, extent.y, extent.z});
   if (maxExtent > 0.0f) {
-    grid.cellSize = maxExtent / std::sqrt(static_cast<float>(std::max(1u, max)));
+    grid.cellSize = 1.6f * maxExtent / std::sqrt(static_cast<float>(std::max(1u, max)));
     const double cellLimit = 2.0 * static_cast<double>(points.size()) + 8.0;
     for (;;) {
       const glm::dvec3 d(dimsFor(extent, grid.cellSize));
