@@ -85,7 +85,7 @@ CaptureResult captureBox(const Bounds& box, const CaptureOptions& options, const
   }
   // Room for every pixel of every view at once: grown view by view, the candidates were copied about
   // once more and their new pages faulted in again (memcpy and page faults were 15 % of surfelize's
-  // samples). Pages past the candidates are never touched, so they take address space, not memory.
+  // samples). The pages past the candidates are never touched.
   result.surfels.reserve(pixels);
 
   double boxArea = 0.0;
