@@ -1,49 +1,30 @@
 // closedOutward: the edge-pairing test and the signed volume of a mesh.
 #include "pbs/scene/mesh_closure.hpp"
 
+#include <meshoptimizer.h>
+
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 namespace pbs {
-namespace {
-
-// A position's bits, for welding vertices that share a position.
-struct PositionBits {
-  std::uint32_t x, y, z;
-  bool operator==(const PositionBits&) const = default;
-};
-
-struct PositionHash {
-  std::size_t operator()(const PositionBits& p) const {
-    std::uint64_t h = p.x * 0x9E3779B97F4A7C15ull;
-    h ^= (h >> 29) + p.y * 0xBF58476D1CE4E5B9ull;
-    h ^= (h >> 31) + p.z * 0x94D049BB133111EBull;
-    return std::size_t(h ^ (h >> 32));
-  }
-};
-
-}  // namespace
 
 bool closedOutward(const Mesh& mesh) {
   const std::vector<glm::vec3>& positions = mesh.positions;
   const std::vector<std::uint32_t>& indices = mesh.indices;
   if (indices.size() < 3) return false;
-  // Welded vertex ids: the first vertex at each position names it.
-  std::unordered_map<PositionBits, std::uint32_t, PositionHash> idOf;
-  idOf.reserve(positions.size());
-  std::vector<std::uint32_t> weld(positions.size());
-  for (std::uint32_t v = 0; v < positions.size(); ++v) {
+  // Welded vertex ids: one per distinct position, by its bits (meshoptimizer's remap of the positions alone),
+  // with +0 and −0 made one.
+  std::vector<glm::vec3> welded(positions.size());
+  for (std::size_t v = 0; v < positions.size(); ++v) {
     const glm::vec3& p = positions[v];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return false;
-    // +0 and −0 are one position.
-    const PositionBits bits{std::bit_cast<std::uint32_t>(p.x + 0.0f), std::bit_cast<std::uint32_t>(p.y + 0.0f),
-                            std::bit_cast<std::uint32_t>(p.z + 0.0f)};
-    weld[v] = idOf.try_emplace(bits, v).first->second;
+    welded[v] = p + 0.0f;
   }
+  std::vector<unsigned int> weld(positions.size());
+  if (!positions.empty())
+    meshopt_generateVertexRemap(weld.data(), nullptr, welded.size(), welded.data(), welded.size(), sizeof(glm::vec3));
   std::vector<std::uint64_t> edges;  // directed, from << 32 | to
   edges.reserve(indices.size());
   // Six times the signed volume, about a vertex of the mesh: a closed mesh's volume does not depend on
