@@ -1,4 +1,5 @@
 // Blue-noise measures of ordered prefixes, all from incremental nearest-neighbour queries.
+#include "all_nearest_neighbours.hpp"
 #include "order_nearest_grid.hpp"
 
 #include <pbs/surfels/blue_noise_metrics.hpp>
@@ -51,12 +52,11 @@ double meanNearestNeighbourDistance(std::span<const glm::vec3> points, std::span
   count = std::min(count, order.size());
   if (count < 2) return 0.0;
   checkIndices(points, order.first(count), "meanNearestNeighbourDistance");
-  NearestPointGrid prefix(points, order.first(count), "meanNearestNeighbourDistance");
-  for (std::size_t k = 0; k < count; ++k) prefix.insert(order[k]);
+  std::vector<glm::vec3> prefix(count);
+  for (std::size_t k = 0; k < count; ++k) prefix[k] = points[order[k]];
+  const std::vector<float> nearest = allNearestSquared(prefix, "meanNearestNeighbourDistance", order.first(count));
   double sum = 0.0;
-  for (std::size_t k = 0; k < count; ++k) {
-    sum += std::sqrt(static_cast<double>(prefix.nearestSquared(points[order[k]], order[k])));
-  }
+  for (float squared : nearest) sum += std::sqrt(static_cast<double>(squared));
   return sum / static_cast<double>(count);
 }
 

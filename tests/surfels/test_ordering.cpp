@@ -213,6 +213,57 @@ TEST(BlueNoiseMetrics, MeanNearestNeighbourOfCrowdedClustersIsExact) {
   }
 }
 
+// The mean over all points by the brute force, in the order's order (the sum rounds the same way).
+double bruteMeanNearest(std::span<const glm::vec3> points) {
+  double sum = 0.0;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    float nearest = std::numeric_limits<float>::infinity();
+    for (std::size_t j = 0; j < points.size(); ++j)
+      if (j != k) nearest = std::min(nearest, squaredDistance(points[j], points[k]));
+    sum += std::sqrt(double(nearest));
+  }
+  return sum / double(points.size());
+}
+
+// Every point's nearest neighbour is found cell by cell, with outliers compared with every point (a few) or
+// searched in shells (many), and crowded cells searched in shells: each kind of set below takes one of
+// those paths, and each must give the brute force's mean to the bit.
+TEST(BlueNoiseMetrics, MeanNearestNeighbourIsExactOnEveryKindOfSet) {
+  const auto identity = [](std::size_t n) {
+    std::vector<std::uint32_t> order(n);
+    for (std::uint32_t i = 0; i < n; ++i) order[i] = i;
+    return order;
+  };
+  const auto shifted = [](std::vector<glm::vec3> points, const glm::vec3& by) {
+    for (glm::vec3& p : points) p += by;
+    return points;
+  };
+  std::vector<std::pair<std::string, std::vector<glm::vec3>>> sets;
+  // Both sides of a surface ordered apart, as surfelize's orderingPositions places them.
+  std::vector<glm::vec3> sides = uniformSpherePoints(1500, 1);
+  for (const glm::vec3& p : uniformSpherePoints(1500, 2)) sides.push_back(p + glm::vec3(6.0f, 0.0f, 0.0f));
+  sets.emplace_back("two sides", sides);
+  std::vector<glm::vec3> fewOutliers = planePoints(2000, 3);
+  for (int i = 0; i < 10; ++i) fewOutliers.emplace_back(50.0f * float(i), -40.0f, 7.0f);
+  sets.emplace_back("a few outliers", fewOutliers);
+  std::vector<glm::vec3> manyOutliers = planePoints(2000, 4);
+  for (const glm::vec3& p : uniformSpherePoints(300, 5)) manyOutliers.push_back(100.0f * p);
+  sets.emplace_back("many outliers", manyOutliers);
+  std::vector<glm::vec3> stacked;
+  for (std::size_t i = 0; i < 1000; ++i) stacked.emplace_back(float(i % 5), 0.5f * float(i % 3), 0.0f);
+  sets.emplace_back("points stacked 67 deep", stacked);
+  sets.emplace_back("far from the origin", shifted(planePoints(1000, 6), glm::vec3(3.0e6f, -2.0e6f, 1.0e6f)));
+  std::vector<glm::vec3> line;
+  for (int i = 0; i < 500; ++i) line.emplace_back(0.001f * float(i * i % 997), 0.0f, 0.0f);
+  sets.emplace_back("a line", line);
+  std::vector<glm::vec3> tiny = planePoints(500, 7);
+  for (glm::vec3& p : tiny) p *= 1e-20f;
+  sets.emplace_back("a box of 1e-20", tiny);
+  for (const auto& [name, points] : sets)
+    EXPECT_EQ(meanNearestNeighbourDistance(points, identity(points.size()), points.size()), bruteMeanNearest(points))
+        << name;
+}
+
 TEST(StiffInputs, EmptyInput) {
   const std::vector<glm::vec3> none;
   EXPECT_TRUE(orderRandom(none, 10, 1).empty());

@@ -23,7 +23,8 @@ std::vector<double> prefixMinDistances(std::span<const glm::vec3> points, std::s
 double relativeRadius(double minDistance, std::size_t k, double area);
 
 // The mean, over the first `count` ordered points, of each one's distance to its nearest other point
-// among them (the "packing" input of the renderer); 0 for fewer than two points.
+// among them (the "packing" input of the renderer); 0 for fewer than two points. An index the order holds
+// twice is two points at one place.
 double meanNearestNeighbourDistance(std::span<const glm::vec3> points, std::span<const std::uint32_t> order,
                                     std::size_t count);
 
