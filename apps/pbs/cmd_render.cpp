@@ -315,8 +315,8 @@ void addRenderCommand(CLI::App& app) {
       ->check(CLI::Range(1u, 100000u));
   command->add_flag("--json", options->json, "print JSON (per-frame figures with --frames)");
   command->add_flag("--budget-feedback", options->budgetFeedback,
-                    "with --budget-ms and --frames: correct the cost model by the last frames' measured times (frames "
-                    "then depend on timing)");
+                    "with --budget-ms and --frames: lower the limit where the last frames took longer than predicted "
+                    "(frames then depend on timing)");
   addCacheOption(
       *command, options->cacheMb,
       "surfels (and, for a glTF scene with a .surfels file of version 4 or later, meshes) are read as frames draw "

@@ -164,7 +164,8 @@ class BlockRows {
   const std::array<Run, 9>& around(std::uint32_t c) {
     const std::int64_t key = cells_.keys[c];
     for (int row = 0; row < 9; ++row) {
-      const std::int64_t middle = key + (std::int64_t(row % 3 - 1) << kKeyShift) + (std::int64_t(row / 3 - 1) << (2 * kKeyShift));
+      const std::int64_t middle =
+          key + (std::int64_t(row % 3 - 1) << kKeyShift) + (std::int64_t(row / 3 - 1) << (2 * kKeyShift));
       std::uint32_t& lo = cursor_[row];
       while (lo < cells_.keys.size() && cells_.keys[lo] < middle - 1) ++lo;
       std::uint32_t hi = lo;
@@ -179,7 +180,6 @@ class BlockRows {
   std::array<std::uint32_t, 9> cursor_;
   std::array<Run, 9> runs_;
 };
-
 
 // The squared distances from the entries `queries` (one a lane) to the nearest other point of the runs:
 // each point of the runs is compared with four queries at once. d = p − q and (dx² + dy²) + dz² are
@@ -256,7 +256,8 @@ std::vector<float> allNearestSquared(std::span<const glm::vec3> points, const ch
   } else {
     NearestPointGrid grid(points, who);
     for (std::uint32_t i = 0; i < points.size(); ++i) grid.insert(i);
-    for (std::uint32_t t : unanswered) nearest[cells.index[t]] = grid.nearestSquared(points[cells.index[t]], cells.index[t]);
+    for (std::uint32_t t : unanswered)
+      nearest[cells.index[t]] = grid.nearestSquared(points[cells.index[t]], cells.index[t]);
   }
   return nearest;
 }

@@ -312,7 +312,7 @@ double BudgetFeedback::limit() const {
   std::sort(sorted.begin(), sorted.end());
   const std::size_t n = sorted.size();
   const double median = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
-  return budget_ / median;
+  return budget_ / std::max(1.0, median);
 }
 
 void BudgetFeedback::observe(double predictedSeconds, double measuredSeconds) {

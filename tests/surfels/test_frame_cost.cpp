@@ -206,7 +206,7 @@ TEST(FrameCosts, ATimeBudgetKeepsThePredictedFrameWithinTheLimit) {
   }
 }
 
-TEST(BudgetFeedback, ScalesTheBudgetByTheMedianOfTheLastFramesRatios) {
+TEST(BudgetFeedback, DividesTheBudgetByTheMedianOfTheLastFramesRatiosAboveOne) {
   BudgetFeedback feedback(0.033);
   EXPECT_EQ(feedback.limit(), 0.033);
   feedback.observe(0.010, 0.020);
@@ -214,11 +214,14 @@ TEST(BudgetFeedback, ScalesTheBudgetByTheMedianOfTheLastFramesRatios) {
   feedback.observe(0.010, std::numeric_limits<double>::quiet_NaN());
   feedback.observe(0.0, 0.010);
   EXPECT_DOUBLE_EQ(feedback.limit(), 0.0165) << "ratios that are not ratios are ignored";
+  feedback.observe(0.010, 0.015);
+  EXPECT_DOUBLE_EQ(feedback.limit(), 0.033 / 1.75) << "median of 2 and 1.5";
   feedback.observe(0.010, 0.005);
   feedback.observe(0.010, 0.005);
-  EXPECT_DOUBLE_EQ(feedback.limit(), 0.066) << "median of 2, 0.5, 0.5";
-  for (int f = 0; f < 5; ++f) feedback.observe(0.010, 0.010);
-  EXPECT_DOUBLE_EQ(feedback.limit(), 0.033) << "only the last five frames count";
+  EXPECT_DOUBLE_EQ(feedback.limit(), 0.033)
+      << "median of 2, 1.5, 0.5, 0.5: frames under their predictions never raise it";
+  for (int f = 0; f < 5; ++f) feedback.observe(0.010, 0.030);
+  EXPECT_DOUBLE_EQ(feedback.limit(), 0.011) << "only the last five frames count";
 }
 
 }  // namespace

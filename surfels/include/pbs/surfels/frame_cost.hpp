@@ -98,8 +98,11 @@ FrameCostFit fitFrameCosts(std::span<const TimedFrame> frames, double quantile =
 
 // `--budget-feedback`: a time budget corrected by how far the last frames' measured times were from their
 // predicted ones, for machines (or scenes) the costs were not fitted on. The next frame's limit is the
-// budget over the median ratio measured / predicted of the last few frames. Frames then depend on
-// measured times, so they are not reproducible bit for bit: an option, not the default.
+// budget over the median ratio measured / predicted of the last few frames, when that ratio is above 1.
+// Frames that ran under their predictions leave the limit at the budget: raised, it spent the margin
+// that frames the model prices low need (docs/performance.md, "The feedback lowers the limit only").
+// Frames then depend on measured times, so they are not reproducible bit for bit: an option, not the
+// default.
 class BudgetFeedback {
  public:
   explicit BudgetFeedback(double budgetSeconds) : budget_(budgetSeconds) {}
