@@ -1,4 +1,5 @@
-// Blue-noise measures of ordered prefixes, all from incremental nearest-neighbour queries.
+// Blue-noise measures of ordered prefixes: minimum distances from incremental nearest-neighbour queries, mean
+// nearest-neighbour distances from every point's nearest neighbour found at once.
 #include "all_nearest_neighbours.hpp"
 #include "order_nearest_grid.hpp"
 
