@@ -63,14 +63,18 @@ function frameQuery(overrides) {
   return new URLSearchParams(q).toString();
 }
 
+// The overdraw moving surfel frames draw: the setting scaled down while frames are slow, but not below the
+// least the slider (and the server) takes.
+function movingOverdraw() {
+  return Math.max(2 ** Number($('overdraw').min), view.lod.overdraw * view.movingScale);
+}
+
 function movingQuery() {
   if (view.show === 'difference' || view.show === 'flip') {
     // Comparisons need a 16-sample reference: while moving, the frame they compare.
-    return frameQuery({ show: view.scene.surfels ? 'surfels' : 'embree', format: 'jpeg',
-                        overdraw: view.lod.overdraw * view.movingScale });
+    return frameQuery({ show: view.scene.surfels ? 'surfels' : 'embree', format: 'jpeg', overdraw: movingOverdraw() });
   }
-  const overdraw = view.show === 'surfels' || view.show === 'source' ? view.lod.overdraw * view.movingScale
-                                                                     : view.lod.overdraw;
+  const overdraw = view.show === 'surfels' || view.show === 'source' ? movingOverdraw() : view.lod.overdraw;
   return frameQuery({ format: 'jpeg', overdraw });
 }
 
