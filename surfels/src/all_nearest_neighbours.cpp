@@ -15,12 +15,6 @@
 namespace pbs {
 namespace {
 
-// Cells per axis stay below 2^21, so three coordinates pack into one 64-bit key.
-constexpr int kMaxDims = 1 << 20;
-// Points an occupied cell may hold on average before the cells shrink, and how often they may (the rule of
-// NearestPointGrid): on a surface, cells of about two spacings put a point's nearest neighbour in the block.
-constexpr double kCrowdedCell = 4.0;
-constexpr int kMaxShrinks = 3;
 // A cell or block crowded beyond these (coincident points, clusters the shrinks could not part) is left to
 // NearestPointGrid, whose queries prune by distance and stop at 0, instead of comparing all its pairs.
 constexpr std::size_t kMostInACell = 64;
@@ -87,63 +81,58 @@ struct SortedCells {
 };
 
 constexpr int kKeyShift = 21;
+static_assert(kMaxCellsPerAxis < (1 << kKeyShift) - 1, "a field of all ones names no cell");
 
 std::int64_t cellKey(const glm::ivec3& c) {
   return std::int64_t(c.x) | std::int64_t(c.y) << kKeyShift | std::int64_t(c.z) << (2 * kKeyShift);
 }
 
-// Cells sized as NearestPointGrid sizes them: two spacings of points spread over a surface as wide as the
-// box, shrunk while occupied cells hold more than kCrowdedCell points on average.
+// The points sorted into cells of crowdingCellSize (as NearestPointGrid's).
 SortedCells sortByCell(std::span<const glm::vec3> points, const OrderableBox& box) {
   const std::size_t n = points.size();
-  const double maxExtent = std::max({box.extent.x, box.extent.y, box.extent.z});
-  const double smallest = maxExtent / double(kMaxDims - 1);
-  double size = maxExtent > 0.0 ? 2.0 * maxExtent / std::sqrt(double(n)) : 1.0;
   std::vector<std::uint32_t> cellOf(n);
   CellNumbers numbers(n);
-  for (int attempt = 0;; ++attempt) {
-    size = std::max(size, smallest);
-    const glm::ivec3 dims = glm::min(glm::ivec3(glm::floor(glm::dvec3(box.extent) / size)) + 1, glm::ivec3(kMaxDims));
+  const float maxExtent = std::max({box.extent.x, box.extent.y, box.extent.z});
+  const float size = crowdingCellSize(maxExtent, n, [&](float tried) {
+    const glm::ivec3 dims =
+        glm::min(glm::ivec3(glm::floor(glm::dvec3(box.extent) / double(tried))) + 1, glm::ivec3(kMaxCellsPerAxis));
     numbers.clear();
     for (std::size_t i = 0; i < n; ++i) {
-      const glm::dvec3 at = glm::floor((glm::dvec3(points[i]) - glm::dvec3(box.lo)) / size);
+      const glm::dvec3 at = glm::floor((glm::dvec3(points[i]) - glm::dvec3(box.lo)) / double(tried));
       cellOf[i] = numbers.add(cellKey(glm::clamp(glm::ivec3(at), glm::ivec3(0), dims - 1)));
     }
-    const double crowding = double(n) / double(numbers.size());
-    if (attempt < kMaxShrinks && maxExtent > 0.0 && size > smallest && crowding > kCrowdedCell) {
-      size *= std::sqrt(kCrowdedCell / crowding);
-      continue;
-    }
-    // Cells renumbered by key, then the points counted into them.
-    const std::vector<std::int64_t>& keys = numbers.keys();
-    std::vector<std::pair<std::int64_t, std::uint32_t>> byKey(keys.size());
-    for (std::uint32_t c = 0; c < byKey.size(); ++c) byKey[c] = {keys[c], c};
-    std::sort(byKey.begin(), byKey.end());
-    std::vector<std::uint32_t> rank(keys.size());
-    SortedCells cells;
-    cells.size = size;
-    cells.keys.resize(keys.size());
-    for (std::uint32_t r = 0; r < byKey.size(); ++r) {
-      rank[byKey[r].second] = r;
-      cells.keys[r] = byKey[r].first;
-    }
-    cells.first.assign(keys.size() + 1, 0);
-    for (std::uint32_t& c : cellOf) ++cells.first[(c = rank[c]) + 1];
-    for (std::size_t c = 1; c < cells.first.size(); ++c) cells.first[c] += cells.first[c - 1];
-    std::vector<std::uint32_t> next(cells.first.begin(), cells.first.end() - 1);
-    cells.x.resize(n);
-    cells.y.resize(n);
-    cells.z.resize(n);
-    cells.index.resize(n);
-    for (std::uint32_t i = 0; i < n; ++i) {
-      const std::uint32_t t = next[cellOf[i]]++;
-      cells.x[t] = points[i].x;
-      cells.y[t] = points[i].y;
-      cells.z[t] = points[i].z;
-      cells.index[t] = i;
-    }
-    return cells;
+    return numbers.size();
+  });
+
+  // Cells renumbered by key, then the points counted into them.
+  const std::vector<std::int64_t>& keys = numbers.keys();
+  std::vector<std::pair<std::int64_t, std::uint32_t>> byKey(keys.size());
+  for (std::uint32_t c = 0; c < byKey.size(); ++c) byKey[c] = {keys[c], c};
+  std::sort(byKey.begin(), byKey.end());
+  std::vector<std::uint32_t> rank(keys.size());
+  SortedCells cells;
+  cells.size = size;
+  cells.keys.resize(keys.size());
+  for (std::uint32_t r = 0; r < byKey.size(); ++r) {
+    rank[byKey[r].second] = r;
+    cells.keys[r] = byKey[r].first;
   }
+  cells.first.assign(keys.size() + 1, 0);
+  for (std::uint32_t& c : cellOf) ++cells.first[(c = rank[c]) + 1];
+  for (std::size_t c = 1; c < cells.first.size(); ++c) cells.first[c] += cells.first[c - 1];
+  std::vector<std::uint32_t> next(cells.first.begin(), cells.first.end() - 1);
+  cells.x.resize(n);
+  cells.y.resize(n);
+  cells.z.resize(n);
+  cells.index.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t t = next[cellOf[i]]++;
+    cells.x[t] = points[i].x;
+    cells.y[t] = points[i].y;
+    cells.z[t] = points[i].z;
+    cells.index[t] = i;
+  }
+  return cells;
 }
 
 typedef float Float4 __attribute__((vector_size(4 * sizeof(float))));
@@ -203,11 +192,11 @@ Float4 nearestOfFour(const SortedCells& cells, const Int4& queries, std::span<co
   return best;
 }
 
-// Four entries from `entries`, starting at `first`; past its end the last one again.
-Int4 fourOf(std::span<const std::uint32_t> entries, std::size_t first) {
+// The entries entryAt(first) to entryAt(first + 3), one a lane; past `end` the last one again.
+template <class EntryAt>
+Int4 fourOf(std::size_t first, std::size_t end, EntryAt entryAt) {
   Int4 four;
-  for (std::size_t lane = 0; lane < 4; ++lane)
-    four[lane] = std::int32_t(entries[std::min(first + lane, entries.size() - 1)]);
+  for (std::size_t lane = 0; lane < 4; ++lane) four[lane] = std::int32_t(entryAt(std::min(first + lane, end - 1)));
   return four;
 }
 
@@ -233,9 +222,7 @@ std::vector<float> allNearestSquared(std::span<const glm::vec3> points, const ch
       continue;
     }
     for (std::uint32_t group = first; group < end; group += 4) {
-      const Int4 queries = {std::int32_t(group), std::int32_t(std::min(group + 1, end - 1)),
-                            std::int32_t(std::min(group + 2, end - 1)), std::int32_t(std::min(group + 3, end - 1))};
-      const Float4 best = nearestOfFour(cells, queries, runs);
+      const Float4 best = nearestOfFour(cells, fourOf(group, end, [](std::size_t t) { return t; }), runs);
       for (std::uint32_t t = group; t < std::min(group + 4, end); ++t) {
         if (double(best[t - group]) <= reach * reach)
           nearest[cells.index[t]] = best[t - group];
@@ -249,7 +236,8 @@ std::vector<float> allNearestSquared(std::span<const glm::vec3> points, const ch
   if (unanswered.size() <= kMostCompared) {
     const Run all{0, std::uint32_t(points.size())};
     for (std::size_t k = 0; k < unanswered.size(); k += 4) {
-      const Float4 best = nearestOfFour(cells, fourOf(unanswered, k), {&all, 1});
+      const Float4 best =
+          nearestOfFour(cells, fourOf(k, unanswered.size(), [&](std::size_t u) { return unanswered[u]; }), {&all, 1});
       for (std::size_t lane = 0; lane < 4 && k + lane < unanswered.size(); ++lane)
         nearest[cells.index[unanswered[k + lane]]] = best[lane];
     }

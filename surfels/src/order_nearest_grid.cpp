@@ -12,13 +12,8 @@ namespace pbs {
 
 namespace {
 
-// Cells per axis are capped so cell coordinates and their hash stay well inside 32 bits.
-constexpr int kMaxDims = 1 << 20;
 // A rebuild happens whenever the count has grown this much: on a surface the spacing then halves.
 constexpr std::size_t kGrowth = 4;
-// Points an occupied cell may hold on average before the cells shrink, and how often they may.
-constexpr double kCrowdedCell = 4.0;
-constexpr int kMaxShrinks = 3;
 
 }  // namespace
 
@@ -123,28 +118,17 @@ void NearestPointGrid::link(std::uint32_t entry) {
 void NearestPointGrid::rebuild() {
   const std::size_t count = inserted_.size();
   rebuildAt_ = std::max<std::size_t>(16, kGrowth * count);
-  // On a surface spread over the box the spacing of n points is about extent / sqrt(n); cells of twice
-  // that keep a typical nearest neighbour within the first shell around the query's cell.
-  const float maxExtent = std::max({extent_.x, extent_.y, extent_.z});
-  const float smallest = maxExtent / static_cast<float>(kMaxDims - 1);
-  cellSize_ = maxExtent > 0.0f ? 2.0f * maxExtent / std::sqrt(static_cast<float>(count)) : 1.0f;
   head_.assign(std::bit_ceil(rebuildAt_), -1);
   next_.resize(count);
-  // Points that fill a small part of the box (the buildings of a city block, a few parts far apart) crowd
-  // its cells, and a query would read every point of 27 crowded cells: the cells shrink by the surface's
-  // rule until an occupied cell holds few points. (Queries are exact at any cell size.)
-  for (int attempt = 0;; ++attempt) {
-    cellSize_ = std::max(cellSize_, smallest);
-    dims_ = glm::min(glm::ivec3(glm::floor(extent_ / cellSize_)) + 1, glm::ivec3(kMaxDims));
+  const float maxExtent = std::max({extent_.x, extent_.y, extent_.z});
+  cellSize_ = crowdingCellSize(maxExtent, count, [&](float size) {
+    cellSize_ = size;
+    dims_ = glm::min(glm::ivec3(glm::floor(extent_ / cellSize_)) + 1, glm::ivec3(kMaxCellsPerAxis));
     std::fill(head_.begin(), head_.end(), -1);
     for (std::uint32_t e = 0; e < count; ++e) link(e);
-    if (attempt == kMaxShrinks || cellSize_ <= smallest) break;
     // Occupied slots stand for occupied cells (the table has four slots a point, so few cells share one).
-    const auto occupied = std::size_t(std::count_if(head_.begin(), head_.end(), [](std::int32_t e) { return e >= 0; }));
-    const double crowding = occupied > 0 ? double(count) / double(occupied) : 0.0;
-    if (crowding <= kCrowdedCell) break;
-    cellSize_ *= static_cast<float>(std::sqrt(kCrowdedCell / crowding));
-  }
+    return std::size_t(std::count_if(head_.begin(), head_.end(), [](std::int32_t e) { return e >= 0; }));
+  });
 }
 
 void NearestPointGrid::insert(std::uint32_t index) {

@@ -3,6 +3,9 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -23,6 +26,32 @@ struct OrderableBox {
 inline constexpr float kMaxOrderableExtent = 1e18f;  // 3·(1e18)² stays below FLT_MAX ≈ 3.4e38
 OrderableBox orderableBox(std::span<const glm::vec3> points, const char* who,
                           std::span<const std::uint32_t> names = {});
+
+// Cells per axis are capped so cell coordinates (and keys or hashes made of them) stay well inside 32 bits.
+inline constexpr int kMaxCellsPerAxis = 1 << 20;
+
+// The cells of the nearest-point searches (NearestPointGrid, allNearestSquared), for `count` points in a box
+// `maxExtent` wide: two spacings of points spread over a surface as wide as the box, which keeps a typical
+// nearest neighbour within the block of cells around a point's own. Points that fill a small part of the box
+// (the buildings of a city block, a few parts far apart) crowd its cells, so the size shrinks by the surface's
+// rule, at most three times and to no less than the box over kMaxCellsPerAxis − 1, until occupied cells hold
+// four points on average. `occupiedCells(size)` sorts the points into cells of that size and returns how many
+// cells it occupied; its last call is at the size returned.
+template <class OccupiedCells>
+float crowdingCellSize(float maxExtent, std::size_t count, OccupiedCells&& occupiedCells) {
+  constexpr double kCrowdedCell = 4.0;
+  constexpr int kMaxShrinks = 3;
+  const float smallest = maxExtent / static_cast<float>(kMaxCellsPerAxis - 1);
+  float size = maxExtent > 0.0f ? 2.0f * maxExtent / std::sqrt(static_cast<float>(count)) : 1.0f;
+  for (int attempt = 0;; ++attempt) {
+    size = std::max(size, smallest);
+    const std::size_t occupied = occupiedCells(size);
+    if (attempt == kMaxShrinks || size <= smallest) return size;
+    const double crowding = occupied > 0 ? double(count) / double(occupied) : 0.0;
+    if (crowding <= kCrowdedCell) return size;
+    size *= static_cast<float>(std::sqrt(kCrowdedCell / crowding));
+  }
+}
 
 class NearestPointGrid {
  public:
