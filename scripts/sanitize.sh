@@ -4,16 +4,19 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# The asan preset's -O1 -g1: fast enough for the heavier suites, stacks with file and line (full -g costs a third more
-# build time), and assert() stays on (no NDEBUG).
-# Warnings are not errors here: the Release build (setup.sh) enforces them, and GCC's flow warnings
-# (-Wmaybe-uninitialized, -Wstringop-overflow) give false positives on sanitizer-instrumented code.
-cmake --preset asan >/dev/null  # CMakePresets.json: build-asan/, RelWithDebInfo at -O1 -g1, PBS_SANITIZE
+# The asan preset builds with clang at -O1 -g1: fast enough for the heavier suites, stacks with file and line
+# (full -g costs a third more build time), and assert() stays on (no NDEBUG). Clang rather than GCC, whose
+# Release build setup.sh makes: each file compiles instrumented in 35-40 % less time (a clean build: 8 minutes
+# on two cores), and a second compiler's warnings and language rules are checked on every change (warnings are
+# errors when CI=true, as in setup.sh).
+werror=OFF
+[ "${CI:-}" = "true" ] && werror=ON
+cmake --preset asan -DPBS_WERROR="$werror" >/dev/null  # CMakePresets.json: build-asan/, PBS_SANITIZE
 cmake --build --preset asan -j"$(nproc)"
 
 # Any report fails the test that made it: stop at the first error, with a stack trace. LSAN_OPTIONS
 # (the suppressions for Mesa's llvmpipe) is set per test by tests/CMakeLists.txt.
-# intercept_tls_get_addr=0: GCC 12's runtime can take a dynamic TLS block (of a dlopen()ed library:
+# intercept_tls_get_addr=0: the runtime can take a dynamic TLS block (of a dlopen()ed library:
 # the OpenImageIO plug-in) for an old-glibc one and hand LeakSanitizer a bogus range, whose scan at
 # exit crashes the tracer ("Tracer caught signal 11") although nothing leaked.
 export ASAN_OPTIONS="halt_on_error=1:abort_on_error=1:detect_leaks=1:check_initialization_order=1:strict_init_order=1:intercept_tls_get_addr=0:print_summary=1"

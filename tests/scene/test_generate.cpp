@@ -198,8 +198,8 @@ Scene prototype(const std::vector<std::pair<std::string, bool>>& children) {
   scene.nodes.push_back({"prototype", glm::rotate(glm::dmat4(1.0), 0.4, glm::dvec3(0, 1, 0)), {}, -1});
   scene.roots = {0};
   for (const auto& [name, mirrored] : children) {
-    const auto mesh =
-        std::find_if(source.meshes.begin(), source.meshes.end(), [&](const Mesh& m) { return m.name == name; });
+    const auto mesh = std::find_if(source.meshes.begin(), source.meshes.end(),
+                                   [&wanted = name](const Mesh& m) { return m.name == wanted; });
     EXPECT_NE(mesh, source.meshes.end()) << name;
     scene.meshes.push_back(*mesh);
     const glm::dmat4 local = glm::translate(glm::dmat4(1.0), glm::dvec3(double(scene.meshes.size()), 0, 0)) *

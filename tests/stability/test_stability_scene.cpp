@@ -237,7 +237,8 @@ TEST(StabilityScene, EmbreeFarOrScaledSceneMatchesTheUnitScene) {
         std::pair{glm::dvec3(0.0), 1e-6}, std::pair{glm::dvec3(0.0), 1e6}}) {
     SCOPED_TRACE(testing::Message() << "offset " << offset.x << " scale " << scale);
     const CastView view = castView(offset, scale, eye, 0.5, 20.0);
-    const Framebuffer moved = sameBytesForOneTwoAndFourThreads([&] { return cast(view, offset); }, framebufferBytes);
+    const Framebuffer moved =
+        sameBytesForOneTwoAndFourThreads([&, &at = offset] { return cast(view, at); }, framebufferBytes);
     expectFiniteFramebuffer(moved);
     std::size_t differ = 0;
     for (std::size_t p = 0; p < unit.pixelCount(); ++p) {

@@ -494,9 +494,10 @@ INSTANTIATE_TEST_SUITE_P(RenderLod, Transitions, testing::Values(SplatMode::Near
 TEST(RenderCli, NodesWhoseRaysCostLessThanTheirSurfelsAreDrawnExactlyWhereRaysDraw) {
   ScratchDir scratch;
   const auto [scene, surfels] = groupsWithSurfels(scratch);
+  const std::string sceneAndSurfels = scene + " --surfels " + surfels;
   const auto drawn = [&](const std::string& more) {
     const test::CommandResult run =
-        test::runPbs("render " + scene + " --surfels " + surfels + " --size 160x100 --orbit 30,20,8 --json -o '" +
+        test::runPbs("render " + sceneAndSurfels + " --size 160x100 --orbit 30,20,8 --json -o '" +
                      (scratch / "f.png").string() + "'" + more);
     EXPECT_EQ(run.status, 0) << run.err;
     const nlohmann::json report = nlohmann::json::parse(run.out);
@@ -509,7 +510,7 @@ TEST(RenderCli, NodesWhoseRaysCostLessThanTheirSurfelsAreDrawnExactlyWhereRaysDr
   EXPECT_GT(trianglesByRays, thresholdCut.second);
   EXPECT_EQ(drawn(" --geometry raster"), thresholdCut);
   EXPECT_EQ(drawn(""), thresholdCut) << "a single view: its rays would build their BVHs first";
-  EXPECT_EQ(test::runPbs("render " + scene + " --surfels " + surfels + " --rays-cheaper sometimes -o x.png").status, 2);
+  EXPECT_EQ(test::runPbs("render " + sceneAndSurfels + " --rays-cheaper sometimes -o x.png").status, 2);
 }
 
 TEST(RenderCli, ModesWriteImagesThatCompare) {
