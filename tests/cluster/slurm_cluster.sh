@@ -114,6 +114,15 @@ start=$(date +%s%N)
 "$pbs" surfelize "$scene" -o "$work"/single.surfels --quiet $options >/dev/null
 echo "one machine: $(elapsed "$start")"
 
+# Whether any of the jobs $1 (squeue's list) is still queued or running. A squeue that fails (slurmctld slow to
+# answer on a loaded machine) counts as "still there": taken as an empty queue, it ended the wait before the
+# merge had run.
+pending() {
+  local out
+  out=$(squeue -h -j "$1" 2>&1) || return 0
+  [ -n "$out" ]
+}
+
 export PBS="$pbs"
 for shards in $shard_counts; do
   parts="$work/parts-$shards"
@@ -124,13 +133,13 @@ for shards in $shard_counts; do
   merge=$(sbatch --parsable --chdir="$work" --output="$work/merge-$shards.log" --dependency="afterok:$array" \
     --kill-on-invalid-dep=yes "$source"/scripts/slurm/merge.sbatch "$parts" "$work/merged-$shards.surfels")
   for _ in $(seq $((limit * 5))); do
-    [ -z "$(squeue -h -j "$array,$merge" 2>/dev/null)" ] && break
+    pending "$array,$merge" || break
     sleep 0.2
   done
   seconds=$(elapsed "$start")
-  if [ -n "$(squeue -h -j "$array,$merge" 2>/dev/null)" ]; then
+  if pending "$array,$merge"; then
     echo "FAILED: $shards shards still queued or running after $limit s" >&2
-    squeue >&2
+    squeue -j "$array,$merge" >&2 || true
     exit 1
   fi
   if [ ! -f "$work/merged-$shards.surfels" ] || ! cmp "$work/single.surfels" "$work/merged-$shards.surfels"; then
