@@ -180,6 +180,12 @@ void addLodOptions(CLI::App& command, LodOptions& lod) {
                   "surfels: descend (draw it exactly, the default) or keep (its surfels: the threshold alone "
                   "decides, the paper's rule)")
       ->transform(CLI::CheckedTransformer(cheaperRays));
+  command
+      .add_option("--rays-preference", lod.raysPreference,
+                  "with --rays-cheaper descend: rays are chosen while predicted to cost up to this many times the "
+                  "surfels")
+      ->check(CLI::Range(0.01, 100.0))
+      ->capture_default_str();
   const std::map<std::string, PrefixRule> rules = {{"coverage", PrefixRule::Coverage},
                                                    {"packing", PrefixRule::Packing}};
   command.add_option("--prefix-rule", lod.prefixRule, "coverage (paper, default) or packing (authors' later rule)")

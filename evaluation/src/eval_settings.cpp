@@ -63,6 +63,8 @@ void apply(const std::string& option, const std::string& key, const std::string&
   } else if (key == "rays") {
     if (value != "descend" && value != "keep") throw SweepError(option, "rays is descend or keep, got '" + value + "'");
     setting.lod.descendWhereRaysCheaper = value == "descend";
+  } else if (key == "rays-preference") {
+    setting.lod.raysPreference = parseNumber(option, key, value, 0.01, 100.0);
   } else if (key == "band") {
     setting.lod.band = parseNumber(option, key, value, 0.0, 10.0);
   } else if (key == "rule") {
@@ -120,7 +122,9 @@ bool EvalSetting::drawsLike(const EvalSetting& o) const {
 }
 
 std::string sweepKeys() {
-  return "embree, exact, overdraw, threshold, primitives, ms, exhausted, rays, point, splat, cull, gain, band, rule, "
+  return "embree, exact, overdraw, threshold, primitives, ms, exhausted, rays, rays-preference, point, splat, cull, "
+         "gain, band, "
+         "rule, "
          "geometry, ordering, simplify";
 }
 

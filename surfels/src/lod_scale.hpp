@@ -52,9 +52,10 @@ inline LodDraws::Surfels prefixDraw(std::uint32_t node, std::uint32_t array, con
 // to cost less than its prefix, which asks for `demand` surfels at `size`; infinite where it never does. Per
 // pixel of the node's box the prefix pays for its surfels (their number grows with the size², as the box's
 // pixels do) and the rays for their pixels, but the rays also pay for each node of the subtree they draw
-// whatever its size: with c the per-node price, n the mesh nodes and p_s > p_r the two prices per pixel, the
-// sizes above √(c·n / (p_s − p_r)). Only where rays may draw the geometry: the rasterizer's price is per
-// triangle, which is what the paper's surfels save.
+// whatever its size: with c the per-node price, n the mesh nodes, p_s and p_r the two prices per pixel and F the
+// preference for rays (options.raysPreference: rays are chosen up to F times the prefix's price), the sizes above
+// √(c·n / (F·p_s − p_r)). Only where rays may draw the geometry: the rasterizer's price is per triangle, which is
+// what the paper's surfels save.
 inline double raysCheaperAbove(double demand, double size, const Hierarchy& hierarchy, std::uint32_t node,
                                const LodOptions& options) {
   constexpr double kNever = std::numeric_limits<double>::infinity();
@@ -63,7 +64,7 @@ inline double raysCheaperAbove(double demand, double size, const Hierarchy& hier
       !(meshNodes > 0.0))
     return kNever;
   const FrameCosts& costs = options.frameCosts;
-  const double surfelPrice = costs.perSurfel * demand / (size * size);
+  const double surfelPrice = options.raysPreference * costs.perSurfel * demand / (size * size);
   const double rayPrice =
       costs.raysPerPixel + costs.raysPerBoxPixel * rayLevels(double(hierarchy.subtreeTriangles[node]));
   if (!(surfelPrice > rayPrice)) return kNever;

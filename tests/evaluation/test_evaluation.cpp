@@ -94,6 +94,12 @@ TEST(EvalSettings, PeersThenTheBaselineThenSweepsAndDuplicatesDropped) {
   EXPECT_FALSE(rays[0].lod.descendWhereRaysCheaper);
   EXPECT_TRUE(rays[1].lod.descendWhereRaysCheaper);
   EXPECT_EQ(rays[1].name, "rays=descend");
+  LodOptions preferring;
+  preferring.raysPreference = 2.0;
+  const std::vector<EvalSetting> preference = evalSettings({}, {"rays-preference=1,3"}, preferring);
+  ASSERT_EQ(preference.size(), 3u) << "the baseline, then each value";
+  EXPECT_EQ(preference[1].lod.raysPreference, 1.0);
+  EXPECT_EQ(preference[2].lod.raysPreference, 3.0);
 }
 
 TEST(EvalSettings, BadTextsAreRefusedNamingTheirOption) {
@@ -108,7 +114,7 @@ TEST(EvalSettings, BadTextsAreRefusedNamingTheirOption) {
   EXPECT_EQ(refusal({}, {"colour=1"}).rfind("--sweep: unknown key 'colour'", 0), 0u) << refusal({}, {"colour=1"});
   EXPECT_EQ(refusal({"overdraw=2"}, {}).rfind("--peers:", 0), 0u) << "peers are exact renderers";
   for (const char* bad : {"overdraw=", "overdraw=1,x", "ordering=best", "embree=3", "point=1,2+threshold=3", "point=1+",
-                          "simplify=0", "simplify=1.5", "exhausted=sometimes", "rays=sometimes"})
+                          "simplify=0", "simplify=1.5", "exhausted=sometimes", "rays=sometimes", "rays-preference=0"})
     EXPECT_EQ(refusal({}, {bad}).rfind("--sweep:", 0), 0u) << bad;
 }
 

@@ -195,8 +195,9 @@ TEST(TraverseLod, AnArrayTooShortForItsSizeIsDescendedInto) {
 
 // The root under a threshold ten times its size, its array long enough: by the threshold alone drawn as
 // surfels. With descendWhereRaysCheaper, it is descended into from the size at which its subtree's rays are
-// priced below its prefix, √(c·n / (p_s − p_r)) (c per node, n its mesh nodes, p_s and p_r per box pixel), with
-// the transition band above that size as above any threshold; not where the rasterizer draws the geometry.
+// priced below its prefix, √(c·n / (F·p_s − p_r)) (c per node, n its mesh nodes, p_s and p_r per box pixel, F the
+// preference for rays), with the transition band above that size as above any threshold; not where the
+// rasterizer draws the geometry.
 TEST(TraverseLod, ASubtreeWhoseRaysCostLessThanItsSurfelsIsDescendedFromTheSizeWhereTheyDo) {
   const SurfeledScene s = surfeled(twoIdenticalGroups());
   const Camera camera = orbitAround(s, 3.0);
@@ -209,6 +210,7 @@ TEST(TraverseLod, ASubtreeWhoseRaysCostLessThanItsSurfelsIsDescendedFromTheSizeW
   options.band = 0.0;
   options.descendExhausted = false;
   options.descendWhereRaysCheaper = true;
+  options.raysPreference = 1.0;
   options.frameCosts.perSurfel = 60e-9;
   options.frameCosts.raysPerPixel = 40e-9;
   options.frameCosts.raysPerBoxPixel = 0.0;
@@ -219,7 +221,7 @@ TEST(TraverseLod, ASubtreeWhoseRaysCostLessThanItsSurfelsIsDescendedFromTheSizeW
   // The per-node price that puts the crossover at `crossover` pixels.
   const auto crossoverAt = [&](double crossover) {
     options.frameCosts.raysPerNode =
-        crossover * crossover * (surfelPrice - options.frameCosts.raysPerPixel) / meshNodes;
+        crossover * crossover * (options.raysPreference * surfelPrice - options.frameCosts.raysPerPixel) / meshNodes;
   };
   const auto drawn = [&] {
     std::set<std::uint32_t> nodes;
@@ -236,6 +238,16 @@ TEST(TraverseLod, ASubtreeWhoseRaysCostLessThanItsSurfelsIsDescendedFromTheSizeW
   options.geometry = GeometryDrawer::Raster;
   EXPECT_TRUE(drawn().contains(0)) << "no rays to draw the subtree with";
   options.geometry = GeometryDrawer::Auto;
+
+  // Preferring rays at up to twice the prefix's price moves the crossover down, to where that holds.
+  crossoverAt(1.02 * rootSize);
+  options.raysPreference = 2.0;
+  EXPECT_FALSE(drawn().contains(0)) << "rays up to twice the price: descended into";
+  crossoverAt(1.02 * rootSize);
+  EXPECT_TRUE(drawn().contains(0)) << "just below the crossover of that preference";
+  crossoverAt(0.98 * rootSize);
+  EXPECT_FALSE(drawn().contains(0)) << "just above it";
+  options.raysPreference = 1.0;
 
   // Inside the band above the crossover, both representations, as inside any threshold's band.
   options.band = 0.5;
