@@ -123,9 +123,7 @@ bool EvalSetting::drawsLike(const EvalSetting& o) const {
 
 std::string sweepKeys() {
   return "embree, exact, overdraw, threshold, primitives, ms, exhausted, rays, rays-preference, point, splat, cull, "
-         "gain, band, "
-         "rule, "
-         "geometry, ordering, simplify";
+         "gain, band, rule, geometry, ordering, simplify";
 }
 
 std::vector<EvalSetting> parseSweep(const std::string& text, const LodOptions& baseline, const std::string& option) {

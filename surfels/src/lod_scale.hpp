@@ -64,11 +64,12 @@ inline double raysCheaperAbove(double demand, double size, const Hierarchy& hier
       !(meshNodes > 0.0))
     return kNever;
   const FrameCosts& costs = options.frameCosts;
-  const double surfelPrice = options.raysPreference * costs.perSurfel * demand / (size * size);
+  const double surfelPrice = costs.perSurfel * demand / (size * size);
   const double rayPrice =
       costs.raysPerPixel + costs.raysPerBoxPixel * rayLevels(double(hierarchy.subtreeTriangles[node]));
-  if (!(surfelPrice > rayPrice)) return kNever;
-  return std::sqrt(costs.raysPerNode * meshNodes / (surfelPrice - rayPrice));
+  const double tolerated = options.raysPreference * surfelPrice;  // what the rays may cost and still be chosen
+  if (!(tolerated > rayPrice)) return kNever;
+  return std::sqrt(costs.raysPerNode * meshNodes / (tolerated - rayPrice));
 }
 
 // The projected size (pixels) up to which node `node` is drawn as its array's prefix rather than descended
