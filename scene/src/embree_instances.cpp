@@ -28,6 +28,12 @@ glm::dvec3 nodesCenter(const Hierarchy& hierarchy, std::span<const std::uint32_t
   return bounds.empty() ? glm::dvec3(0.0) : bounds.center();
 }
 
+glm::dvec3 sceneCenter(const Hierarchy& hierarchy) {
+  Bounds bounds;
+  for (const Bounds& box : hierarchy.worldBounds) bounds.extend(box);
+  return bounds.empty() ? glm::dvec3(0.0) : bounds.center();
+}
+
 EmbreeInstances makeEmbreeInstances(const EmbreeMeshes& meshes, const Scene& scene, const Hierarchy& hierarchy,
                                     const SceneMaterials& materials, std::span<const std::uint32_t> nodes,
                                     const glm::dvec3& origin) {

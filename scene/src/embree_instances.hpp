@@ -25,6 +25,8 @@ struct EmbreeInstances {
 // The centre of the nodes' world bounds: Embree works in single precision, so its frame is centred
 // there and far-from-origin scenes keep their digits.
 glm::dvec3 nodesCenter(const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes);
+// nodesCenter over every node: the whole scene's centre.
+glm::dvec3 sceneCenter(const Hierarchy& hierarchy);
 
 // The committed top-level scene over the instances of `nodes` (from rayInstanceNodes, their meshes
 // built in `meshes`), instance i being nodes[i]. `materials` must outlive the result.

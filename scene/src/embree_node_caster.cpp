@@ -16,6 +16,10 @@ struct EmbreeNodeCaster::Impl {
   EmbreeMeshes meshes;
   EmbreeInstances instances;            // over topNodes; no top scene before the first render
   std::vector<std::uint32_t> topNodes;  // kept while renders ask for the same (a still camera, samples)
+  // Every top level's frame is centred on the whole scene, as EmbreeScene's over all nodes is: each instance then
+  // sees the very rays `--mode embree` casts, so the geometry a frame draws here is its image to the bit, and the
+  // frame does not move as the view's nodes change.
+  glm::dvec3 origin{0.0};
 };
 
 EmbreeNodeCaster::EmbreeNodeCaster(const Scene& scene, const Hierarchy& hierarchy) : impl_(std::make_unique<Impl>()) {
@@ -23,6 +27,7 @@ EmbreeNodeCaster::EmbreeNodeCaster(const Scene& scene, const Hierarchy& hierarch
   impl_->hierarchy = &hierarchy;
   impl_->materials = makeSceneMaterials(scene);
   impl_->meshes = makeEmbreeMeshes(scene);
+  impl_->origin = sceneCenter(hierarchy);
 }
 
 EmbreeNodeCaster::EmbreeNodeCaster(const Scene& scene, const Hierarchy& hierarchy, const EmbreeScene& prebuilt)
@@ -31,6 +36,7 @@ EmbreeNodeCaster::EmbreeNodeCaster(const Scene& scene, const Hierarchy& hierarch
   impl_->hierarchy = &hierarchy;
   impl_->materials = makeSceneMaterials(scene);
   impl_->meshes = shareEmbreeMeshes(prebuilt.impl_->meshes);
+  impl_->origin = sceneCenter(hierarchy);
 }
 
 EmbreeNodeCaster::~EmbreeNodeCaster() = default;
@@ -57,8 +63,7 @@ EmbreeBuilds EmbreeNodeCaster::render(const Camera& camera, std::span<const std:
   const EmbreeBuilds builds{built.meshes, built.triangles, built.meshes > 0 ? seconds : 0.0};
 
   if (!impl.instances.top || inView != impl.topNodes) {
-    impl.instances =
-        makeEmbreeInstances(impl.meshes, scene, hierarchy, impl.materials, inView, nodesCenter(hierarchy, inView));
+    impl.instances = makeEmbreeInstances(impl.meshes, scene, hierarchy, impl.materials, inView, impl.origin);
     impl.topNodes = inView;
   }
   // Rays only where the instances' boxes show: a frame's geometry often covers a small part of it.
