@@ -23,8 +23,9 @@ struct EmbreeBuilds {
 
 // Keeps one bottom-level BVH per mesh, shared by its instances, across renders; each render casts at a
 // top-level scene over the instances it is given, rebuilt when they change (a scene of millions of
-// instances is never instanced whole). Conventions as EmbreeScene's: the top level is translated by
-// the centre of its nodes' world bounds for single precision, and every result is in world space.
+// instances is never instanced whole). Conventions as EmbreeScene's: every top level is translated by
+// the centre of the whole scene's world bounds for single precision (the frame of an EmbreeScene over
+// every node, so nodes drawn here come out as its image to the bit), and every result is in world space.
 class EmbreeNodeCaster {
  public:
   // Builds nothing yet. `scene` and `hierarchy` must outlive this object and stay unchanged.
