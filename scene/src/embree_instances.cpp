@@ -1,6 +1,8 @@
 // Top-level Embree scenes: one instance per node, its transform made origin-relative in double.
 #include "embree_instances.hpp"
 
+#include <numeric>
+
 namespace pbs {
 namespace {
 
@@ -28,10 +30,10 @@ glm::dvec3 nodesCenter(const Hierarchy& hierarchy, std::span<const std::uint32_t
   return bounds.empty() ? glm::dvec3(0.0) : bounds.center();
 }
 
-glm::dvec3 sceneCenter(const Hierarchy& hierarchy) {
-  Bounds bounds;
-  for (const Bounds& box : hierarchy.worldBounds) bounds.extend(box);
-  return bounds.empty() ? glm::dvec3(0.0) : bounds.center();
+std::vector<std::uint32_t> allNodes(const Scene& scene) {
+  std::vector<std::uint32_t> nodes(scene.nodes.size());
+  std::iota(nodes.begin(), nodes.end(), 0u);
+  return nodes;
 }
 
 EmbreeInstances makeEmbreeInstances(const EmbreeMeshes& meshes, const Scene& scene, const Hierarchy& hierarchy,

@@ -25,8 +25,8 @@ struct EmbreeInstances {
 // The centre of the nodes' world bounds: Embree works in single precision, so its frame is centred
 // there and far-from-origin scenes keep their digits.
 glm::dvec3 nodesCenter(const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes);
-// nodesCenter over every node: the whole scene's centre.
-glm::dvec3 sceneCenter(const Hierarchy& hierarchy);
+// Every node of `scene`, in index order: what an EmbreeScene of the whole scene is made over.
+std::vector<std::uint32_t> allNodes(const Scene& scene);
 
 // The committed top-level scene over the instances of `nodes` (from rayInstanceNodes, their meshes
 // built in `meshes`), instance i being nodes[i]. `materials` must outlive the result.

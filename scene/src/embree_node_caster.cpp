@@ -16,9 +16,9 @@ struct EmbreeNodeCaster::Impl {
   EmbreeMeshes meshes;
   EmbreeInstances instances;            // over topNodes; no top scene before the first render
   std::vector<std::uint32_t> topNodes;  // kept while renders ask for the same (a still camera, samples)
-  // Every top level's frame is centred on the whole scene, as EmbreeScene's over all nodes is: each instance then
-  // sees the very rays `--mode embree` casts, so the geometry a frame draws here is its image to the bit, and the
-  // frame does not move as the view's nodes change.
+  // Every top level's frame is centred on the whole scene, by EmbreeScene's own rule over all nodes: each instance
+  // then sees the very rays `--mode embree` casts, so the geometry a frame draws here is its image to the bit, and
+  // the frame does not move as the view's nodes change.
   glm::dvec3 origin{0.0};
 };
 
@@ -27,7 +27,7 @@ EmbreeNodeCaster::EmbreeNodeCaster(const Scene& scene, const Hierarchy& hierarch
   impl_->hierarchy = &hierarchy;
   impl_->materials = makeSceneMaterials(scene);
   impl_->meshes = makeEmbreeMeshes(scene);
-  impl_->origin = sceneCenter(hierarchy);
+  impl_->origin = nodesCenter(hierarchy, allNodes(scene));
 }
 
 EmbreeNodeCaster::EmbreeNodeCaster(const Scene& scene, const Hierarchy& hierarchy, const EmbreeScene& prebuilt)
@@ -36,7 +36,7 @@ EmbreeNodeCaster::EmbreeNodeCaster(const Scene& scene, const Hierarchy& hierarch
   impl_->hierarchy = &hierarchy;
   impl_->materials = makeSceneMaterials(scene);
   impl_->meshes = shareEmbreeMeshes(prebuilt.impl_->meshes);
-  impl_->origin = sceneCenter(hierarchy);
+  impl_->origin = nodesCenter(hierarchy, allNodes(scene));
 }
 
 EmbreeNodeCaster::~EmbreeNodeCaster() = default;

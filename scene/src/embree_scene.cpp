@@ -2,7 +2,6 @@
 #include "embree_scene_impl.hpp"
 
 #include <algorithm>
-#include <numeric>
 
 namespace pbs {
 namespace {
@@ -15,12 +14,6 @@ constexpr std::uint64_t kEmbreeBytesPerTriangle = 72;
 constexpr std::uint64_t kEmbreeBytesPerVertex = 16;  // its padded copy of the positions
 constexpr std::uint64_t kEmbreeBytesPerInstance = 400;
 constexpr std::uint64_t kEmbreeFixedBytes = std::uint64_t(8) << 20;  // device and per-thread blocks
-
-std::vector<std::uint32_t> allNodes(const Scene& scene) {
-  std::vector<std::uint32_t> nodes(scene.nodes.size());
-  std::iota(nodes.begin(), nodes.end(), 0u);
-  return nodes;
-}
 
 }  // namespace
 
