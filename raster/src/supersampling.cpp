@@ -4,6 +4,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -34,7 +35,7 @@ std::vector<glm::dvec2> subpixelSamples(std::uint32_t samples) {
   return positions;
 }
 
-Camera subpixelCamera(const Camera& camera, const glm::dvec2& sample) {
+Camera subpixelCamera(const Camera& camera, const glm::dvec2& sample, std::uint32_t samples) {
   // Window x grows with NDC x and window y shrinks with NDC y (camera.hpp): to move the sampled
   // point by +d pixels, the image moves by −d, i.e. NDC by (−2·dx / W, +2·dy / H), times w in clip space.
   const glm::dvec2 shift = sample - glm::dvec2(0.5);
@@ -43,6 +44,7 @@ Camera subpixelCamera(const Camera& camera, const glm::dvec2& sample) {
   translate[3][1] = 2.0 * shift.y / double(camera.height);
   Camera shifted = camera;
   shifted.projection = translate * camera.projection;
+  shifted.sampleSpacing = camera.sampleSpacing / std::sqrt(double(std::max<std::uint32_t>(samples, 1)));
   return shifted;
 }
 

@@ -1,14 +1,19 @@
-// Base colours: wrap modes, nearest and bilinear filtering over RGBA8 texels, RGBA8 rounding.
+// Base colours: wrap modes, nearest and bilinear filtering over RGBA8 texels, mip chains and the level a
+// footprint picks, RGBA8 rounding.
 #include "pbs/raster/texture.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace pbs {
 namespace {
 
 std::int64_t positiveModulo(std::int64_t i, std::int64_t n) {
+  // A power of two (most textures' sizes) by a mask, two's complement giving the positive remainder;
+  // a 64-bit division costs tens of cycles, and a trilinear sample needs up to four.
+  if ((n & (n - 1)) == 0) return i & (n - 1);
   const std::int64_t m = i % n;
   return m < 0 ? m + n : m;
 }
@@ -25,6 +30,18 @@ std::int64_t wrapTexel(std::int64_t i, std::int64_t size, TextureWrap wrap) {
   return positiveModulo(i, size);
 }
 
+// Texels i and i + 1 wrapped: repeat needs one division for both (a trilinear sample makes eight such
+// pairs, and 64-bit division is slow).
+void wrapPair(std::int64_t i, std::int64_t size, TextureWrap wrap, std::int64_t& first, std::int64_t& second) {
+  if (wrap == TextureWrap::Repeat) {
+    first = positiveModulo(i, size);
+    second = first + 1 == size ? 0 : first + 1;
+    return;
+  }
+  first = wrapTexel(i, size, wrap);
+  second = wrapTexel(i + 1, size, wrap);
+}
+
 // The coordinate in texels, bounded so that its floor converts to an integer (floats that large
 // have no fraction left anyway); NaN samples the origin.
 float texelCoordinate(float t, std::uint32_t size) {
@@ -33,9 +50,49 @@ float texelCoordinate(float t, std::uint32_t size) {
   return s == s ? std::clamp(s, -kLimit, kLimit) : 0.0f;
 }
 
-glm::vec4 texel(const Texture& texture, std::int64_t x, std::int64_t y) {
-  const std::uint8_t* p = texture.rgba8.data() + (std::size_t(y) * texture.width + std::size_t(x)) * 4;
+// One level's texels as the filters read them.
+struct Level {
+  std::int64_t width, height;
+  const std::uint8_t* rgba8;
+};
+
+glm::vec4 texel(const Level& level, std::int64_t x, std::int64_t y) {
+  const std::uint8_t* p = level.rgba8 + (std::size_t(y) * std::size_t(level.width) + std::size_t(x)) * 4;
   return {p[0], p[1], p[2], p[3]};
+}
+
+// RGBA in [0, 255] at uv in one level, by nearest or bilinear filtering.
+glm::vec4 sampleLevel(const Level& level, TextureFilter filter, const Texture& texture, glm::vec2 uv) {
+  const std::int64_t w = level.width, h = level.height;
+  const float s = texelCoordinate(uv.x, std::uint32_t(w)), t = texelCoordinate(uv.y, std::uint32_t(h));
+  if (filter == TextureFilter::Nearest) {
+    const std::int64_t x = wrapTexel(std::int64_t(std::floor(s)), w, texture.wrapS);
+    const std::int64_t y = wrapTexel(std::int64_t(std::floor(t)), h, texture.wrapT);
+    return texel(level, x, y);
+  }
+  const float fs = std::floor(s - 0.5f), ft = std::floor(t - 0.5f);
+  const float ax = s - 0.5f - fs, ay = t - 0.5f - ft;
+  std::int64_t x0, x1, y0, y1;
+  wrapPair(std::int64_t(fs), w, texture.wrapS, x0, x1);
+  wrapPair(std::int64_t(ft), h, texture.wrapT, y0, y1);
+  const glm::vec4 top = glm::mix(texel(level, x0, y0), texel(level, x1, y0), ax);
+  const glm::vec4 bottom = glm::mix(texel(level, x0, y1), texel(level, x1, y1), ax);
+  return glm::mix(top, bottom, ay);
+}
+
+Level levelOf(const Texture& texture, std::size_t index) {
+  if (index == 0) return {texture.width, texture.height, texture.rgba8.data()};
+  const TextureLevel& level = texture.mipLevels[index - 1];
+  return {level.width, level.height, level.rgba8.data()};
+}
+
+// log2 of the footprint's larger side in level-0 texels: NaN where it has none (zero or NaN), which
+// samples level 0 magnified; an infinite one (a triangle seen edge-on) picks the last level.
+float levelOfDetail(const Texture& texture, const TextureFootprint& f) {
+  const glm::vec2 size(float(texture.width), float(texture.height));
+  const glm::vec2 x = f.dx * size, y = f.dy * size;
+  const float rho2 = std::max(glm::dot(x, x), glm::dot(y, y));
+  return rho2 > 0.0f ? 0.5f * std::log2(std::min(rho2, 1e30f)) : std::numeric_limits<float>::quiet_NaN();
 }
 
 }  // namespace
@@ -53,23 +110,53 @@ bool isSampleable(const Texture& texture) {
          texture.rgba8.size() >= std::size_t(texture.width) * texture.height * 4;
 }
 
-glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv) {
-  const std::int64_t w = texture.width, h = texture.height;
-  const float s = texelCoordinate(uv.x, texture.width), t = texelCoordinate(uv.y, texture.height);
-  if (texture.magFilter == TextureFilter::Nearest) {
-    const std::int64_t x = wrapTexel(std::int64_t(std::floor(s)), w, texture.wrapS);
-    const std::int64_t y = wrapTexel(std::int64_t(std::floor(t)), h, texture.wrapT);
-    return texel(texture, x, y) / 255.0f;
+void buildMipLevels(Texture& texture) {
+  texture.mipLevels.clear();
+  if (texture.mipmap == TextureMipmap::None || !isSampleable(texture)) return;
+  Level previous = levelOf(texture, 0);
+  while (previous.width > 1 || previous.height > 1) {
+    TextureLevel next;
+    next.width = std::uint32_t(std::max<std::int64_t>(1, previous.width / 2));
+    next.height = std::uint32_t(std::max<std::int64_t>(1, previous.height / 2));
+    next.rgba8.resize(std::size_t(next.width) * next.height * 4);
+    for (std::int64_t y = 0; y < next.height; ++y)
+      for (std::int64_t x = 0; x < next.width; ++x) {
+        const std::int64_t xs[2] = {2 * x, std::min(2 * x + 1, previous.width - 1)};
+        const std::int64_t ys[2] = {2 * y, std::min(2 * y + 1, previous.height - 1)};
+        for (int c = 0; c < 4; ++c) {
+          unsigned sum = 2;  // rounds the mean to nearest
+          for (std::int64_t sy : ys)
+            for (std::int64_t sx : xs)
+              sum += previous.rgba8[(std::size_t(sy) * std::size_t(previous.width) + std::size_t(sx)) * 4 + c];
+          next.rgba8[(std::size_t(y) * next.width + std::size_t(x)) * 4 + c] = std::uint8_t(sum / 4);
+        }
+      }
+    texture.mipLevels.push_back(std::move(next));
+    previous = levelOf(texture, texture.mipLevels.size());
   }
-  const float fs = std::floor(s - 0.5f), ft = std::floor(t - 0.5f);
-  const float ax = s - 0.5f - fs, ay = t - 0.5f - ft;
-  const std::int64_t x0 = wrapTexel(std::int64_t(fs), w, texture.wrapS);
-  const std::int64_t x1 = wrapTexel(std::int64_t(fs) + 1, w, texture.wrapS);
-  const std::int64_t y0 = wrapTexel(std::int64_t(ft), h, texture.wrapT);
-  const std::int64_t y1 = wrapTexel(std::int64_t(ft) + 1, h, texture.wrapT);
-  const glm::vec4 top = glm::mix(texel(texture, x0, y0), texel(texture, x1, y0), ax);
-  const glm::vec4 bottom = glm::mix(texel(texture, x0, y1), texel(texture, x1, y1), ax);
-  return glm::mix(top, bottom, ay) / 255.0f;
+}
+
+glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootprint& footprint) {
+  const float lod = levelOfDetail(texture, footprint);
+  // Not greater than 0 (NaN included): magnified.
+  if (!(lod > 0.0f)) return sampleLevel(levelOf(texture, 0), texture.magFilter, texture, uv) / 255.0f;
+  const std::size_t last = texture.mipLevels.size();
+  switch (texture.mipmap) {
+    case TextureMipmap::None: break;
+    case TextureMipmap::Nearest: {
+      // OpenGL's nearest level: ⌈λ + ½⌉ − 1, at most the last.
+      const auto level = std::size_t(std::min(std::ceil(lod + 0.5f) - 1.0f, float(last)));
+      return sampleLevel(levelOf(texture, level), texture.minFilter, texture, uv) / 255.0f;
+    }
+    case TextureMipmap::Linear: {
+      if (!(lod < float(last))) return sampleLevel(levelOf(texture, last), texture.minFilter, texture, uv) / 255.0f;
+      const auto level = std::size_t(lod);
+      const glm::vec4 fine = sampleLevel(levelOf(texture, level), texture.minFilter, texture, uv);
+      const glm::vec4 coarse = sampleLevel(levelOf(texture, level + 1), texture.minFilter, texture, uv);
+      return glm::mix(fine, coarse, lod - float(level)) / 255.0f;
+    }
+  }
+  return sampleLevel(levelOf(texture, 0), texture.minFilter, texture, uv) / 255.0f;
 }
 
 }  // namespace pbs

@@ -36,6 +36,17 @@ void prefetchRow(const Framebuffer& framebuffer, int x0, int y, int width) {
   prefetchSpan(framebuffer.ids, first, width);
 }
 
+// d(uv)/dx and d(uv)/dy at the pixel, times the sample spacing: uv = P·w with P the plane of uv/w and 1/w
+// a plane Q, so d(uv)/dx = (dP/dx − uv · dQ/dx) · w (the planes' x and y parts are their derivatives).
+PBS_CLONE_INLINE TextureFootprint uvFootprint(const float* record, const ShadingLayout& layout, bool perspective,
+                                              const glm::vec2& uv, float w, float spacing) {
+  const glm::vec2 planeX = loadVector<2>(record + layout.uv + 2), planeY = loadVector<2>(record + layout.uv + 4);
+  const float inverseWX = perspective ? record[layout.inverseW + 1] : 0.0f;
+  const float inverseWY = perspective ? record[layout.inverseW + 2] : 0.0f;
+  const float scale = w * spacing;
+  return {(planeX - uv * inverseWX) * scale, (planeY - uv * inverseWY) * scale};
+}
+
 }  // namespace
 
 // The channels' arrays and the layouts are held in locals: through the batch, every store to a
@@ -52,6 +63,7 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
   const TriangleChunk* const chunks = batch.chunks.data();
   const TriangleSpan* const spans = batch.spans.data();
   const std::size_t width = framebuffer.width;
+  const auto sampleSpacing = float(batch.camera.sampleSpacing);
   for (int row = 0; row < tile.height; ++row) {
     const int y = tile.y0 + row;
     if (row + 1 < tile.height) prefetchRow(framebuffer, tile.x0, y + 1, tile.width);
@@ -71,14 +83,17 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
       // w at the pixel, for the attributes interpolated over w. An affine span's plane of 1/w is exactly
       // (1, 0, 0): its w is exactly 1, as where the layout has no such plane (no span has perspective,
       // or the record interpolates nothing over w).
-      const float w = layout.inverseW != kAbsent ? 1.0f / planeValue<1>(record + layout.inverseW, dx, dy).x : 1.0f;
+      const bool perspective = layout.inverseW != kAbsent;
+      const float w = perspective ? 1.0f / planeValue<1>(record + layout.inverseW, dx, dy).x : 1.0f;
       if (positions) positions[pixel] = planeValue<3>(record + layout.position, dx, dy) * w;
       if (normals)
         normals[pixel] = unitNormal(planeValue<3>(record + layout.normal, dx, dy), record + layout.normal + 9);
       if (colors) {
         if (span.texture) {
           const glm::vec2 uv = planeValue<2>(record + layout.uv, dx, dy) * w;
-          colors[pixel] = toUnorm8(span.baseColor * sampleTexture(*span.texture, uv));
+          colors[pixel] =
+              toUnorm8(span.baseColor * sampleTexture(*span.texture, uv,
+                                                      uvFootprint(record, layout, perspective, uv, w, sampleSpacing)));
         } else {
           colors[pixel] = header.flatColor;
         }

@@ -25,7 +25,7 @@ void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffe
               std::span<const std::uint8_t> castBlocks) {
   if (framebuffer.width != camera.width || framebuffer.height != camera.height)
     throw std::invalid_argument("Embree rays: the framebuffer is not the size of the camera's viewport");
-  const ShadingView view{&camera, camera.clipFromWorld()};
+  const ShadingView view(camera);
   const WindowRays rays(camera);
   const std::uint32_t blocksX = (camera.width + kRayBlock - 1) / kRayBlock;
   const std::uint32_t blocksY = (camera.height + kRayBlock - 1) / kRayBlock;
@@ -40,7 +40,7 @@ void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffe
     RTCRayHit16 packet{};
     alignas(64) int valid[16];
     std::size_t pixels[16];
-    NormalMatrices normals;
+    InstanceMatrices matrices(view);
 
     for (std::uint32_t by = rows.begin(); by != rows.end(); ++by) {
       for (std::uint32_t bx = 0; bx < blocksX; ++bx) {
@@ -87,7 +87,7 @@ void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffe
             clearMissedPixel(framebuffer, pixels[lane]);
             continue;
           }
-          shadeHit(view, instances.shaded[packet.hit.instID[0][lane]], normals, packet.hit.primID[lane],
+          shadeHit(view, instances.shaded[packet.hit.instID[0][lane]], matrices, packet.hit.primID[lane],
                    packet.hit.u[lane], packet.hit.v[lane], framebuffer, pixels[lane]);
         }
       }

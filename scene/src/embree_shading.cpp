@@ -17,10 +17,39 @@ const MeshPart& partOf(const Mesh& mesh, std::uint32_t triangle) {
   return *(after - 1);
 }
 
+// d(uv)/dx and d(uv)/dy at the hit in window pixels, times the camera's sample spacing: the footprint the
+// rasterizer reads from its planes (tile_resolve.cpp), here from the triangle's homogeneous window
+// coordinates h_k = (x·w, y·w, w). A window point s = (x, y, 1) sees the triangle at barycentrics
+// g / Σg with g = M⁻¹ s, M the matrix of columns h_k; M⁻¹'s rows are h_1 × h_2, h_2 × h_0 and h_0 × h_1
+// over det M, which cancels in every ratio below, so no division by det M or by a vertex's w (a triangle
+// reaching behind the eye has its derivatives too). uv = UV·g / Σg, and its derivative along x is
+// (UV·g_x − uv · Σg_x) / Σg with g_x = M⁻¹ (1, 0, 0). The ray went through the pixel's centre, s.
+TextureFootprint hitFootprint(const ShadingView& view, const glm::dmat4& windowFromObject, const Mesh& mesh,
+                              const std::uint32_t (&index)[3], const glm::dvec2& s, const glm::vec2& uv) {
+  glm::dvec3 h[3];
+  for (int k = 0; k < 3; ++k) {
+    const glm::dvec4 window = windowFromObject * glm::dvec4(glm::dvec3(mesh.positions[index[k]]), 1.0);
+    h[k] = glm::dvec3(window.x, window.y, window.w);
+  }
+  const glm::dvec3 rows[3] = {glm::cross(h[1], h[2]), glm::cross(h[2], h[0]), glm::cross(h[0], h[1])};
+  double sum = 0.0, sumX = 0.0, sumY = 0.0;
+  glm::dvec2 uvX(0.0), uvY(0.0);
+  for (int k = 0; k < 3; ++k) {
+    sum += rows[k].x * s.x + rows[k].y * s.y + rows[k].z;
+    sumX += rows[k].x;
+    sumY += rows[k].y;
+    const glm::dvec2 vertexUv(mesh.uvs[index[k]]);
+    uvX += rows[k].x * vertexUv;
+    uvY += rows[k].y * vertexUv;
+  }
+  const double scale = view.camera->sampleSpacing / sum;
+  return {glm::vec2((uvX - glm::dvec2(uv) * sumX) * scale), glm::vec2((uvY - glm::dvec2(uv) * sumY) * scale)};
+}
+
 }  // namespace
 
-void shadeHit(const ShadingView& view, const ShadedInstance& instance, NormalMatrices& normals, std::uint32_t triangle,
-              float u, float v, Framebuffer& framebuffer, std::size_t pixel) {
+void shadeHit(const ShadingView& view, const ShadedInstance& instance, InstanceMatrices& matrices,
+              std::uint32_t triangle, float u, float v, Framebuffer& framebuffer, std::size_t pixel) {
   const Mesh& mesh = *instance.mesh;
   const std::uint32_t i0 = mesh.indices[std::size_t(triangle) * 3 + 0];
   const std::uint32_t i1 = mesh.indices[std::size_t(triangle) * 3 + 1];
@@ -43,13 +72,15 @@ void shadeHit(const ShadingView& view, const ShadedInstance& instance, NormalMat
     glm::vec4 color = material.baseColor;
     if (material.texture && isSampleable(*material.texture)) {
       const glm::vec2 uv = float(b0) * mesh.uvs[i0] + float(b1) * mesh.uvs[i1] + float(b2) * mesh.uvs[i2];
-      color *= sampleTexture(*material.texture, uv);
+      const glm::dvec2 centre(double(pixel % framebuffer.width) + 0.5, double(pixel / framebuffer.width) + 0.5);
+      color *= sampleTexture(*material.texture, uv,
+                             hitFootprint(view, matrices.windowFromObject(instance), mesh, {i0, i1, i2}, centre, uv));
     }
     framebuffer.color[pixel] = toUnorm8(color);
   }
   if (framebuffer.has(kChannelPosition)) framebuffer.position[pixel] = glm::vec3(world - framebuffer.positionOrigin);
   if (framebuffer.has(kChannelNormal)) {
-    const glm::dmat3& normalFromObject = normals.of(instance);
+    const glm::dmat3& normalFromObject = matrices.normalFromObject(instance);
     // As the rasterizer does it: each vertex normal to world space and unit length, then interpolated.
     const auto worldNormal = [&](std::uint32_t index) {
       const glm::dvec3 n = normalFromObject * glm::dvec3(mesh.normals[index]);

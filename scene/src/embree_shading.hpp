@@ -25,33 +25,49 @@ struct ShadedInstance {
   std::uint32_t meshIndex = 0;
 };
 
-// The view a render shades for: the camera with its matrix multiplied out once.
+// The view a render shades for: the camera with its matrices multiplied out once.
 struct ShadingView {
-  const Camera* camera = nullptr;
-  glm::dmat4 clipFromWorld{1.0};
+  explicit ShadingView(const Camera& c)
+      : camera(&c), clipFromWorld(c.clipFromWorld()), windowFromWorld(windowFromClipMatrix(c) * clipFromWorld) {}
+  const Camera* camera;
+  glm::dmat4 clipFromWorld;
+  glm::dmat4 windowFromWorld;  // homogeneous window coordinates (x·w, y·w, ·, w): windowFromClipMatrix
 };
 
-// The normal matrix (inverse-transpose) of the instance shaded last: a packet's hits mostly share an
-// instance, and instances are too many to store one each. One per thread.
-class NormalMatrices {
+// The matrices of the instance shaded last, each made the first time a hit on it needs it: for normals
+// (the inverse-transpose) and for texture footprints (object to homogeneous window coordinates). A
+// packet's hits mostly share an instance, and instances are too many to store them each. One per thread.
+class InstanceMatrices {
  public:
-  const glm::dmat3& of(const ShadedInstance& instance) {
-    if (&instance != last_) {
-      matrix_ = glm::transpose(glm::inverse(glm::dmat3(*instance.worldFromObject)));
-      last_ = &instance;
+  explicit InstanceMatrices(const ShadingView& view) : view_(view) {}
+
+  const glm::dmat3& normalFromObject(const ShadedInstance& instance) {
+    if (&instance != normalOf_) {
+      normal_ = glm::transpose(glm::inverse(glm::dmat3(*instance.worldFromObject)));
+      normalOf_ = &instance;
     }
-    return matrix_;
+    return normal_;
+  }
+  const glm::dmat4& windowFromObject(const ShadedInstance& instance) {
+    if (&instance != windowOf_) {
+      window_ = view_.windowFromWorld * *instance.worldFromObject;
+      windowOf_ = &instance;
+    }
+    return window_;
   }
 
  private:
-  const ShadedInstance* last_ = nullptr;
-  glm::dmat3 matrix_{1.0};
+  const ShadingView& view_;
+  const ShadedInstance* normalOf_ = nullptr;
+  const ShadedInstance* windowOf_ = nullptr;
+  glm::dmat3 normal_{1.0};
+  glm::dmat4 window_{1.0};
 };
 
 // Writes pixel `pixel` of every channel the framebuffer has for a hit on `triangle` of the
 // instance's mesh at barycentrics (u, v) (the point (1−u−v)·p0 + u·p1 + v·p2, Embree's convention).
-void shadeHit(const ShadingView& view, const ShadedInstance& instance, NormalMatrices& normals, std::uint32_t triangle,
-              float u, float v, Framebuffer& framebuffer, std::size_t pixel);
+void shadeHit(const ShadingView& view, const ShadedInstance& instance, InstanceMatrices& matrices,
+              std::uint32_t triangle, float u, float v, Framebuffer& framebuffer, std::size_t pixel);
 
 // A miss: clears depth and ids at pixel `pixel`. Colour, position and normal keep what they held, as
 // the rasterizer's depth-only clear leaves them: they mean something only where depth says a pixel is

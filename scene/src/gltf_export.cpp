@@ -221,8 +221,16 @@ int wrapMode(TextureWrap wrap) {
   return TINYGLTF_TEXTURE_WRAP_REPEAT;
 }
 
-int filterMode(TextureFilter filter) {
-  return filter == TextureFilter::Nearest ? TINYGLTF_TEXTURE_FILTER_NEAREST : TINYGLTF_TEXTURE_FILTER_LINEAR;
+int filterMode(TextureFilter filter, TextureMipmap mipmap = TextureMipmap::None) {
+  const bool nearest = filter == TextureFilter::Nearest;
+  switch (mipmap) {
+    case TextureMipmap::None: break;
+    case TextureMipmap::Nearest:
+      return nearest ? TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST : TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST;
+    case TextureMipmap::Linear:
+      return nearest ? TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR : TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+  }
+  return nearest ? TINYGLTF_TEXTURE_FILTER_NEAREST : TINYGLTF_TEXTURE_FILTER_LINEAR;
 }
 
 void addTexture(tinygltf::Model& model, BinaryData& data, const Texture& texture, std::size_t index) {
@@ -235,7 +243,7 @@ void addTexture(tinygltf::Model& model, BinaryData& data, const Texture& texture
 
   tinygltf::Sampler sampler;
   sampler.magFilter = filterMode(texture.magFilter);
-  sampler.minFilter = filterMode(texture.minFilter);
+  sampler.minFilter = filterMode(texture.minFilter, texture.mipmap);
   sampler.wrapS = wrapMode(texture.wrapS);
   sampler.wrapT = wrapMode(texture.wrapT);
   model.samplers.push_back(std::move(sampler));

@@ -22,15 +22,21 @@ TextureWrap wrapMode(int value, const char* which, std::string_view file, const 
 }
 
 // Mipmapped minification filters keep their in-level choice: the scene samples one level.
-TextureFilter filterMode(int value, const char* which, std::string_view file, const std::string& sampler) {
+// A filter mode and, for minFilter, its use of the mip chain. Absent, the spec leaves both to the
+// implementation: bilinear within a level, blended between levels (trilinear), as GPU viewers do.
+struct FilterMode {
+  TextureFilter filter;
+  TextureMipmap mipmap;
+};
+FilterMode filterMode(int value, const char* which, std::string_view file, const std::string& sampler) {
   switch (value) {
-    case -1:  // absent: the spec leaves it to the implementation
-    case TINYGLTF_TEXTURE_FILTER_LINEAR:
-    case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST:
-    case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR: return TextureFilter::Linear;
-    case TINYGLTF_TEXTURE_FILTER_NEAREST:
-    case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST:
-    case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR: return TextureFilter::Nearest;
+    case -1:
+    case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR: return {TextureFilter::Linear, TextureMipmap::Linear};
+    case TINYGLTF_TEXTURE_FILTER_LINEAR: return {TextureFilter::Linear, TextureMipmap::None};
+    case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST: return {TextureFilter::Linear, TextureMipmap::Nearest};
+    case TINYGLTF_TEXTURE_FILTER_NEAREST: return {TextureFilter::Nearest, TextureMipmap::None};
+    case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST: return {TextureFilter::Nearest, TextureMipmap::Nearest};
+    case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR: return {TextureFilter::Nearest, TextureMipmap::Linear};
     default: throw InputError(file, sampler, std::string(which) + " " + std::to_string(value) + " is not a filter");
   }
 }
@@ -122,7 +128,8 @@ Texture MaterialImport::importTexture(int texture) {
   const tinygltf::Image& image = model_.images[static_cast<std::size_t>(source.source)];
   Texture result;
   result.name = !source.name.empty() ? source.name : !image.name.empty() ? image.name : image.uri;
-  if (source.sampler != -1) {  // without one: repeat and linear, the Texture defaults
+  result.mipmap = TextureMipmap::Linear;  // an absent sampler's minFilter, as an absent minFilter (filterMode)
+  if (source.sampler != -1) {             // without one: repeat, linear and trilinear
     if (!validIndex(source.sampler, model_.samplers.size())) {
       throw InputError(file_, element, missingElement("sampler", source.sampler, model_.samplers.size()));
     }
@@ -130,10 +137,14 @@ Texture MaterialImport::importTexture(int texture) {
     const std::string samplerElement = elementName("sampler", source.sampler);
     result.wrapS = wrapMode(sampler.wrapS, "wrapS", file_, samplerElement);
     result.wrapT = wrapMode(sampler.wrapT, "wrapT", file_, samplerElement);
-    result.magFilter = filterMode(sampler.magFilter, "magFilter", file_, samplerElement);
-    result.minFilter = filterMode(sampler.minFilter, "minFilter", file_, samplerElement);
+    // A mipmap part in magFilter (which the spec does not allow) is ignored: magnification uses level 0.
+    result.magFilter = filterMode(sampler.magFilter, "magFilter", file_, samplerElement).filter;
+    const FilterMode minify = filterMode(sampler.minFilter, "minFilter", file_, samplerElement);
+    result.minFilter = minify.filter;
+    result.mipmap = minify.mipmap;
   }
   decodeImage(model_, source.source, file_, result);
+  buildMipLevels(result);
   return result;
 }
 

@@ -18,7 +18,10 @@ struct PlantMaterials {
   std::uint32_t galvanised, safetyYellow, pipeGrey, pipeBlue, flangeDark, valveRed, machineGreen, gearSteel;
 };
 
+// Trilinear, as a glTF texture without a sampler is read.
 std::uint32_t addTexture(Scene& scene, Texture texture) {
+  texture.mipmap = TextureMipmap::Linear;
+  buildMipLevels(texture);
   scene.textures.push_back(std::move(texture));
   return std::uint32_t(scene.textures.size() - 1);
 }

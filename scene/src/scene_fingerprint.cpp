@@ -73,6 +73,9 @@ void hashLooks(Hash64& h, const Scene& scene) {
     h.u8(static_cast<std::uint8_t>(texture.wrapT));
     h.u8(static_cast<std::uint8_t>(texture.magFilter));
     h.u8(static_cast<std::uint8_t>(texture.minFilter));
+    // Hashed only where levels are used, so that the fingerprints of scenes without them (and the
+    // .surfels files that record them) stay what they were before mip chains existed.
+    if (texture.mipmap != TextureMipmap::None) h.u8(static_cast<std::uint8_t>(texture.mipmap));
     h.u64(texture.rgba8.size());
     h.bytes(texture.rgba8.data(), texture.rgba8.size());
   });

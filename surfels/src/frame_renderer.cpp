@@ -228,7 +228,7 @@ FrameResult FrameRenderer::render(const Camera& camera) {
     if (options_.image != FrameImage::None) sums.sums.assign(gbuffer_.pixelCount(), glm::vec4(0.0f));
     bool firstPass = true;
     for (const glm::dvec2& sample : subpixelSamples(options_.samples)) {
-      const Camera shifted = subpixelCamera(camera, sample);
+      const Camera shifted = subpixelCamera(camera, sample, options_.samples);
       const LodStats pass = drawPass(shifted, gbuffer_, options_.lod, result.surfelLoadSeconds);
       // Counts are the first pass's (every pass draws about the same); times add up.
       if (firstPass) {

@@ -61,10 +61,12 @@ TEST(SamplePattern, ShiftedCamerasSampleTheirPositionExactly) {
   const Camera camera = orbitCamera(glm::dvec3(1.0, 2.0, 3.0), 4.0, Orbit{}, 320, 200);
   const glm::dvec4 clip = camera.clipFromWorld() * glm::dvec4(1.5, 2.5, 2.0, 1.0);
   const glm::dvec3 window = windowFromClip(camera, clip);
-  EXPECT_EQ(subpixelCamera(camera, glm::dvec2(0.5)).projection, camera.projection) << "the centre is no shift";
+  EXPECT_EQ(subpixelCamera(camera, glm::dvec2(0.5), 1).projection, camera.projection) << "the centre is no shift";
+  EXPECT_EQ(subpixelCamera(camera, glm::dvec2(0.5), 1).sampleSpacing, 1.0);
   for (const glm::dvec2& sample : subpixelSamples(16)) {
-    const Camera shifted = subpixelCamera(camera, sample);
+    const Camera shifted = subpixelCamera(camera, sample, 16);
     EXPECT_EQ(shifted.view, camera.view);
+    EXPECT_EQ(shifted.sampleSpacing, 0.25) << "16 samples a pixel lie a quarter pixel apart";
     const glm::dvec3 moved = windowFromClip(shifted, shifted.clipFromWorld() * glm::dvec4(1.5, 2.5, 2.0, 1.0));
     // The shifted camera's pixel centre (px + 0.5) is the original's px + sample: points move by −(sample − 0.5).
     EXPECT_NEAR(moved.x, window.x - (sample.x - 0.5), 1e-9);

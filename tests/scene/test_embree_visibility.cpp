@@ -1,6 +1,7 @@
 // The Embree ray caster against analytic answers, and against the rasterizer (drawSceneTriangles)
 // on the shared scenes and on synthetic instanced scenes: the check of the rasterizer's visibility.
 #include "pbs/raster/box_view.hpp"
+#include "pbs/raster/supersampling.hpp"
 #include "pbs/raster/thread_arena.hpp"
 #include "pbs/scene/embree_caster.hpp"
 #include "pbs/scene/load_scene.hpp"
@@ -148,6 +149,49 @@ TEST(EmbreeCaster, ColourIsBaseColourTimesBilinearTextureWithWrapModes) {
   Framebuffer framebuffer = makeFramebuffer(64, 64, kChannelColor);
   EmbreeScene(scene, hierarchy).render(camera, framebuffer);
   EXPECT_EQ(framebuffer.color[32 * 64 + 5], glm::u8vec4(255, 128, 255, 255));
+}
+
+TEST(EmbreeCaster, MinifiedTexturesAreFilteredAsTheRasterizerFiltersThem) {
+  // A checkerboard of 1-texel squares on a quad seen at a slant, perspective: from about one texel a pixel
+  // at the near edge to many at the far one. Both renderers pick the mip level from the triangle's
+  // projection at the sample, so they agree; and where a pixel spans several texels it shows their mean
+  // (grey), not one texel's black or white.
+  constexpr std::uint32_t kTexels = 128, kSize = 96;
+  Texture checker{"checker", kTexels, kTexels, std::vector<std::uint8_t>(kTexels * kTexels * 4, 255)};
+  for (std::uint32_t texel = 0; texel < kTexels * kTexels; ++texel)
+    if ((texel % kTexels + texel / kTexels) % 2 == 0) std::fill_n(checker.rgba8.begin() + texel * 4, 3, 0);
+  checker.mipmap = TextureMipmap::Linear;
+  buildMipLevels(checker);
+  Scene scene = sceneOf(quadMesh(), {glm::dmat4(1.0)});
+  scene.textures.push_back(checker);
+  scene.materials[0] = Material{"checker", glm::vec4(1.0f), 0};
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  const EmbreeScene embree(scene, hierarchy);
+  const Camera camera = perspectiveCamera(lookFrom({0, -1.6, 1.3}, {0, 0.1, 0}), 0.9, 0.1, 20, kSize, kSize);
+  for (const Camera& view : {camera, subpixelCamera(camera, glm::dvec2(0.3, 0.6), 16)}) {
+    Framebuffer raster = makeFramebuffer(kSize, kSize, kChannelColor);
+    drawSceneTriangles(scene, hierarchy, view, raster);
+    Framebuffer rays = makeFramebuffer(kSize, kSize, kChannelColor);
+    embree.render(view, rays);
+    std::size_t both = 0, close = 0, grey = 0, far = 0;
+    for (std::size_t pixel = 0; pixel < raster.pixelCount(); ++pixel) {
+      if (raster.depth[pixel] >= kClearDepth || rays.depth[pixel] >= kClearDepth) continue;
+      ++both;
+      const int difference = std::abs(int(raster.color[pixel].r) - int(rays.color[pixel].r));
+      close += difference <= 2;
+      EXPECT_LE(difference, 24) << "pixel " << pixel;
+      if (pixel / kSize < kSize / 2) {  // the far part, the upper half: several texels a pixel
+        ++far;
+        grey += std::abs(int(rays.color[pixel].r) - 128) <= 12 && std::abs(int(raster.color[pixel].r) - 128) <= 12;
+      }
+    }
+    ASSERT_GT(both, kSize * kSize / 3);
+    ASSERT_GT(far, kSize * 4);
+    EXPECT_GE(double(close), 0.99 * double(both)) << "spacing " << view.sampleSpacing;
+    if (view.sampleSpacing == 1.0) {
+      EXPECT_EQ(grey, far) << "a pixel of many texels is their mean";
+    }
+  }
 }
 
 TEST(EmbreeCaster, RejectsAFramebufferOfAnotherSize) {

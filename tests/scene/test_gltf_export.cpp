@@ -84,6 +84,7 @@ Scene makeTestScene() {
   checks.wrapT = TextureWrap::MirroredRepeat;
   checks.magFilter = TextureFilter::Nearest;
   checks.minFilter = TextureFilter::Nearest;
+  checks.mipmap = TextureMipmap::Linear;
   scene.textures = {stripes, checks};
   scene.materials = {{"painted", glm::vec4(1.0f), 0},
                      {"plain", glm::vec4(0.2f, 0.4f, 0.6f, 1.0f), -1},
@@ -134,6 +135,7 @@ void expectSameTexture(const Texture& a, const Texture& b) {
   EXPECT_EQ(a.wrapT, b.wrapT);
   EXPECT_EQ(a.magFilter, b.magFilter);
   EXPECT_EQ(a.minFilter, b.minFilter);
+  EXPECT_EQ(a.mipmap, b.mipmap);
 }
 
 void expectSameMaterial(const Scene& a, std::uint32_t ma, const Scene& b, std::uint32_t mb) {

@@ -529,13 +529,16 @@ TEST(Materials, PngPixelsBecomeRgba8WhateverTheirFormat) {
             (std::vector<std::uint8_t>{255, 128, 0, 255}));
 }
 
-TEST(Materials, SamplerIsMappedAndAbsentSamplerMeansRepeatLinear) {
+TEST(Materials, SamplerIsMappedAndAbsentSamplerMeansRepeatTrilinear) {
   GltfBuilder b = texturedTriangle(std::string("data:image/png;base64,") + test::kPngRgba2x2);
   Texture texture = test::importText(b.gltf()).scene.textures.at(0);
   EXPECT_EQ(texture.wrapS, TextureWrap::Repeat);
   EXPECT_EQ(texture.wrapT, TextureWrap::Repeat);
   EXPECT_EQ(texture.magFilter, TextureFilter::Linear);
   EXPECT_EQ(texture.minFilter, TextureFilter::Linear);
+  EXPECT_EQ(texture.mipmap, TextureMipmap::Linear);
+  ASSERT_EQ(texture.mipLevels.size(), 1u) << "2 × 2 has one level below it, 1 × 1";
+  EXPECT_EQ(texture.mipLevels[0].width, 1u);
   EXPECT_EQ(texture.width, 2u);
   EXPECT_EQ(texture.height, 2u);
   b.append("samplers", {{"wrapS", 33071}, {"wrapT", 33648}, {"magFilter", 9728}, {"minFilter", 9986}});
@@ -545,6 +548,23 @@ TEST(Materials, SamplerIsMappedAndAbsentSamplerMeansRepeatLinear) {
   EXPECT_EQ(texture.wrapT, TextureWrap::MirroredRepeat);
   EXPECT_EQ(texture.magFilter, TextureFilter::Nearest);
   EXPECT_EQ(texture.minFilter, TextureFilter::Nearest);
+  EXPECT_EQ(texture.mipmap, TextureMipmap::Linear);
+  // minFilter's two parts, each glTF value: the filter within a level and the use of levels.
+  const struct {
+    int value;
+    TextureFilter filter;
+    TextureMipmap mipmap;
+  } modes[] = {
+      {9728, TextureFilter::Nearest, TextureMipmap::None},    {9729, TextureFilter::Linear, TextureMipmap::None},
+      {9984, TextureFilter::Nearest, TextureMipmap::Nearest}, {9985, TextureFilter::Linear, TextureMipmap::Nearest},
+      {9986, TextureFilter::Nearest, TextureMipmap::Linear},  {9987, TextureFilter::Linear, TextureMipmap::Linear}};
+  for (const auto& mode : modes) {
+    b.json["samplers"][0]["minFilter"] = mode.value;
+    texture = test::importText(b.gltf()).scene.textures.at(0);
+    EXPECT_EQ(texture.minFilter, mode.filter) << mode.value;
+    EXPECT_EQ(texture.mipmap, mode.mipmap) << mode.value;
+    EXPECT_EQ(texture.mipLevels.size(), mode.mipmap == TextureMipmap::None ? 0u : 1u) << "levels only where used";
+  }
 }
 
 TEST(Materials, OnlyUsedMaterialsAreImportedAndTheDefaultIsShared) {

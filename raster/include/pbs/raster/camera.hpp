@@ -19,6 +19,9 @@ struct Camera {
   glm::dmat4 projection{1.0};
   std::uint32_t width = 1;   // 1 … 16384
   std::uint32_t height = 1;  // 1 … 16384
+  // Pixels between neighbouring samples of the image this camera draws (1/√n for n samples per pixel,
+  // subpixelCamera): each sample's texture footprint is that much of a pixel (TextureFootprint).
+  double sampleSpacing = 1.0;
 
   bool isOrthographic() const { return projection[2][3] == 0.0; }
   glm::dmat4 clipFromWorld() const { return projection * view; }

@@ -26,9 +26,11 @@ bool isSupportedSampleCount(std::uint32_t samples);
 std::vector<glm::dvec2> subpixelSamples(std::uint32_t samples);
 
 // The camera whose pixel centres fall at `sample` (a position from subpixelSamples) of `camera`'s
-// pixels: the projection is shifted by (sample − 0.5) pixels in clip space, the view is unchanged.
-// Both renderers take a camera, so both sample the same positions through this one function.
-Camera subpixelCamera(const Camera& camera, const glm::dvec2& sample);
+// pixels: the projection is shifted by (sample − 0.5) pixels in clip space, the view is unchanged, and
+// the sample spacing is that of `samples` per pixel (1/√samples), so textures are filtered over one
+// sample's share of a pixel. Both renderers take a camera, so both sample the same positions through
+// this one function.
+Camera subpixelCamera(const Camera& camera, const glm::dvec2& sample, std::uint32_t samples);
 
 // Sums of shaded samples per pixel, premultiplied (background adds (0, 0, 0, 0)), and their count.
 struct SampleSums {

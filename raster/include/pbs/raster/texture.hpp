@@ -11,6 +11,16 @@ namespace pbs {
 
 enum class TextureWrap : std::uint8_t { Repeat, ClampToEdge, MirroredRepeat };
 enum class TextureFilter : std::uint8_t { Nearest, Linear };
+// glTF's minFilter has two parts: the filter within a level (TextureFilter) and how levels of the mip
+// chain are used: none (level 0 only), the nearest level, or a blend of the two nearest.
+enum class TextureMipmap : std::uint8_t { None, Nearest, Linear };
+
+// One level of a mip chain: width × height RGBA8 texels, top row first.
+struct TextureLevel {
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+  std::vector<std::uint8_t> rgba8;
+};
 
 struct Texture {
   std::string name;
@@ -21,16 +31,35 @@ struct Texture {
   TextureWrap wrapT = TextureWrap::Repeat;
   TextureFilter magFilter = TextureFilter::Linear;
   TextureFilter minFilter = TextureFilter::Linear;
+  TextureMipmap mipmap = TextureMipmap::None;
+  // Levels 1, 2, … of the mip chain down to 1 × 1 (level 0 is the image above), made by buildMipLevels
+  // for a texture whose minFilter uses them; without them a minified texture samples level 0.
+  std::vector<TextureLevel> mipLevels{};
 };
 
 // Whether the texture holds the pixels its size promises (anything else is drawn untextured).
 bool isSampleable(const Texture& texture);
 
+// Fills mipLevels where `mipmap` asks for them (else leaves none): each level halves the one before
+// (sizes rounded down, at least 1, as OpenGL has them), a texel the rounded mean of the 2 × 2 texels it
+// covers (an odd size's last row or column is left out; a size of 1 repeats its one row or column).
+// Integer arithmetic: the same bytes on every machine.
+void buildMipLevels(Texture& texture);
+
+// How far the texture coordinate moves across one sample of the image: d(uv)/dx and d(uv)/dy per window
+// pixel, times the spacing of the samples (Camera::sampleSpacing). Zero (the default) samples level 0.
+struct TextureFootprint {
+  glm::vec2 dx{0.0f};
+  glm::vec2 dy{0.0f};
+};
+
 // RGBA in [0, 1] at texture coordinate uv ((0, 0) is the first texel's corner, v grows downwards
-// through the rows as glTF has it; texel centres sit at half-integers): bilinear, or nearest when
-// magFilter says so, with the texture's wrap modes. The rasterizer and the ray caster share it, so
-// their colours agree.
-glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv);
+// through the rows as glTF has it; texel centres sit at half-integers), with the texture's wrap modes.
+// The footprint's larger side, in texels of level 0, sets the level of detail λ = log2 of it (OpenGL's
+// rule): up to λ = 0 the texture is magnified (magFilter on level 0), beyond it minified (minFilter on
+// the level or levels `mipmap` picks). The rasterizer and the ray caster share it, and compute the
+// footprint the same way (from the triangle's projection at the sample), so their colours agree.
+glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootprint& footprint = {});
 
 // A colour in [0, 1] as RGBA8, rounded to nearest; out-of-range values clamp and NaN becomes 0.
 glm::u8vec4 toUnorm8(const glm::vec4& color);
