@@ -72,10 +72,10 @@ void hashLooks(Hash64& h, const Scene& scene) {
     h.u8(static_cast<std::uint8_t>(texture.wrapS));
     h.u8(static_cast<std::uint8_t>(texture.wrapT));
     h.u8(static_cast<std::uint8_t>(texture.magFilter));
+    // minFilter's mip-map part (Texture::mipmap) is not hashed: pbs read minFilter as its filter alone
+    // until mip levels came (2026-11-29), and hashing it would refuse every .surfels file made of a
+    // textured scene before; their captures differ from today's as after any change to the renderer.
     h.u8(static_cast<std::uint8_t>(texture.minFilter));
-    // Hashed only where levels are used, so that the fingerprints of scenes without them (and the
-    // .surfels files that record them) stay what they were before mip chains existed.
-    if (texture.mipmap != TextureMipmap::None) h.u8(static_cast<std::uint8_t>(texture.mipmap));
     h.u64(texture.rgba8.size());
     h.bytes(texture.rgba8.data(), texture.rgba8.size());
   });
