@@ -47,8 +47,12 @@ Camera boxViewCamera(const Bounds& box, const glm::dvec3& direction, std::uint32
   const double cx = 0.5 * (lo.x + hi.x), cy = 0.5 * (lo.y + hi.y);
   const double halfW = 0.5 * width * pixel, halfH = 0.5 * height * pixel;
   const double margin = 1e-3 * std::max({hi.z - lo.z, largest, extent}) + 1e-9 * std::max(1.0, glm::length(center));
-  return orthographicCamera(view, cx - halfW, cx + halfW, cy - halfH, cy + halfH, -hi.z - margin, -lo.z + margin, width,
-                            height);
+  Camera camera = orthographicCamera(view, cx - halfW, cx + halfW, cy - halfH, cy + halfH, -hi.z - margin,
+                                     -lo.z + margin, width, height);
+  // One texture probe a pixel: four along slanted surfaces made surfelize 8 % slower (13.4–13.6 s against
+  // 14.6–14.9 s, default scene), and a surfel's colour is one capture pixel's anyway.
+  camera.textureProbes = 1;
+  return camera;
 }
 
 }  // namespace pbs

@@ -136,7 +136,8 @@ void buildMipLevels(Texture& texture) {
   }
 }
 
-glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootprint& footprint) {
+// One probe: the level or levels the footprint's larger side picks (OpenGL's isotropic rule).
+static glm::vec4 sampleProbe(const Texture& texture, glm::vec2 uv, const TextureFootprint& footprint) {
   const float lod = levelOfDetail(texture, footprint);
   // Not greater than 0 (NaN included): magnified.
   if (!(lod > 0.0f)) return sampleLevel(levelOf(texture, 0), texture.magFilter, texture, uv) / 255.0f;
@@ -157,6 +158,27 @@ glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootp
     }
   }
   return sampleLevel(levelOf(texture, 0), texture.minFilter, texture, uv) / 255.0f;
+}
+
+glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootprint& footprint) {
+  // A footprint longer than wide (a surface seen at a slant) is covered by probes spaced along its long
+  // side, each with the footprint's long side divided among them: the level follows the short side, so the
+  // texture is not blurred across the slant as one probe sized by the long side would blur it.
+  const glm::vec2 size(float(texture.width), float(texture.height));
+  const float lengthX = glm::length(footprint.dx * size), lengthY = glm::length(footprint.dy * size);
+  const float longSide = std::max(lengthX, lengthY), shortSide = std::min(lengthX, lengthY);
+  const float probes = shortSide > 0.0f && longSide < 1e30f && longSide > 1.0f
+                           ? std::min(std::round(longSide / shortSide), float(footprint.maxProbes))
+                           : 1.0f;
+  if (!(probes > 1.0f)) return sampleProbe(texture, uv, footprint);
+  const bool alongX = lengthX >= lengthY;
+  const glm::vec2 axis = alongX ? footprint.dx : footprint.dy;
+  const TextureFootprint probe = alongX ? TextureFootprint{footprint.dx / probes, footprint.dy, 1}
+                                        : TextureFootprint{footprint.dx, footprint.dy / probes, 1};
+  const int count = int(probes);
+  glm::vec4 sum(0.0f);
+  for (int i = 0; i < count; ++i) sum += sampleProbe(texture, uv + axis * ((float(i) + 0.5f) / probes - 0.5f), probe);
+  return sum / probes;
 }
 
 }  // namespace pbs

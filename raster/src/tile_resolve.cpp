@@ -39,12 +39,12 @@ void prefetchRow(const Framebuffer& framebuffer, int x0, int y, int width) {
 // d(uv)/dx and d(uv)/dy at the pixel, times the sample spacing: uv = P·w with P the plane of uv/w and 1/w
 // a plane Q, so d(uv)/dx = (dP/dx − uv · dQ/dx) · w (the planes' x and y parts are their derivatives).
 PBS_CLONE_INLINE TextureFootprint uvFootprint(const float* record, const ShadingLayout& layout, bool perspective,
-                                              const glm::vec2& uv, float w, float spacing) {
+                                              const glm::vec2& uv, float w, float spacing, std::uint32_t probes) {
   const glm::vec2 planeX = loadVector<2>(record + layout.uv + 2), planeY = loadVector<2>(record + layout.uv + 4);
   const float inverseWX = perspective ? record[layout.inverseW + 1] : 0.0f;
   const float inverseWY = perspective ? record[layout.inverseW + 2] : 0.0f;
   const float scale = w * spacing;
-  return {(planeX - uv * inverseWX) * scale, (planeY - uv * inverseWY) * scale};
+  return {(planeX - uv * inverseWX) * scale, (planeY - uv * inverseWY) * scale, probes};
 }
 
 }  // namespace
@@ -64,6 +64,7 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
   const TriangleSpan* const spans = batch.spans.data();
   const std::size_t width = framebuffer.width;
   const auto sampleSpacing = float(batch.camera.sampleSpacing);
+  const std::uint32_t textureProbes = batch.camera.textureProbes;
   for (int row = 0; row < tile.height; ++row) {
     const int y = tile.y0 + row;
     if (row + 1 < tile.height) prefetchRow(framebuffer, tile.x0, y + 1, tile.width);
@@ -91,9 +92,9 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
       if (colors) {
         if (span.texture) {
           const glm::vec2 uv = planeValue<2>(record + layout.uv, dx, dy) * w;
-          colors[pixel] =
-              toUnorm8(span.baseColor * sampleTexture(*span.texture, uv,
-                                                      uvFootprint(record, layout, perspective, uv, w, sampleSpacing)));
+          colors[pixel] = toUnorm8(span.baseColor * sampleTexture(*span.texture, uv,
+                                                                  uvFootprint(record, layout, perspective, uv, w,
+                                                                              sampleSpacing, textureProbes)));
         } else {
           colors[pixel] = header.flatColor;
         }

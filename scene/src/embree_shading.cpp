@@ -43,7 +43,8 @@ TextureFootprint hitFootprint(const ShadingView& view, const glm::dmat4& windowF
     uvY += rows[k].y * vertexUv;
   }
   const double scale = view.camera->sampleSpacing / sum;
-  return {glm::vec2((uvX - glm::dvec2(uv) * sumX) * scale), glm::vec2((uvY - glm::dvec2(uv) * sumY) * scale)};
+  return {glm::vec2((uvX - glm::dvec2(uv) * sumX) * scale), glm::vec2((uvY - glm::dvec2(uv) * sumY) * scale),
+          view.camera->textureProbes};
 }
 
 }  // namespace

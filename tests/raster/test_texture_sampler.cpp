@@ -33,9 +33,10 @@ glm::vec4 texelOf(const TextureLevel& level, std::uint32_t x, std::uint32_t y) {
   return glm::vec4(p[0], p[1], p[2], p[3]) / 255.0f;
 }
 
-// A footprint whose larger side is 2^lod texels of a square texture of this size.
+// A square footprint whose sides are 2^lod texels of a square texture of this size.
 TextureFootprint footprintOf(float lod, std::uint32_t size) {
-  return {glm::vec2(std::exp2(lod) / float(size), 0.0f), glm::vec2(0.0f, 0.5f / float(size))};
+  const float side = std::exp2(lod) / float(size);
+  return {glm::vec2(side, 0.0f), glm::vec2(0.0f, side)};
 }
 
 TEST(TextureMips, LevelsHalveDownToOneTexelAndAverageWithRounding) {
@@ -94,6 +95,34 @@ TEST(TextureMips, NearestLevelAndNoLevelsAsMinFilterSays) {
   const glm::vec2 inTexel30(0.375f, 0.0625f);  // texel (3, 0)'s left edge: nearest gives it, bilinear does not
   EXPECT_EQ(sampleTexture(texture, inTexel30, footprintOf(2.0f, 8)), glm::vec4(48, 255 - 48, 7, 255) / 255.0f);
   EXPECT_NE(sampleTexture(texture, inTexel30), glm::vec4(48, 255 - 48, 7, 255) / 255.0f) << "magnified: bilinear";
+}
+
+TEST(TextureMips, ALongFootprintIsCoveredByProbesAtTheLevelOfItsShortSide) {
+  // Rows in bands of four texels, black and white; a footprint 8 texels along u and one along v, as a floor
+  // seen at a slant gives: one probe sized by the long side (level 3) would average two bands to grey.
+  Texture bands;
+  bands.width = bands.height = 32;
+  bands.rgba8.resize(32 * 32 * 4);
+  for (std::size_t texel = 0; texel < 32 * 32; ++texel) {
+    const std::uint8_t value = (texel / 32) % 8 < 4 ? 0 : 255;
+    for (int c = 0; c < 3; ++c) bands.rgba8[texel * 4 + c] = value;
+    bands.rgba8[texel * 4 + 3] = 255;
+  }
+  bands.mipmap = TextureMipmap::Linear;
+  buildMipLevels(bands);
+  const glm::vec2 whiteBand(0.3f, 6.0f / 32.0f);  // row 6: the middle of the first white band
+  const TextureFootprint slanted{glm::vec2(8.0f / 32.0f, 0.0f), glm::vec2(0.0f, 1.0f / 32.0f), 4};
+  EXPECT_GT(sampleTexture(bands, whiteBand, slanted).r, 0.9f) << "4 probes of 2 × 1 texels: level 1, bands kept";
+  const TextureFootprint oneProbe{slanted.dx, slanted.dy, 1};
+  EXPECT_NEAR(sampleTexture(bands, whiteBand, oneProbe).r, 0.5f, 0.05f) << "OpenGL's isotropic rule: level 3";
+  const TextureFootprint square{glm::vec2(8.0f / 32.0f, 0.0f), glm::vec2(0.0f, 8.0f / 32.0f)};
+  EXPECT_NEAR(sampleTexture(bands, whiteBand, square).r, 0.5f, 0.05f) << "8 × 8 texels: two bands, grey";
+  // The same along v, and a footprint barely longer than wide takes one probe: the isotropic level.
+  const TextureFootprint turned{glm::vec2(1.0f / 32.0f, 0.0f), glm::vec2(0.0f, 8.0f / 32.0f), 4};
+  EXPECT_NEAR(sampleTexture(bands, whiteBand, turned).r, 0.5f, 0.1f) << "long across the bands: they average";
+  const TextureFootprint nearlySquare{glm::vec2(4.0f / 32.0f, 0.0f), glm::vec2(0.0f, 3.0f / 32.0f), 4};
+  const TextureFootprint isotropic{glm::vec2(4.0f / 32.0f, 0.0f), glm::vec2(0.0f, 4.0f / 32.0f)};
+  EXPECT_EQ(sampleTexture(bands, whiteBand, nearlySquare), sampleTexture(bands, whiteBand, isotropic));
 }
 
 }  // namespace

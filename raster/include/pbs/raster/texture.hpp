@@ -48,17 +48,21 @@ void buildMipLevels(Texture& texture);
 
 // How far the texture coordinate moves across one sample of the image: d(uv)/dx and d(uv)/dy per window
 // pixel, times the spacing of the samples (Camera::sampleSpacing). Zero (the default) samples level 0.
+// maxProbes: the most probes along a footprint longer than wide (Camera::textureProbes).
 struct TextureFootprint {
   glm::vec2 dx{0.0f};
   glm::vec2 dy{0.0f};
+  std::uint32_t maxProbes = 1;
 };
 
 // RGBA in [0, 1] at texture coordinate uv ((0, 0) is the first texel's corner, v grows downwards
 // through the rows as glTF has it; texel centres sit at half-integers), with the texture's wrap modes.
-// The footprint's larger side, in texels of level 0, sets the level of detail λ = log2 of it (OpenGL's
-// rule): up to λ = 0 the texture is magnified (magFilter on level 0), beyond it minified (minFilter on
-// the level or levels `mipmap` picks). The rasterizer and the ray caster share it, and compute the
-// footprint the same way (from the triangle's projection at the sample), so their colours agree.
+// A footprint's side in texels of level 0 sets the level of detail λ = log2 of it (OpenGL's rule): up
+// to λ = 0 the texture is magnified (magFilter on level 0), beyond it minified (minFilter on the level
+// or levels `mipmap` picks). A footprint n times longer than wide (rounded, at most maxProbes) is
+// sampled by n probes spaced along its long side, each at the level of 1/n of that side. The rasterizer
+// and the ray caster share this, and compute the footprint the same way (from the triangle's projection
+// at the sample), so their colours agree.
 glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootprint& footprint = {});
 
 // A colour in [0, 1] as RGBA8, rounded to nearest; out-of-range values clamp and NaN becomes 0.
