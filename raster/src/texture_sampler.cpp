@@ -11,9 +11,6 @@ namespace pbs {
 namespace {
 
 std::int64_t positiveModulo(std::int64_t i, std::int64_t n) {
-  // A power of two (most textures' sizes) by a mask, two's complement giving the positive remainder;
-  // a 64-bit division costs tens of cycles, and a trilinear sample needs up to four.
-  if ((n & (n - 1)) == 0) return i & (n - 1);
   const std::int64_t m = i % n;
   return m < 0 ? m + n : m;
 }
@@ -28,18 +25,6 @@ std::int64_t wrapTexel(std::int64_t i, std::int64_t size, TextureWrap wrap) {
     case TextureWrap::Repeat: break;
   }
   return positiveModulo(i, size);
-}
-
-// Texels i and i + 1 wrapped: repeat needs one division for both (a trilinear sample makes eight such
-// pairs, and 64-bit division is slow).
-void wrapPair(std::int64_t i, std::int64_t size, TextureWrap wrap, std::int64_t& first, std::int64_t& second) {
-  if (wrap == TextureWrap::Repeat) {
-    first = positiveModulo(i, size);
-    second = first + 1 == size ? 0 : first + 1;
-    return;
-  }
-  first = wrapTexel(i, size, wrap);
-  second = wrapTexel(i + 1, size, wrap);
 }
 
 // The coordinate in texels, bounded so that its floor converts to an integer (floats that large
@@ -72,9 +57,10 @@ glm::vec4 sampleLevel(const Level& level, TextureFilter filter, const Texture& t
   }
   const float fs = std::floor(s - 0.5f), ft = std::floor(t - 0.5f);
   const float ax = s - 0.5f - fs, ay = t - 0.5f - ft;
-  std::int64_t x0, x1, y0, y1;
-  wrapPair(std::int64_t(fs), w, texture.wrapS, x0, x1);
-  wrapPair(std::int64_t(ft), h, texture.wrapT, y0, y1);
+  const std::int64_t x0 = wrapTexel(std::int64_t(fs), w, texture.wrapS);
+  const std::int64_t x1 = wrapTexel(std::int64_t(fs) + 1, w, texture.wrapS);
+  const std::int64_t y0 = wrapTexel(std::int64_t(ft), h, texture.wrapT);
+  const std::int64_t y1 = wrapTexel(std::int64_t(ft) + 1, h, texture.wrapT);
   const glm::vec4 top = glm::mix(texel(level, x0, y0), texel(level, x1, y0), ax);
   const glm::vec4 bottom = glm::mix(texel(level, x0, y1), texel(level, x1, y1), ax);
   return glm::mix(top, bottom, ay);
@@ -86,13 +72,41 @@ Level levelOf(const Texture& texture, std::size_t index) {
   return {level.width, level.height, level.rgba8.data()};
 }
 
-// log2 of the footprint's larger side in level-0 texels: NaN where it has none (zero or NaN), which
-// samples level 0 magnified; an infinite one (a triangle seen edge-on) picks the last level.
-float levelOfDetail(const Texture& texture, const TextureFootprint& f) {
+// The squared lengths of a footprint's two sides (dx, dy) in level-0 texels.
+glm::vec2 squaredSides(const Texture& texture, const TextureFootprint& f) {
   const glm::vec2 size(float(texture.width), float(texture.height));
   const glm::vec2 x = f.dx * size, y = f.dy * size;
-  const float rho2 = std::max(glm::dot(x, x), glm::dot(y, y));
+  return {glm::dot(x, x), glm::dot(y, y)};
+}
+
+// log2 of a footprint's larger side, from its squared sides: NaN where it has none (zero or NaN), which
+// samples level 0 magnified; an infinite one (a triangle seen edge-on) picks the last level.
+float levelOfDetail(const glm::vec2& sides2) {
+  const float rho2 = std::max(sides2.x, sides2.y);
   return rho2 > 0.0f ? 0.5f * std::log2(std::min(rho2, 1e30f)) : std::numeric_limits<float>::quiet_NaN();
+}
+
+// One probe at level of detail `lod`: level 0 magnified, else the level or levels `mipmap` picks.
+glm::vec4 sampleProbe(const Texture& texture, glm::vec2 uv, float lod) {
+  // Not greater than 0 (NaN included): magnified.
+  if (!(lod > 0.0f)) return sampleLevel(levelOf(texture, 0), texture.magFilter, texture, uv) / 255.0f;
+  const std::size_t last = texture.mipLevels.size();
+  switch (texture.mipmap) {
+    case TextureMipmap::None: break;
+    case TextureMipmap::Nearest: {
+      // OpenGL's nearest level: ⌈λ + ½⌉ − 1, at most the last.
+      const auto level = std::size_t(std::min(std::ceil(lod + 0.5f) - 1.0f, float(last)));
+      return sampleLevel(levelOf(texture, level), texture.minFilter, texture, uv) / 255.0f;
+    }
+    case TextureMipmap::Linear: {
+      if (!(lod < float(last))) return sampleLevel(levelOf(texture, last), texture.minFilter, texture, uv) / 255.0f;
+      const auto level = std::size_t(lod);
+      const glm::vec4 fine = sampleLevel(levelOf(texture, level), texture.minFilter, texture, uv);
+      const glm::vec4 coarse = sampleLevel(levelOf(texture, level + 1), texture.minFilter, texture, uv);
+      return glm::mix(fine, coarse, lod - float(level)) / 255.0f;
+    }
+  }
+  return sampleLevel(levelOf(texture, 0), texture.minFilter, texture, uv) / 255.0f;
 }
 
 }  // namespace
@@ -136,48 +150,25 @@ void buildMipLevels(Texture& texture) {
   }
 }
 
-// One probe: the level or levels the footprint's larger side picks (OpenGL's isotropic rule).
-static glm::vec4 sampleProbe(const Texture& texture, glm::vec2 uv, const TextureFootprint& footprint) {
-  const float lod = levelOfDetail(texture, footprint);
-  // Not greater than 0 (NaN included): magnified.
-  if (!(lod > 0.0f)) return sampleLevel(levelOf(texture, 0), texture.magFilter, texture, uv) / 255.0f;
-  const std::size_t last = texture.mipLevels.size();
-  switch (texture.mipmap) {
-    case TextureMipmap::None: break;
-    case TextureMipmap::Nearest: {
-      // OpenGL's nearest level: ⌈λ + ½⌉ − 1, at most the last.
-      const auto level = std::size_t(std::min(std::ceil(lod + 0.5f) - 1.0f, float(last)));
-      return sampleLevel(levelOf(texture, level), texture.minFilter, texture, uv) / 255.0f;
-    }
-    case TextureMipmap::Linear: {
-      if (!(lod < float(last))) return sampleLevel(levelOf(texture, last), texture.minFilter, texture, uv) / 255.0f;
-      const auto level = std::size_t(lod);
-      const glm::vec4 fine = sampleLevel(levelOf(texture, level), texture.minFilter, texture, uv);
-      const glm::vec4 coarse = sampleLevel(levelOf(texture, level + 1), texture.minFilter, texture, uv);
-      return glm::mix(fine, coarse, lod - float(level)) / 255.0f;
-    }
-  }
-  return sampleLevel(levelOf(texture, 0), texture.minFilter, texture, uv) / 255.0f;
-}
-
 glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootprint& footprint) {
   // A footprint longer than wide (a surface seen at a slant) is covered by probes spaced along its long
   // side, each with the footprint's long side divided among them: the level follows the short side, so the
   // texture is not blurred across the slant as one probe sized by the long side would blur it.
-  const glm::vec2 size(float(texture.width), float(texture.height));
-  const float lengthX = glm::length(footprint.dx * size), lengthY = glm::length(footprint.dy * size);
+  const glm::vec2 sides2 = squaredSides(texture, footprint);
+  const float lengthX = std::sqrt(sides2.x), lengthY = std::sqrt(sides2.y);
   const float longSide = std::max(lengthX, lengthY), shortSide = std::min(lengthX, lengthY);
   const float probes = shortSide > 0.0f && longSide < 1e30f && longSide > 1.0f
                            ? std::min(std::round(longSide / shortSide), float(footprint.maxProbes))
                            : 1.0f;
-  if (!(probes > 1.0f)) return sampleProbe(texture, uv, footprint);
+  if (!(probes > 1.0f)) return sampleProbe(texture, uv, levelOfDetail(sides2));
   const bool alongX = lengthX >= lengthY;
   const glm::vec2 axis = alongX ? footprint.dx : footprint.dy;
   const TextureFootprint probe = alongX ? TextureFootprint{footprint.dx / probes, footprint.dy, 1}
                                         : TextureFootprint{footprint.dx, footprint.dy / probes, 1};
+  const float lod = levelOfDetail(squaredSides(texture, probe));  // every probe's footprint is the same
   const int count = int(probes);
   glm::vec4 sum(0.0f);
-  for (int i = 0; i < count; ++i) sum += sampleProbe(texture, uv + axis * ((float(i) + 0.5f) / probes - 0.5f), probe);
+  for (int i = 0; i < count; ++i) sum += sampleProbe(texture, uv + axis * ((float(i) + 0.5f) / probes - 0.5f), lod);
   return sum / probes;
 }
 
