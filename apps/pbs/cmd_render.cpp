@@ -178,10 +178,10 @@ void run(const RenderOptions& options) {
         StreamOptions{.bytesPerSecond = options.streamMBps * 1e6, .order = *streamOrderFromName(options.streamOrder)});
   const std::vector<PathView> views = pathViews(loaded, options.path, orbit, options.frames, width, height);
   const std::uint32_t frames = std::uint32_t(views.size());
-  // The frames this run draws share the mesh BVHs that rays build: each is charged its share of a build.
+  // The path's frames share the mesh BVHs that rays build: each is charged its share of a build. All of them,
+  // not only this shard's, so that a shard prices a build as the unsharded run does.
   LodOptions lod = options.lod;
-  lod.bvhBuildFrames = 0.0;
-  for (std::uint32_t f = 0; f < frames; ++f) lod.bvhBuildFrames += rendersFrame(options, f) ? 1.0 : 0.0;
+  lod.bvhBuildFrames = double(frames);
   const FrameImage image = frameImage(options);
   FrameRenderer renderer(loaded.scene, loaded.hierarchy,
                          {.mode = mode, .lod = lod, .samples = options.samples, .image = image}, width, height,

@@ -57,7 +57,7 @@ TEST(View, FramesAreTheBytesPbsRenderWritesForTheSameCamera) {
     const std::filesystem::path rendered = view.scratch / (mode + ".png");
     const CommandResult render =
         runPbs("render " + quoted(view.scene) + " --surfels " + quoted(view.surfels) + " --mode " + mode +
-               " --rays-cheaper keep --orbit 75,35,2.2 --size 160x96 -o " + quoted(rendered));
+               " --rays-cheaper keep --geometry raster --orbit 75,35,2.2 --size 160x96 -o " + quoted(rendered));
     ASSERT_EQ(render.status, 0) << render.err;
     EXPECT_TRUE(frame->body == readFile(rendered)) << mode << ": the served PNG differs from pbs render's";
   }

@@ -33,13 +33,13 @@ struct BrowserView : ViewedGroups {
     return frame ? frame->body : "";
   }
   // What `pbs render` writes for the page's camera (when its target is the scene's centre) and settings, the
-  // server's `--rays-cheaper keep` included.
+  // server's `--rays-cheaper keep --geometry raster` included.
   std::string rendered(const std::string& more) {
     const nlohmann::json camera = browser.run("return window.pbsView.camera();");
     const std::filesystem::path file = scratch / "rendered.png";
     const CommandResult render =
         runPbs("render " + quoted(scene) + " --surfels " + quoted(surfels) +
-               " --rays-cheaper keep --size 320x180 --orbit " + exactDecimal(camera["az"]) + "," +
+               " --rays-cheaper keep --geometry raster --size 320x180 --orbit " + exactDecimal(camera["az"]) + "," +
                exactDecimal(camera["el"]) + "," + exactDecimal(camera["dist"]) + more + " -o " + quoted(file));
     EXPECT_EQ(render.status, 0) << render.err;
     return readFile(file);

@@ -28,8 +28,11 @@ struct ViewedGroups {
   std::filesystem::path scene = scratch / "groups.glb";
   std::filesystem::path surfels = scratch / "groups.surfels";
   // The groups are small enough that rays draw every node cheaper than its surfels: the threshold alone decides
-  // here, so that frames show surfels.
-  ViewServer server{{"view", scene.string(), "--surfels", surfels.string(), "--rays-cheaper", "keep"}};
+  // here, so that frames show surfels. The geometry's drawer is named: where the two are priced alike, Auto's
+  // choice turns on the BVHs the viewer's earlier frames built, which a single `pbs render` has not (the
+  // drawers agree only to a tolerance).
+  ViewServer server{
+      {"view", scene.string(), "--surfels", surfels.string(), "--rays-cheaper", "keep", "--geometry", "raster"}};
   httplib::Client client{"127.0.0.1", server.port};
 
   nlohmann::json description() {
