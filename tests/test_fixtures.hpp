@@ -3,6 +3,7 @@
 
 #include <pbs/raster/camera.hpp>
 #include <pbs/raster/framebuffer.hpp>
+#include <pbs/raster/texture.hpp>
 #include <pbs/scene/hierarchy.hpp>
 
 #include <gtest/gtest.h>
@@ -47,6 +48,40 @@ inline Scene sceneOf(Mesh mesh, const std::vector<glm::dmat4>& worlds) {
   }
   validateScene(scene, "test scene");
   return scene;
+}
+
+// A unit quad in the z = 0 plane, [−1, 1]², two triangles split along y = x, facing +Z, uvs over [0, 1]².
+inline Mesh quadMesh() {
+  Mesh mesh;
+  mesh.name = "quad";
+  mesh.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  mesh.normals.assign(4, glm::vec3(0, 0, 1));
+  mesh.uvs = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  mesh.indices = {0, 1, 2, 0, 2, 3};
+  mesh.parts = {MeshPart{0, 6, 0}};
+  updateMeshBounds(mesh);
+  return mesh;
+}
+
+// The quad textured with a checkerboard of 128 × 128 one-texel squares, black and white, mip-mapped trilinearly;
+// slantedCheckerCamera sees it at a slant, in perspective: from about one texel a pixel at the near (lower) edge
+// to many at the far (upper) half, where filtering shows grey and level 0 alone black or white.
+inline Scene slantedChecker() {
+  constexpr std::uint32_t kTexels = 128;
+  Texture checker{"checker", kTexels, kTexels, std::vector<std::uint8_t>(kTexels * kTexels * 4, 255)};
+  for (std::uint32_t texel = 0; texel < kTexels * kTexels; ++texel)
+    if ((texel % kTexels + texel / kTexels) % 2 == 0) std::fill_n(checker.rgba8.begin() + texel * 4, 3, 0);
+  checker.mipmap = TextureMipmap::Linear;
+  buildMipLevels(checker);
+  Scene scene = sceneOf(quadMesh(), {glm::dmat4(1.0)});
+  scene.textures.push_back(checker);
+  scene.materials[0] = Material{"checker", glm::vec4(1.0f), 0};
+  return scene;
+}
+
+inline Camera slantedCheckerCamera(std::uint32_t size) {
+  return perspectiveCamera(glm::lookAt(glm::dvec3(0, -1.6, 1.3), glm::dvec3(0, 0.1, 0), glm::dvec3(0, 1, 0)), 0.9, 0.1,
+                           20, size, size);
 }
 
 // An open sheet of 2 · n² triangles over [−1, 1]² with z = height(x, y), one part, no uvs.

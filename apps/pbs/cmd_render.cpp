@@ -38,6 +38,7 @@ struct RenderOptions {
   std::uint32_t frames = 0;
   bool budgetFeedback = false;
   std::uint32_t samples = 1;
+  TextureFiltering textures = TextureFiltering::Anisotropic;
   bool json = false;
   std::uint64_t maxMemory = 0;
   std::uint64_t cacheMb = 1024;
@@ -183,11 +184,13 @@ void run(const RenderOptions& options) {
   LodOptions lod = options.lod;
   lod.bvhBuildFrames = double(frames);
   const FrameImage image = frameImage(options);
-  FrameRenderer renderer(loaded.scene, loaded.hierarchy,
-                         {.mode = mode, .lod = lod, .samples = options.samples, .image = image}, width, height,
-                         {.cache = surfels ? &*surfels : nullptr,
-                          .stream = stream ? &*stream : nullptr,
-                          .meshes = meshes ? &*meshes : nullptr});
+  FrameRenderer renderer(
+      loaded.scene, loaded.hierarchy,
+      {.mode = mode, .lod = lod, .samples = options.samples, .image = image, .textures = options.textures}, width,
+      height,
+      {.cache = surfels ? &*surfels : nullptr,
+       .stream = stream ? &*stream : nullptr,
+       .meshes = meshes ? &*meshes : nullptr});
   const std::filesystem::path output(options.output);
   if (options.frames > 0 && !output.empty()) std::filesystem::create_directories(output);
 
@@ -199,6 +202,7 @@ void run(const RenderOptions& options) {
       {"gbuffer", channelNames(renderer.channels())},
       {"cleared_each_pass", renderer.clearsDepth() ? std::vector<std::string>{"depth"} : std::vector<std::string>{}},
       {"passes_per_frame", options.samples},
+      {"texture_filter", textureFilteringName(options.textures)},
       // Frames shade only what the file keeps: the float image, the 8-bit one directly, or nothing.
       {"image_file", image == FrameImage::None    ? "none"
                      : image == FrameImage::Float ? "float"
@@ -302,6 +306,15 @@ void addRenderCommand(CLI::App& app) {
       ->check(CLI::IsMember({"surfels", "exact", "embree"}));
   addSamplesOption(*command, "--samples", options->samples,
                    "samples per pixel, resolved into colour with fractional alpha (coverage)");
+  std::map<std::string, TextureFiltering> filterings;
+  for (TextureFiltering f : {TextureFiltering::Anisotropic, TextureFiltering::Isotropic, TextureFiltering::None})
+    filterings.emplace(textureFilteringName(f), f);
+  command
+      ->add_option("--texture-filter", options->textures,
+                   "anisotropic (the default: mip levels as each texture's sampler asks, up to 4 probes along a "
+                   "slanted footprint), isotropic (one probe) or none (the full-size image alone: fastest, aliased "
+                   "where textures are minified)")
+      ->transform(CLI::CheckedTransformer(filterings));
   command
       ->add_option("--orbit", options->orbit,
                    "AZ,EL,DIST: degrees, degrees, distance in bounding radii (the orbit; the approach's direction "

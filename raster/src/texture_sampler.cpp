@@ -151,6 +151,7 @@ void buildMipLevels(Texture& texture) {
 }
 
 glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootprint& footprint) {
+  if (footprint.maxProbes == 0) return sampleProbe(texture, uv, std::numeric_limits<float>::quiet_NaN());
   // A footprint longer than wide (a surface seen at a slant) is covered by probes spaced along its long
   // side, each with the footprint's long side divided among them: the level follows the short side, so the
   // texture is not blurred across the slant as one probe sized by the long side would blur it.

@@ -24,6 +24,18 @@ constexpr ValueNames<RenderMode, 4> kModeNames{{{{RenderMode::Surfels, "surfels"
                                                  {RenderMode::Embree, "embree"},
                                                  {RenderMode::Simplified, "simplified"}}}};
 
+constexpr ValueNames<TextureFiltering, 3> kFilteringNames{{{{TextureFiltering::Anisotropic, "anisotropic"},
+                                                            {TextureFiltering::Isotropic, "isotropic"},
+                                                            {TextureFiltering::None, "none"}}}};
+
+// The camera a frame is drawn from: `camera`, its texture probes as `filtering` says.
+Camera filteredCamera(const Camera& camera, TextureFiltering filtering) {
+  Camera filtered = camera;
+  if (filtering == TextureFiltering::Isotropic) filtered.textureProbes = 1;
+  if (filtering == TextureFiltering::None) filtered.textureProbes = 0;
+  return filtered;
+}
+
 // Only blended surfels leave pixels partly covered.
 ChannelMask coverageChannel(const FrameOptions& options) {
   return options.mode == RenderMode::Surfels && options.lod.splat == SplatMode::Blend ? ChannelMask{kChannelCoverage}
@@ -35,6 +47,10 @@ ChannelMask coverageChannel(const FrameOptions& options) {
 std::optional<RenderMode> renderModeFromName(std::string_view name) { return kModeNames.parse(name); }
 
 const char* renderModeName(RenderMode mode) { return kModeNames.name(mode).data(); }
+
+std::optional<TextureFiltering> textureFilteringFromName(std::string_view name) { return kFilteringNames.parse(name); }
+
+const char* textureFilteringName(TextureFiltering filtering) { return kFilteringNames.name(filtering).data(); }
 
 FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, const FrameOptions& options,
                              std::uint32_t width, std::uint32_t height, const FrameSources& sources)
@@ -207,28 +223,28 @@ void FrameRenderer::renderReduced(const Camera& camera, const BudgetResolution& 
 }
 
 FrameResult FrameRenderer::render(const Camera& camera) {
+  const Camera view = filteredCamera(camera, options_.textures);
   FrameResult result;
-  result.drawnWidth = camera.width;
-  result.drawnHeight = camera.height;
+  result.drawnWidth = view.width;
+  result.drawnHeight = view.height;
   const auto start = detail::Clock::now();
-  const BudgetResolution resolution =
-      options_.mode == RenderMode::Surfels && options_.samples == 1
-          ? budgetResolution(scene_, hierarchy_, *sources_.surfels, camera, options_.lod)
-          : BudgetResolution{.divisor = 1.0, .pass = options_.lod.budget};
+  const BudgetResolution resolution = options_.mode == RenderMode::Surfels && options_.samples == 1
+                                          ? budgetResolution(scene_, hierarchy_, *sources_.surfels, view, options_.lod)
+                                          : BudgetResolution{.divisor = 1.0, .pass = options_.lod.budget};
   if (resolution.divisor > 1.0) {
-    renderReduced(camera, resolution, result);
+    renderReduced(view, resolution, result);
   } else if (options_.samples == 1) {
-    fitGbuffer(camera);
-    result.stats = drawPass(camera, gbuffer_, options_.lod, result.surfelLoadSeconds, resolution.draws);
-    if (options_.image == FrameImage::Float) result.image = shadeHeadlight(gbuffer_, camera);
-    if (options_.image == FrameImage::Rgba8) result.rgba8 = shadeHeadlightRgba8(gbuffer_, camera);
+    fitGbuffer(view);
+    result.stats = drawPass(view, gbuffer_, options_.lod, result.surfelLoadSeconds, resolution.draws);
+    if (options_.image == FrameImage::Float) result.image = shadeHeadlight(gbuffer_, view);
+    if (options_.image == FrameImage::Rgba8) result.rgba8 = shadeHeadlightRgba8(gbuffer_, view);
   } else {
-    fitGbuffer(camera);
+    fitGbuffer(view);
     SampleSums sums;
     if (options_.image != FrameImage::None) sums.sums.assign(gbuffer_.pixelCount(), glm::vec4(0.0f));
     bool firstPass = true;
     for (const glm::dvec2& sample : subpixelSamples(options_.samples)) {
-      const Camera shifted = subpixelCamera(camera, sample, options_.samples);
+      const Camera shifted = subpixelCamera(view, sample, options_.samples);
       const LodStats pass = drawPass(shifted, gbuffer_, options_.lod, result.surfelLoadSeconds);
       // Counts are the first pass's (every pass draws about the same); times add up.
       if (firstPass) {

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <map>
 
 #include <fcntl.h>
 #include <sys/resource.h>
@@ -324,6 +325,27 @@ TEST(Cli, RaysOverTheMemoryLimitAreRefusedBeforeTheBuild) {
   EXPECT_GT(peak, 1u << 20) << "the default scene's BVHs take megabytes";
   EXPECT_GE(json["bvh_estimate_bytes"].get<std::uint64_t>(), peak) << "the estimate bounds what was allocated";
   EXPECT_GT(json["build_seconds"].get<double>(), 0.0);
+}
+
+// --texture-filter names how every renderer samples textures; the default scene's are mip-mapped, so each
+// choice draws its own picture, and the report says which was used.
+TEST(Cli, RenderTakesATextureFilter) {
+  ScratchDir scratch;
+  std::map<std::string, std::string> frames;
+  for (const std::string filter : {"anisotropic", "isotropic", "none"}) {
+    const std::filesystem::path file = scratch / (filter + ".png");
+    const CommandResult render = runPbs("render default --mode embree --size 160x90 --json --texture-filter " + filter +
+                                        " -o '" + file.string() + "'");
+    ASSERT_EQ(render.status, 0) << render.err;
+    EXPECT_EQ(nlohmann::json::parse(render.out)["used"]["texture_filter"], filter);
+    frames[filter] = readFile(file);
+  }
+  EXPECT_NE(frames["anisotropic"], frames["isotropic"]);
+  EXPECT_NE(frames["isotropic"], frames["none"]);
+  const CommandResult byDefault = runPbs("render default --mode embree --size 160x90 --json");
+  ASSERT_EQ(byDefault.status, 0) << byDefault.err;
+  EXPECT_EQ(nlohmann::json::parse(byDefault.out)["used"]["texture_filter"], "anisotropic");
+  EXPECT_EQ(runPbs("render default --texture-filter trilinear").status, 2) << "an unknown filter is bad usage";
 }
 
 // A glTF scene that would not fit is refused from its structure, before it is read: its meshes' parts

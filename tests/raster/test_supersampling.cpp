@@ -240,5 +240,52 @@ TEST(Supersampling, RasterizerAndRaysConvergeAndSixteenSamplesAreCloseToTheRefer
   EXPECT_LT(at16.bloatFraction, 0.02);
 }
 
+// --texture-filter: the frame's cameras' own probes (anisotropic), one probe, or level 0 alone, in both exact
+// renderers. The slanted checkerboard's far half is smooth where the texture is filtered (its texels averaged to
+// grey), and alternates between dark and light neighbours where level 0 alone is sampled; a frame with a named
+// filtering is the frame of a camera that carries it.
+TEST(TextureFiltering, NamedFilteringDrawsAsACameraCarryingIt) {
+  constexpr std::uint32_t kSize = 96;
+  const Scene scene = slantedChecker();
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  const Camera camera = slantedCheckerCamera(kSize);
+  const auto render = [&](RenderMode mode, TextureFiltering textures, const Camera& view) {
+    FrameRenderer renderer(scene, hierarchy, {.mode = mode, .image = FrameImage::Rgba8, .textures = textures}, kSize,
+                           kSize);
+    return renderer.render(view).rgba8;
+  };
+  // The mean red difference between horizontal neighbours, both covered, in the upper (far) half.
+  const auto farNeighbourDifference = [&](const std::vector<std::uint8_t>& rgba8) {
+    std::size_t pairs = 0, sum = 0;
+    for (std::size_t y = 0; y < kSize / 2; ++y)
+      for (std::size_t x = 0; x + 1 < kSize; ++x) {
+        const std::size_t pixel = y * kSize + x;
+        if (rgba8[pixel * 4 + 3] != 255 || rgba8[pixel * 4 + 7] != 255) continue;
+        ++pairs;
+        sum += std::size_t(std::abs(int(rgba8[pixel * 4]) - int(rgba8[pixel * 4 + 4])));
+      }
+    EXPECT_GT(pairs, std::size_t(kSize) * 4);
+    return double(sum) / double(std::max<std::size_t>(pairs, 1));
+  };
+  for (RenderMode mode : {RenderMode::Exact, RenderMode::Embree}) {
+    Camera isotropic = camera, unfiltered = camera;
+    isotropic.textureProbes = 1;
+    unfiltered.textureProbes = 0;
+    const std::vector<std::uint8_t> anisotropicFrame = render(mode, TextureFiltering::Anisotropic, camera);
+    const std::vector<std::uint8_t> isotropicFrame = render(mode, TextureFiltering::Isotropic, camera);
+    const std::vector<std::uint8_t> noneFrame = render(mode, TextureFiltering::None, camera);
+    EXPECT_TRUE(isotropicFrame == render(mode, TextureFiltering::Anisotropic, isotropic)) << renderModeName(mode);
+    EXPECT_TRUE(noneFrame == render(mode, TextureFiltering::Anisotropic, unfiltered)) << renderModeName(mode);
+    EXPECT_TRUE(anisotropicFrame != isotropicFrame) << "probes along the slant sample finer levels";
+    const double none = farNeighbourDifference(noneFrame), isotropicDifference = farNeighbourDifference(isotropicFrame);
+    EXPECT_GT(none, 4.0 * isotropicDifference) << renderModeName(mode) << ": level 0 alone shows single texels";
+    EXPECT_GT(none, 4.0 * farNeighbourDifference(anisotropicFrame)) << renderModeName(mode);
+    EXPECT_GT(none, 15.0) << renderModeName(mode) << ": about a tenth of the range, shaded at a slant";
+  }
+  EXPECT_EQ(textureFilteringFromName("isotropic"), TextureFiltering::Isotropic);
+  EXPECT_EQ(textureFilteringFromName("trilinear"), std::nullopt);
+  EXPECT_STREQ(textureFilteringName(TextureFiltering::None), "none");
+}
+
 }  // namespace
 }  // namespace pbs::test

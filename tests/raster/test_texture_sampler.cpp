@@ -79,6 +79,12 @@ TEST(TextureMips, TheFootprintPicksTheLevel) {
   EXPECT_EQ(sampleTexture(texture, uv, footprintOf(7.0f, 8)), last);
   const TextureFootprint infinite{glm::vec2(std::numeric_limits<float>::infinity(), 0.0f), glm::vec2(0.0f)};
   EXPECT_EQ(sampleTexture(texture, uv, infinite), last);
+  // No probe at all (`--texture-filter none`): level 0 whatever the footprint.
+  for (float lod : {1.0f, 3.0f, 7.0f}) {
+    TextureFootprint unused = footprintOf(lod, 8);
+    unused.maxProbes = 0;
+    EXPECT_EQ(sampleTexture(texture, uv, unused), level0) << lod;
+  }
 }
 
 TEST(TextureMips, NearestLevelAndNoLevelsAsMinFilterSays) {

@@ -23,18 +23,7 @@ using test::AgreementRange;
 using test::compareViews;
 using test::sceneOf;
 
-// A unit quad in the z = 0 plane, [−1, 1]², two triangles split along y = x, facing +Z.
-Mesh quadMesh() {
-  Mesh mesh;
-  mesh.name = "quad";
-  mesh.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
-  mesh.normals.assign(4, glm::vec3(0, 0, 1));
-  mesh.uvs = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
-  mesh.indices = {0, 1, 2, 0, 2, 3};
-  mesh.parts = {MeshPart{0, 6, 0}};
-  updateMeshBounds(mesh);
-  return mesh;
-}
+using test::quadMesh;
 
 glm::dmat4 lookFrom(const glm::dvec3& eye, const glm::dvec3& target) {
   return glm::lookAt(eye, target, glm::dvec3(0, 1, 0));
@@ -156,18 +145,11 @@ TEST(EmbreeCaster, MinifiedTexturesAreFilteredAsTheRasterizerFiltersThem) {
   // at the near edge to many at the far one. Both renderers pick the mip level from the triangle's
   // projection at the sample, so they agree; and where a pixel spans several texels it shows their mean
   // (grey), not one texel's black or white.
-  constexpr std::uint32_t kTexels = 128, kSize = 96;
-  Texture checker{"checker", kTexels, kTexels, std::vector<std::uint8_t>(kTexels * kTexels * 4, 255)};
-  for (std::uint32_t texel = 0; texel < kTexels * kTexels; ++texel)
-    if ((texel % kTexels + texel / kTexels) % 2 == 0) std::fill_n(checker.rgba8.begin() + texel * 4, 3, 0);
-  checker.mipmap = TextureMipmap::Linear;
-  buildMipLevels(checker);
-  Scene scene = sceneOf(quadMesh(), {glm::dmat4(1.0)});
-  scene.textures.push_back(checker);
-  scene.materials[0] = Material{"checker", glm::vec4(1.0f), 0};
+  constexpr std::uint32_t kSize = 96;
+  const Scene scene = test::slantedChecker();
   const Hierarchy hierarchy = analyzeHierarchy(scene);
   const EmbreeScene embree(scene, hierarchy);
-  const Camera camera = perspectiveCamera(lookFrom({0, -1.6, 1.3}, {0, 0.1, 0}), 0.9, 0.1, 20, kSize, kSize);
+  const Camera camera = test::slantedCheckerCamera(kSize);
   Camera isotropic = camera;
   isotropic.textureProbes = 1;
   for (const Camera& view : {camera, isotropic, subpixelCamera(camera, glm::dvec2(0.3, 0.6), 16)}) {

@@ -25,7 +25,8 @@ struct Camera {
   // The most probes a minified texture sample takes along a footprint longer than wide (anisotropic
   // filtering, sampleTexture). Measured on the default scene's approach with one ray a pixel: 4 takes FLIP
   // from 0.0659–0.0327 to 0.0615–0.0238 on its near frames, and 8 with probes rounded up no further than
-  // 0.0601–0.0232; 1 is OpenGL's isotropic rule, which the capture views keep (boxViewCamera).
+  // 0.0601–0.0232; 1 is OpenGL's isotropic rule, which the capture views keep (boxViewCamera); 0 samples
+  // level 0 alone, unfiltered (TextureFootprint; `pbs render --texture-filter none`).
   std::uint32_t textureProbes = 4;
 
   bool isOrthographic() const { return projection[2][3] == 0.0; }

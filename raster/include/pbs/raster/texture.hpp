@@ -48,7 +48,8 @@ void buildMipLevels(Texture& texture);
 
 // How far the texture coordinate moves across one sample of the image: d(uv)/dx and d(uv)/dy per window
 // pixel, times the spacing of the samples (Camera::sampleSpacing). Zero (the default) samples level 0.
-// maxProbes: the most probes along a footprint longer than wide (Camera::textureProbes).
+// maxProbes: the most probes along a footprint longer than wide (Camera::textureProbes); 0 leaves the footprint
+// unused: level 0 is sampled as if magnified, with no mip level and no probe (the fastest, and aliased).
 struct TextureFootprint {
   glm::vec2 dx{0.0f};
   glm::vec2 dy{0.0f};

@@ -36,6 +36,15 @@ const char* renderModeName(RenderMode mode);
 // conversion alone (for 8-bit files: no float image is held), or none (frames only timed and counted).
 enum class FrameImage { Float, Rgba8, None };
 
+// How a frame's textures are filtered: as its cameras say (Anisotropic: Camera::textureProbes, up to 4 probes
+// along a footprint longer than wide), with one probe (Isotropic, OpenGL's rule), or from level 0 alone
+// (None: no mip level, no probe: the fastest, and aliased where textures are minified).
+enum class TextureFiltering { Anisotropic, Isotropic, None };
+
+// "anisotropic", "isotropic", "none"; nullopt for any other name.
+std::optional<TextureFiltering> textureFilteringFromName(std::string_view name);
+const char* textureFilteringName(TextureFiltering filtering);
+
 struct FrameOptions {
   RenderMode mode = RenderMode::Exact;
   LodOptions lod{};  // surfels and simplified modes
@@ -44,6 +53,7 @@ struct FrameOptions {
   // grow with the count: one G-buffer and one sum image.
   std::uint32_t samples = 1;
   FrameImage image = FrameImage::Float;
+  TextureFiltering textures = TextureFiltering::Anisotropic;
 };
 
 struct FrameResult {
