@@ -43,6 +43,7 @@ struct EvalOptions {
   std::vector<std::string> peers = defaultPeers();
   std::string path = "orbit";
   std::uint32_t referenceSamples = 64;
+  TextureFiltering textures = TextureFiltering::Anisotropic;  // the settings' frames; not the reference's
   glm::vec3 background{1.0f};
   double pixelsPerDegree = kDefaultPixelsPerDegree;
   std::uint32_t frames = 24;
@@ -126,6 +127,7 @@ void run(const EvalOptions& options) {
   const auto surfelsOf = [&](const EvalSetting& s) { return sources.of(s); };
   const EvalInputs inputs{.referenceMode = referenceMode,
                           .referenceSamples = options.referenceSamples,
+                          .textures = options.textures,
                           .meshes = meshes ? &*meshes : nullptr,
                           .compare = {.background = options.background, .pixelsPerDegree = options.pixelsPerDegree},
                           .sheetFrame = std::uint32_t(cameras.size() / 2),
@@ -155,6 +157,7 @@ void run(const EvalOptions& options) {
                          .surfelBytesRead = sources.bytesRead()};
   EvalFiles files = evalFiles(info, settings, results, inputs.sheetFrame, options.background);
   files.summary["simplification"] = simplifiedScenes.json();
+  files.summary["texture_filter"] = textureFilteringName(options.textures);
   const std::filesystem::path folder(options.output);
   std::filesystem::create_directories(folder);
   writeTextFile(folder / "eval.csv", files.csv);
@@ -210,6 +213,7 @@ void addEvalCommand(CLI::App& app) {
   addPathOption(*command, options->path);
   addSamplesOption(*command, "--reference-samples", options->referenceSamples,
                    "samples per pixel of the reference every frame is compared with");
+  addTextureFilterOption(*command, options->textures);
   command
       ->add_option(
           "--reference", options->referenceRenderer,

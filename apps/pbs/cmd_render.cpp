@@ -306,15 +306,7 @@ void addRenderCommand(CLI::App& app) {
       ->check(CLI::IsMember({"surfels", "exact", "embree"}));
   addSamplesOption(*command, "--samples", options->samples,
                    "samples per pixel, resolved into colour with fractional alpha (coverage)");
-  std::map<std::string, TextureFiltering> filterings;
-  for (TextureFiltering f : {TextureFiltering::Anisotropic, TextureFiltering::Isotropic, TextureFiltering::None})
-    filterings.emplace(textureFilteringName(f), f);
-  command
-      ->add_option("--texture-filter", options->textures,
-                   "anisotropic (the default: mip levels as each texture's sampler asks, up to 4 probes along a "
-                   "slanted footprint), isotropic (one probe) or none (the full-size image alone: fastest, aliased "
-                   "where textures are minified)")
-      ->transform(CLI::CheckedTransformer(filterings));
+  addTextureFilterOption(*command, options->textures);
   command
       ->add_option("--orbit", options->orbit,
                    "AZ,EL,DIST: degrees, degrees, distance in bounding radii (the orbit; the approach's direction "

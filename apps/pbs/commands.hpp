@@ -2,6 +2,7 @@
 #pragma once
 
 #include <pbs/scene/loose_octree.hpp>
+#include <pbs/surfels/frame_renderer.hpp>
 #include <pbs/surfels/lod_render.hpp>
 #include <pbs/surfels/ordering.hpp>
 #include <pbs/surfels/surfelize.hpp>
@@ -79,6 +80,9 @@ void addLodOptions(CLI::App& command, LodOptions& lod);
 CLI::Validator positiveNumber();
 
 void addSamplesOption(CLI::App& command, const std::string& name, std::uint32_t& samples, const std::string& help);
+
+// `--texture-filter anisotropic|isotropic|none`: how the frames' textures are sampled (TextureFiltering).
+void addTextureFilterOption(CLI::App& command, TextureFiltering& textures);
 
 // `--path orbit|approach|flythrough`: the camera path of the commands that render frames (camera_paths.hpp).
 void addPathOption(CLI::App& command, std::string& path);

@@ -223,6 +223,18 @@ void addSamplesOption(CLI::App& command, const std::string& name, std::uint32_t&
       ->capture_default_str();
 }
 
+void addTextureFilterOption(CLI::App& command, TextureFiltering& textures) {
+  std::map<std::string, TextureFiltering> names;
+  for (TextureFiltering f : {TextureFiltering::Anisotropic, TextureFiltering::Isotropic, TextureFiltering::None})
+    names.emplace(textureFilteringName(f), f);
+  command
+      .add_option("--texture-filter", textures,
+                  "anisotropic (the default: mip levels as each texture's sampler asks, up to 4 probes along a "
+                  "slanted footprint), isotropic (one probe) or none (the full-size image alone: fastest, aliased "
+                  "where textures are minified)")
+      ->transform(CLI::CheckedTransformer(names));
+}
+
 void addPathOption(CLI::App& command, std::string& path) {
   command
       .add_option("--path", path,

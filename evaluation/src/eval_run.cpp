@@ -112,8 +112,10 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
     sources.simplified = setting.simplify ? &simplifiedOf(setting) : nullptr;
     sources.rays = sharedRays;
     if (setting.mode == RenderMode::Exact || sources.cache) sources.meshes = inputs.meshes;
-    FrameRenderer renderer(scene, hierarchy, {.mode = setting.mode, .lod = setting.lod, .samples = setting.samples},
-                           width, height, sources);
+    FrameRenderer renderer(
+        scene, hierarchy,
+        {.mode = setting.mode, .lod = setting.lod, .samples = setting.samples, .textures = inputs.textures}, width,
+        height, sources);
     EvalSettingResult result;
     for (std::size_t f = 0; f < cameras.size(); ++f) {
       FrameResult frame = renderer.render(cameras[f]);

@@ -56,6 +56,22 @@ struct EvalRun {
   std::vector<test::CsvRow> rows() const { return readCsv(out / "eval.csv").rows; }
 };
 
+// --texture-filter reaches every setting's frames and is recorded; the groups are untextured, so the errors are
+// those of the default filtering (the filtering itself: TextureFiltering.NamedFilteringDrawsAsACameraCarryingIt).
+TEST(EvalCli, TakesATextureFilter) {
+  const EvalRun anisotropic, none;
+  const std::string common = "--size 96x64 --frames 2 --peers embree=1 --sweep surfels --quiet";
+  ASSERT_EQ(anisotropic.run(common).status, 0);
+  const test::CommandResult run = none.run(common + " --texture-filter none");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(nlohmann::json::parse(test::readFile(anisotropic.out / "summary.json"))["texture_filter"], "anisotropic");
+  EXPECT_EQ(nlohmann::json::parse(test::readFile(none.out / "summary.json"))["texture_filter"], "none");
+  const std::vector<test::CsvRow> a = anisotropic.rows(), b = none.rows();
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].fields.at("flip"), b[i].fields.at("flip"));
+  EXPECT_EQ(none.run(common + " --texture-filter trilinear").status, 2);
+}
+
 // The .surfels file is read as frames draw it, one cache for the settings that draw its arrays: a far view
 // reads only its prefixes, and reading is reported apart from the frames' times.
 TEST(EvalCli, ReadsTheSurfelFileAsFramesDrawIt) {

@@ -60,6 +60,8 @@ struct EvalInputs {
   // every triangle), at this many samples per pixel.
   RenderMode referenceMode = RenderMode::Embree;
   std::uint32_t referenceSamples = 64;
+  // How every setting's frames (peers included) sample textures; the reference keeps the cameras' own, the best.
+  TextureFiltering textures = TextureFiltering::Anisotropic;
   // A scene opened without its mesh arrays: exact frames and surfel frames from the file's cache read the
   // meshes they draw through it (no setting may then use Embree over the whole scene).
   LazyMeshes* meshes = nullptr;
