@@ -48,8 +48,6 @@ std::optional<RenderMode> renderModeFromName(std::string_view name) { return kMo
 
 const char* renderModeName(RenderMode mode) { return kModeNames.name(mode).data(); }
 
-std::optional<TextureFiltering> textureFilteringFromName(std::string_view name) { return kFilteringNames.parse(name); }
-
 const char* textureFilteringName(TextureFiltering filtering) { return kFilteringNames.name(filtering).data(); }
 
 FrameRenderer::FrameRenderer(const Scene& scene, const Hierarchy& hierarchy, const FrameOptions& options,

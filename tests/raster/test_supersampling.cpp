@@ -282,8 +282,6 @@ TEST(TextureFiltering, NamedFilteringDrawsAsACameraCarryingIt) {
     EXPECT_GT(none, 4.0 * farNeighbourDifference(anisotropicFrame)) << renderModeName(mode);
     EXPECT_GT(none, 15.0) << renderModeName(mode) << ": about a tenth of the range, shaded at a slant";
   }
-  EXPECT_EQ(textureFilteringFromName("isotropic"), TextureFiltering::Isotropic);
-  EXPECT_EQ(textureFilteringFromName("trilinear"), std::nullopt);
   EXPECT_STREQ(textureFilteringName(TextureFiltering::None), "none");
 }
 

@@ -41,8 +41,7 @@ enum class FrameImage { Float, Rgba8, None };
 // (None: no mip level, no probe: the fastest, and aliased where textures are minified).
 enum class TextureFiltering { Anisotropic, Isotropic, None };
 
-// "anisotropic", "isotropic", "none"; nullopt for any other name.
-std::optional<TextureFiltering> textureFilteringFromName(std::string_view name);
+// "anisotropic", "isotropic", "none".
 const char* textureFilteringName(TextureFiltering filtering);
 
 struct FrameOptions {
