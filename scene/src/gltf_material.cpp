@@ -21,7 +21,6 @@ TextureWrap wrapMode(int value, const char* which, std::string_view file, const 
   }
 }
 
-// Mipmapped minification filters keep their in-level choice: the scene samples one level.
 // A filter mode and, for minFilter, its use of the mip chain. Absent, the spec leaves both to the
 // implementation: bilinear within a level, blended between levels (trilinear), as GPU viewers do.
 struct FilterMode {
