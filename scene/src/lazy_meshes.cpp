@@ -15,6 +15,27 @@
 #include <utility>
 
 namespace pbs {
+namespace {
+
+// Loading and unloading touch a mesh's arrays and bounds only: its name, parts and describedVertices are
+// read by any thread at any time (the triangle counts of a subtree being analysed, say), leased or not.
+void installArrays(Mesh& mesh, Mesh&& decoded) {
+  mesh.positions = std::move(decoded.positions);
+  mesh.normals = std::move(decoded.normals);
+  mesh.uvs = std::move(decoded.uvs);
+  mesh.indices = std::move(decoded.indices);
+  mesh.bounds = decoded.bounds;
+}
+
+void dropArrays(Mesh& mesh) {
+  mesh.positions = {};
+  mesh.normals = {};
+  mesh.uvs = {};
+  mesh.indices = {};
+  mesh.bounds = Bounds{};
+}
+
+}  // namespace
 
 LazyMeshes::Lease::Lease(Lease&& other) noexcept
     : owner_(std::exchange(other.owner_, nullptr)), meshes_(std::move(other.meshes_)) {}
@@ -51,6 +72,7 @@ LazyMeshes::LazyMeshes(Scene& scene, Decode decode, std::vector<std::uint64_t> f
                                 std::to_string(scene_.meshes.size()) + " meshes");
   for (std::size_t m = 0; m < scene_.meshes.size(); ++m) {
     if (!scene_.meshes[m].loaded()) continue;
+    scene_.meshes[m].describedVertices = scene_.meshes[m].positions.size();
     state_[m] = State::Loaded;
     ++stats_.loaded;
     stats_.bytesLoaded += meshBytes(scene_.meshes[m]);
@@ -137,7 +159,7 @@ void LazyMeshes::load(std::span<const std::uint32_t> meshes) {
   for (std::size_t i = 0; i < meshes.size(); ++i) {
     const std::uint32_t m = meshes[i];
     stats_.bytesLoaded += meshBytes(decoded[i]);
-    scene_.meshes[m] = std::move(decoded[i]);
+    installArrays(scene_.meshes[m], std::move(decoded[i]));
     state_[m] = State::Loaded;
   }
   stats_.decoded += meshes.size();
@@ -165,11 +187,7 @@ std::vector<std::uint32_t> LazyMeshes::unloadOverBudget() {
     if (stats_.bytesLoaded <= budget_) break;
     Mesh& mesh = scene_.meshes[m];
     stats_.bytesLoaded -= meshBytes(mesh);
-    Mesh shell;
-    shell.name = std::move(mesh.name);
-    shell.parts = std::move(mesh.parts);
-    shell.describedVertices = mesh.positions.size();
-    mesh = std::move(shell);
+    dropArrays(mesh);
     state_[m] = State::Unloaded;
     unloaded.push_back(m);
   }

@@ -132,6 +132,9 @@ TEST(LazyMeshes, UnloadsTheLeastRecentlyDrawnAndRefusesAChangedMesh) {
   Scene& scene = lazy.imported.scene;
   LazyMeshes meshes(scene, lazy.decode, meshFingerprints(whole.scene), "varied.glb", 1);
   const std::uint32_t first[] = {0}, second[] = {1};
+  // Other threads read a mesh's parts leased or not (a subtree's triangle count): loading and unloading
+  // must leave them where they are.
+  const MeshPart* const parts = scene.meshes[0].parts.data();
   {
     const LazyMeshes::Lease drawing = meshes.require(first);
     EXPECT_TRUE(meshes.unloadOverBudget().empty()) << "never a leased mesh";
@@ -143,6 +146,7 @@ TEST(LazyMeshes, UnloadsTheLeastRecentlyDrawnAndRefusesAChangedMesh) {
   EXPECT_EQ(scene.meshes[0].vertexCount(), whole.scene.meshes[0].positions.size()) << "and the vertex count";
   EXPECT_TRUE(scene.meshes[1].loaded());
   drawing = meshes.require(first);
+  EXPECT_EQ(scene.meshes[0].parts.data(), parts) << "loaded, unloaded and loaded again: the same parts";
   EXPECT_EQ(meshes.stats().decoded, 3u);
   EXPECT_EQ(meshes.stats().unloaded, 1u);
   EXPECT_EQ(meshFingerprint(scene.meshes[0]), meshFingerprint(whole.scene.meshes[0]));
@@ -266,6 +270,27 @@ TEST(LazyMeshes, ConcurrentRequiresDecodeEachMeshOnceAndShareFailures) {
   });
   EXPECT_EQ(wrong.load(), 0);
   for (std::size_t m = 0; m < meshCount; ++m) EXPECT_EQ(decodes[m].load(), 1) << "mesh " << m;
+
+  // With no budget every mesh is unloaded as soon as its lease ends, while other tasks count the
+  // triangles of meshes they do not lease (as surfelize's workers analyse subtrees): the counts hold
+  // throughout (and the sanitizer build sees no read of freed parts).
+  LazyGltf churned = openGltfWithoutMeshes(scratch / "four.glb");
+  LazyMeshes churning(churned.imported.scene, churned.decode, meshFingerprints(whole.scene), "four.glb", 0);
+  std::uint64_t triangles = 0;
+  for (const Mesh& mesh : whole.scene.meshes) triangles += mesh.triangleCount();
+  std::atomic<int> miscounted{0};
+  tbb::parallel_for(0, 64, [&](int i) {
+    if (i % 2 == 0) {
+      const std::uint32_t wanted[] = {std::uint32_t(i / 2 % 4)};
+      { const LazyMeshes::Lease lease = churning.require(wanted); }
+      churning.unloadOverBudget();
+      return;
+    }
+    std::uint64_t counted = 0;
+    for (const Mesh& mesh : churned.imported.scene.meshes) counted += mesh.triangleCount();
+    if (counted != triangles) ++miscounted;
+  });
+  EXPECT_EQ(miscounted.load(), 0);
 
   LazyGltf again = openGltfWithoutMeshes(scratch / "four.glb");
   const auto failing = [&](std::uint32_t m) -> Mesh {
