@@ -220,7 +220,11 @@ void run(const RenderOptions& options) {
     throw CLI::ValidationError("--budget-feedback", "corrects --budget-ms: give it, in surfels mode");
   BudgetFeedback feedback(options.lod.budget.limit);
   for (std::uint32_t f = 0; f < frames; ++f) {
-    if (!rendersFrame(options, f)) continue;
+    if (!rendersFrame(options, f)) {
+      // Another shard's frame, passed over as this run's frames would see it had the run drawn it.
+      renderer.passOver(views[f].camera);
+      continue;
+    }
     // Frame f shows what the link delivered by (f + 1) / fps.
     if (stream) stream->advance(views[f].camera, 1.0 / options.streamFps);
     const double limit = feedback.limit();

@@ -112,10 +112,13 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
     sources.simplified = setting.simplify ? &simplifiedOf(setting) : nullptr;
     sources.rays = sharedRays;
     if (setting.mode == RenderMode::Exact || sources.cache) sources.meshes = inputs.meshes;
-    FrameRenderer renderer(
-        scene, hierarchy,
-        {.mode = setting.mode, .lod = setting.lod, .samples = setting.samples, .textures = inputs.textures}, width,
-        height, sources);
+    // The path's frames share the mesh BVHs that rays build, as in `pbs render --frames`: each frame is
+    // charged its share of a build, whether the peers' BVH already holds it or not.
+    LodOptions lod = setting.lod;
+    lod.bvhBuildFrames = double(cameras.size());
+    FrameRenderer renderer(scene, hierarchy,
+                           {.mode = setting.mode, .lod = lod, .samples = setting.samples, .textures = inputs.textures},
+                           width, height, sources);
     EvalSettingResult result;
     for (std::size_t f = 0; f < cameras.size(); ++f) {
       FrameResult frame = renderer.render(cameras[f]);

@@ -16,6 +16,7 @@ struct EmbreeNodeCaster::Impl {
   EmbreeMeshes meshes;
   EmbreeInstances instances;            // over topNodes; no top scene before the first render
   std::vector<std::uint32_t> topNodes;  // kept while renders ask for the same (a still camera, samples)
+  std::vector<char> drawn;              // per mesh: drawnBefore
   // Every top level's frame is centred on the whole scene, by EmbreeScene's own rule over all nodes: each instance
   // then sees the very rays `--mode embree` casts, so the geometry a frame draws here is its image to the bit, and
   // the frame does not move as the view's nodes change.
@@ -27,6 +28,7 @@ EmbreeNodeCaster::EmbreeNodeCaster(const Scene& scene, const Hierarchy& hierarch
   impl_->hierarchy = &hierarchy;
   impl_->materials = makeSceneMaterials(scene);
   impl_->meshes = makeEmbreeMeshes(scene);
+  impl_->drawn.assign(scene.meshes.size(), 0);
   impl_->origin = nodesCenter(hierarchy, allNodes(scene));
 }
 
@@ -36,6 +38,7 @@ EmbreeNodeCaster::EmbreeNodeCaster(const Scene& scene, const Hierarchy& hierarch
   impl_->hierarchy = &hierarchy;
   impl_->materials = makeSceneMaterials(scene);
   impl_->meshes = shareEmbreeMeshes(prebuilt.impl_->meshes);
+  impl_->drawn.assign(scene.meshes.size(), 0);
   impl_->origin = nodesCenter(hierarchy, allNodes(scene));
 }
 
@@ -43,19 +46,43 @@ EmbreeNodeCaster::~EmbreeNodeCaster() = default;
 EmbreeNodeCaster::EmbreeNodeCaster(EmbreeNodeCaster&&) noexcept = default;
 EmbreeNodeCaster& EmbreeNodeCaster::operator=(EmbreeNodeCaster&&) noexcept = default;
 
+namespace {
+
+// The instances of `nodes` a render casts at, with their world boxes: those inside the camera's clip volume.
+struct InstancesInView {
+  std::vector<std::uint32_t> nodes;
+  std::vector<Bounds> boxes;
+};
+
+InstancesInView instancesInView(const Scene& scene, const Hierarchy& hierarchy, const Camera& camera,
+                                std::span<const std::uint32_t> nodes) {
+  InstancesInView inView;
+  for (std::uint32_t node : rayInstanceNodes(scene, hierarchy, nodes)) {
+    const Bounds box = instanceWorldBounds(scene, hierarchy, node);
+    if (outsideClipVolume(camera, box)) continue;
+    inView.nodes.push_back(node);
+    inView.boxes.push_back(box);
+  }
+  return inView;
+}
+
+void noteMeshes(const Scene& scene, std::span<const std::uint32_t> nodes, std::vector<char>& drawn) {
+  for (std::uint32_t node : nodes) drawn[std::size_t(scene.nodes[node].mesh)] = 1;
+}
+
+}  // namespace
+
+void EmbreeNodeCaster::noteDrawn(const Camera& camera, std::span<const std::uint32_t> nodes) {
+  noteMeshes(*impl_->scene, instancesInView(*impl_->scene, *impl_->hierarchy, camera, nodes).nodes, impl_->drawn);
+}
+
 EmbreeBuilds EmbreeNodeCaster::render(const Camera& camera, std::span<const std::uint32_t> nodes,
                                       Framebuffer& framebuffer) {
   Impl& impl = *impl_;
   const Scene& scene = *impl.scene;
   const Hierarchy& hierarchy = *impl.hierarchy;
-  std::vector<std::uint32_t> inView;
-  std::vector<Bounds> boxes;
-  for (std::uint32_t node : rayInstanceNodes(scene, hierarchy, nodes)) {
-    const Bounds box = instanceWorldBounds(scene, hierarchy, node);
-    if (outsideClipVolume(camera, box)) continue;
-    inView.push_back(node);
-    boxes.push_back(box);
-  }
+  const auto [inView, boxes] = instancesInView(scene, hierarchy, camera, nodes);
+  noteMeshes(scene, inView, impl.drawn);
 
   const auto start = std::chrono::steady_clock::now();
   const MeshBuilds built = buildMeshScenes(impl.meshes, scene, inView);
@@ -72,6 +99,8 @@ EmbreeBuilds EmbreeNodeCaster::render(const Camera& camera, std::span<const std:
 }
 
 bool EmbreeNodeCaster::built(std::uint32_t mesh) const { return bool(impl_->meshes.scenes.at(mesh)); }
+
+bool EmbreeNodeCaster::drawnBefore(std::uint32_t mesh) const { return bool(impl_->drawn.at(mesh)); }
 
 void EmbreeNodeCaster::forget(std::uint32_t mesh) {
   impl_->instances = EmbreeInstances{};

@@ -146,8 +146,13 @@ LodDraws FrameRenderer::cutFor(const Camera& camera, const LodOptions& lod) cons
 
 LodStats FrameRenderer::drawPass(const Camera& camera, Framebuffer& gbuffer, const LodOptions& lod, double& loadSeconds,
                                  const std::optional<LodDraws>& planned) {
-  if (clearsDepth()) clearFramebuffer(gbuffer, 0);
   LodStats pass;
+  if (passingOver_) {
+    passOverLodGeometry(scene_, hierarchy_, (planned ? *planned : cutFor(camera, lod)).geometryNodes, camera,
+                        lod.geometry, &*geometryRays_, lod.frameCosts, lod.bvhBuildFrames);
+    return pass;
+  }
+  if (clearsDepth()) clearFramebuffer(gbuffer, 0);
   switch (options_.mode) {
     case RenderMode::Surfels: {
       EmbreeNodeCaster* rays = geometryRays_ ? &*geometryRays_ : nullptr;
@@ -218,6 +223,22 @@ void FrameRenderer::renderReduced(const Camera& camera, const BudgetResolution& 
     result.rgba8 = upscaleBilinearRgba8(rows, reduced.width, reduced.height, camera.width, camera.height);
   else
     result.image = upscaleBilinear(rows, reduced.width, reduced.height, camera.width, camera.height);
+}
+
+void FrameRenderer::passOver(const Camera& camera) {
+  if (options_.mode != RenderMode::Surfels || !geometryRays_ || sources_.stream) return;
+  // render() itself, so that its passes are the ones a drawn frame makes; drawPass only chooses and notes.
+  const FrameImage image = std::exchange(options_.image, FrameImage::None);
+  passingOver_ = true;
+  try {
+    render(camera);
+  } catch (...) {
+    passingOver_ = false;
+    options_.image = image;
+    throw;
+  }
+  passingOver_ = false;
+  options_.image = image;
 }
 
 FrameResult FrameRenderer::render(const Camera& camera) {

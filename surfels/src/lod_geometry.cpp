@@ -67,7 +67,7 @@ GeometryWork geometryWork(const Scene& scene, const Hierarchy& hierarchy, std::s
     ++work.nodes;
     work.boxRayPixels += pixels * rayLevels(double(triangles));
     work.trianglesOnPixels += std::min(double(triangles), pixels);
-    if ((!rays || !rays->built(std::uint32_t(mesh))) && !counted[std::size_t(mesh)]) {
+    if ((!rays || !rays->drawnBefore(std::uint32_t(mesh))) && !counted[std::size_t(mesh)]) {
       counted[std::size_t(mesh)] = 1;
       work.unbuiltTriangles += triangles;
     }
@@ -93,14 +93,31 @@ GeometryDrawer chooseGeometryDrawer(const GeometryWork& work, const FrameCosts& 
   return estimate.rays < estimate.raster ? GeometryDrawer::Rays : GeometryDrawer::Raster;
 }
 
+namespace {
+
+// The drawer that draws `work`: rays where there is a caster and `drawer` names them or Auto prefers them.
+GeometryDrawer drawerFor(const GeometryWork& work, GeometryDrawer drawer, const EmbreeNodeCaster* rays,
+                         const FrameCosts& costs, double buildFrames) {
+  if (!rays) return GeometryDrawer::Raster;
+  return drawer == GeometryDrawer::Auto ? chooseGeometryDrawer(work, costs, buildFrames) : drawer;
+}
+
+}  // namespace
+
+void passOverLodGeometry(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
+                         const Camera& camera, GeometryDrawer drawer, EmbreeNodeCaster* rays, const FrameCosts& costs,
+                         double buildFrames) {
+  const GeometryWork work = geometryWork(scene, hierarchy, nodes, camera, rays);
+  if (drawerFor(work, drawer, rays, costs, buildFrames) == GeometryDrawer::Rays) rays->noteDrawn(camera, nodes);
+}
+
 GeometryPass drawLodGeometry(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
                              const Camera& camera, Framebuffer& framebuffer, GeometryDrawer drawer,
                              EmbreeNodeCaster* rays, const FrameCosts& costs, double buildFrames) {
   const auto start = Clock::now();
   GeometryPass pass;
   pass.work = geometryWork(scene, hierarchy, nodes, camera, rays);
-  if (rays && drawer == GeometryDrawer::Auto) drawer = chooseGeometryDrawer(pass.work, costs, buildFrames);
-  if (rays && drawer == GeometryDrawer::Rays) {
+  if (drawerFor(pass.work, drawer, rays, costs, buildFrames) == GeometryDrawer::Rays) {
     pass.drawer = GeometryDrawer::Rays;
     pass.bvhBuildSeconds = rays->render(camera, nodes, framebuffer).seconds;
   } else {

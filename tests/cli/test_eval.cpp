@@ -98,14 +98,14 @@ TEST(EvalCli, ReadsTheSurfelFileAsFramesDrawIt) {
 
 // Against the rasterizer's reference with no Embree setting, a glTF scene is opened without its mesh
 // arrays and every frame reads the meshes it draws (the reference node by node): the same errors as
-// with the scene read whole (which an Embree peer forces). The geometry's drawer is named: the peer's BVHs
-// serve the surfel frames' rays too, and Auto, which prices rays with the BVHs still to build, may then choose
-// otherwise than without it (the drawers agree only to a tolerance).
+// with the scene read whole (which an Embree peer forces). The peer's BVHs serve the surfel frames' rays too,
+// but the geometry's drawer is priced by the setting's own frames (EmbreeNodeCaster::drawnBefore): the same
+// choices, the same images.
 TEST(EvalCli, ExactReferenceReadsMeshesAsFramesDrawThem) {
   const EvalRun onDemand, whole;
   const std::string common =
       "--size 96x64 --frames 3 --path approach --reference exact --reference-samples 4 "
-      "--geometry raster --sweep surfels --quiet --peers ";
+      "--sweep surfels --quiet --peers ";
   const test::CommandResult a = onDemand.run(common + "exact=1");
   ASSERT_EQ(a.status, 0) << a.err;
   const test::CommandResult b = whole.run(common + "exact=1 --peers embree=1");

@@ -199,14 +199,18 @@ TEST(RenderShards, ThreeShardsFillTheFolderOneRunFills) {
   ScratchDir scratch;
   const auto [scene, surfels] = test::groupsWithSurfels(scratch);
   const std::string common = "render " + scene + " --surfels " + surfels + " --frames 7 --size 64x48 -o ";
-  const test::CommandResult single = runPbs(common + quoted(scratch / "single"));
+  const test::CommandResult single = runPbs(common + quoted(scratch / "single") + " --json");
   ASSERT_EQ(single.status, 0) << single.err;
+  const nlohmann::json singleFrames = nlohmann::json::parse(single.out)["frames"];
   for (int shard = 0; shard < 3; ++shard) {
     const test::CommandResult part =
         runPbs(common + quoted(scratch / "sharded") + " --shard " + std::to_string(shard) + "/3 --json");
     ASSERT_EQ(part.status, 0) << part.err;
-    EXPECT_EQ(nlohmann::json::parse(part.out)["frames"].size(), shard == 0 ? 3u : 2u)
-        << "frames " << shard << ", +3, …";
+    const nlohmann::json frames = nlohmann::json::parse(part.out)["frames"];
+    EXPECT_EQ(frames.size(), shard == 0 ? 3u : 2u) << "frames " << shard << ", +3, …";
+    // Each drawn by the drawer the single run chose, having passed over the other shards' frames.
+    for (std::size_t i = 0; i < frames.size(); ++i)
+      EXPECT_EQ(frames[i]["geometry"], singleFrames[std::size_t(shard) + 3 * i]["geometry"]) << shard << ", " << i;
   }
   std::size_t frames = 0;
   for (const auto& entry : std::filesystem::directory_iterator(scratch / "single")) {

@@ -133,12 +133,25 @@ TEST(EmbreeNodeCaster, BuildsEachMeshOnceAcrossFrames) {
   EXPECT_EQ(frame({2, 1, 0}).meshes, 0u) << "kept across frames";
   EXPECT_EQ(frame({0, 3}).meshes, 0u) << "an instance outside the view builds nothing";
   EXPECT_FALSE(caster.built(2));
+  EXPECT_TRUE(caster.drawnBefore(0) && caster.drawnBefore(1));
+  EXPECT_FALSE(caster.drawnBefore(2)) << "outside the view: not drawn";
+  caster.forget(0);
+  EXPECT_FALSE(caster.built(0));
+  EXPECT_TRUE(caster.drawnBefore(0)) << "the history stays";
 
-  // Seeded from a whole-scene caster: everything is there already.
+  EmbreeNodeCaster noting(scene, hierarchy);
+  noting.noteDrawn(camera, std::vector<std::uint32_t>{0, 3});
+  EXPECT_TRUE(noting.drawnBefore(0));
+  EXPECT_FALSE(noting.drawnBefore(2)) << "as render: outside the view, not drawn";
+  EXPECT_FALSE(noting.built(0)) << "noted, not built";
+
+  // Seeded from a whole-scene caster: everything is there already, and nothing drawn yet.
   const EmbreeScene whole(scene, hierarchy);
   EmbreeNodeCaster seeded(scene, hierarchy, whole);
   EXPECT_TRUE(seeded.built(2));
+  EXPECT_FALSE(seeded.drawnBefore(1));
   EXPECT_EQ(seeded.render(camera, std::vector<std::uint32_t>{0, 1, 2}, framebuffer).meshes, 0u);
+  EXPECT_TRUE(seeded.drawnBefore(1));
   EXPECT_TRUE(
       std::any_of(framebuffer.ids.begin(), framebuffer.ids.end(), [](const PixelIds& ids) { return ids.node == 2; }));
 }
@@ -349,6 +362,52 @@ TEST(LodGeometry, AutoPicksRaysForManySmallTrianglesAndRasterForFewBigOnes) {
     EXPECT_EQ(work.unbuiltTriangles, 0u);
     EXPECT_EQ(chooseGeometryDrawer(work), expected) << tessellation;
   }
+}
+
+// A frame's drawer is priced by the frames drawn (or passed over) before it in the same renderer, not by BVHs
+// another renderer built: two groups of one mesh's instances, the rasterizer priced at 60 ns a triangle and
+// rays at their BVH builds alone. The whole scene (4 instances) goes to rays and builds the mesh; then one
+// group (2 instances) goes to rays only once the mesh is drawn: a renderer that starts there takes the
+// rasterizer, one that passed over the first view takes rays, to the bit of the one that drew it, and one
+// seeded with a whole-scene BVH chooses as one that was not.
+TEST(LodGeometry, AFrameIsPricedByTheFramesBeforeItNotByWhatOthersBuilt) {
+  const Scene scene = test::twoIdenticalGroups();
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  const SceneSurfels none;  // no arrays: every visible mesh is geometry
+  LodOptions lod;
+  lod.frameCosts = FrameCosts::primitives();
+  lod.frameCosts.rasterPerTriangle = 60e-9;
+  lod.frameCosts.perSurfel = 0.0;
+  const Camera whole = orbitAround(scene, hierarchy, 3.0, 160, 120);
+  const Camera groupA = perspectiveCamera(glm::lookAt(glm::dvec3(-5, 0, 8), glm::dvec3(-5, 0, 0), glm::dvec3(0, 1, 0)),
+                                          glm::radians(40.0), 0.5, 100.0, 160, 120);
+  const EmbreeScene prebuilt(scene, hierarchy);
+  const auto renderer = [&](const EmbreeScene* rays) {
+    return FrameRenderer(scene, hierarchy, {.mode = RenderMode::Surfels, .lod = lod}, 160, 120,
+                         {.surfels = &none, .rays = rays});
+  };
+
+  FrameRenderer drawing = renderer(nullptr);
+  const FrameResult first = drawing.render(whole);
+  ASSERT_EQ(first.stats.geometryDrawer, GeometryDrawer::Rays);
+  ASSERT_EQ(first.stats.nodesGeometry, 4u);
+  const FrameResult second = drawing.render(groupA);
+  ASSERT_EQ(second.stats.nodesGeometry, 2u) << "the other group is out of view";
+  EXPECT_EQ(second.stats.geometryDrawer, GeometryDrawer::Rays) << "the mesh is built";
+
+  FrameRenderer starting = renderer(nullptr);
+  EXPECT_EQ(starting.render(groupA).stats.geometryDrawer, GeometryDrawer::Raster) << "the build is priced";
+
+  FrameRenderer passing = renderer(nullptr);
+  passing.passOver(whole);
+  const FrameResult passed = passing.render(groupA);
+  EXPECT_EQ(passed.stats.geometryDrawer, GeometryDrawer::Rays);
+  EXPECT_GT(passed.stats.bvhBuildSeconds, 0.0) << "passing over built nothing";
+  EXPECT_TRUE(passed.image == second.image) << "the frame of the run that drew the first";
+
+  FrameRenderer seeded = renderer(&prebuilt);
+  EXPECT_EQ(seeded.render(groupA).stats.geometryDrawer, GeometryDrawer::Raster)
+      << "another renderer's BVH changes no price";
 }
 
 // ---- The command line -------------------------------------------------------------------------------

@@ -44,8 +44,18 @@ class EmbreeNodeCaster {
   // std::invalid_argument when the framebuffer is not the camera's size.
   EmbreeBuilds render(const Camera& camera, std::span<const std::uint32_t> nodes, Framebuffer& framebuffer);
 
-  // Whether mesh `mesh`'s BVH is there (so a caller can weigh what a render would build).
+  // Notes the meshes render(camera, nodes, …) would draw as drawn, without building or casting anything:
+  // what a frame passed over leaves for the frames after it (drawnBefore).
+  void noteDrawn(const Camera& camera, std::span<const std::uint32_t> nodes);
+
+  // Whether mesh `mesh`'s BVH is there now (built here, shared from a prebuilt scene, or not yet or no
+  // longer: forget).
   bool built(std::uint32_t mesh) const;
+  // Whether a render (or noteDrawn) of this caster has drawn mesh `mesh`: its history alone, whatever was
+  // built, shared or forgotten since. A caller that weighs what a render would build asks this, so that
+  // its choice depends on the frames drawn before, not on what another renderer built or a memory budget
+  // let go (docs/evaluation.md, "The rasterizer's price of triangles on pixels").
+  bool drawnBefore(std::uint32_t mesh) const;
   // Lets go of mesh `mesh`'s BVH, and of the top level that may hold it, before the mesh's arrays are
   // unloaded (LazyMeshes): the BVH reads the mesh's indices where they lie. A later render that needs the
   // mesh builds it again.

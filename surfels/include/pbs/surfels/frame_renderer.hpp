@@ -91,7 +91,8 @@ struct FrameSources {
   LazyMeshes* meshes = nullptr;
   const Scene* simplified = nullptr;  // Simplified mode: the scene's simplifyScene copy
   // Embree mode: a BVH built elsewhere and shared; null: built here. Surfels mode: mesh BVHs the geometry
-  // nodes' rays reuse; null: each built the first time a frame needs it.
+  // nodes' rays reuse; null: each built the first time a frame needs it. Either way the drawer's price of a
+  // build follows this renderer's own frames (EmbreeNodeCaster::drawnBefore), so they draw the same.
   const EmbreeScene* rays = nullptr;
 };
 
@@ -106,6 +107,12 @@ class FrameRenderer {
   // Bit-identical for any thread count. The camera must be width × height. A budget in seconds may draw it
   // at a lower resolution (FrameResult::divisor); only with one sample per pixel.
   FrameResult render(const Camera& camera);
+  // What render(camera) leaves for the frames after it, without drawing, loading or shading anything: the
+  // passes' cuts and geometry drawers are chosen as render would, and the meshes it would draw by rays are
+  // noted as drawn (EmbreeNodeCaster::noteDrawn), since the drawer's choice prices BVHs still to build. A
+  // renderer that passes over frames 0…k-1 of a path draws frame k as one that rendered them: a shard's
+  // frames are the unsharded run's. Nothing in modes other than surfels, or without a ray caster.
+  void passOver(const Camera& camera);
   // Surfels mode: the cut a full-resolution frame from `camera` draws with the current LOD options
   // (traverseLodForDrawer, with this renderer's ray caster), for a caller that shows or picks what drew it.
   // std::logic_error in another mode.
@@ -157,6 +164,7 @@ class FrameRenderer {
   std::optional<EmbreeNodeCaster> geometryRays_;  // Surfels mode, unless LodOptions::geometry is Raster
   LazyMeshes::Lease geometryLease_;               // the meshes the last pass drew as geometry (FrameSources::meshes)
   double buildSeconds_ = 0.0;
+  bool passingOver_ = false;  // passOver: passes choose and note, and draw nothing
 };
 
 }  // namespace pbs

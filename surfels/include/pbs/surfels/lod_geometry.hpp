@@ -30,7 +30,9 @@ struct GeometryWork {
 };
 
 // The work of drawing `nodes` (those with a mesh; others are skipped) from `camera`; unbuiltTriangles
-// counts the meshes `rays` has not built (all of them without a caster).
+// counts the meshes `rays` has not drawn before (EmbreeNodeCaster::drawnBefore; all of them without a
+// caster): priced by the caster's own history, a frame's choice does not depend on BVHs another renderer
+// built, nor on one that a memory budget let go.
 GeometryWork geometryWork(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
                           const Camera& camera, const EmbreeNodeCaster* rays);
 
@@ -62,5 +64,11 @@ struct GeometryPass {
 GeometryPass drawLodGeometry(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
                              const Camera& camera, Framebuffer& framebuffer, GeometryDrawer drawer,
                              EmbreeNodeCaster* rays, const FrameCosts& costs = {}, double buildFrames = 1.0);
+
+// What drawLodGeometry with these arguments leaves for later frames, without drawing: the meshes it would
+// draw by rays are noted as drawn by `rays` (EmbreeNodeCaster::noteDrawn). Nothing without a caster.
+void passOverLodGeometry(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
+                         const Camera& camera, GeometryDrawer drawer, EmbreeNodeCaster* rays, const FrameCosts& costs,
+                         double buildFrames);
 
 }  // namespace pbs

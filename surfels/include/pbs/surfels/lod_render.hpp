@@ -136,10 +136,11 @@ struct LodOptions {
   PrefixRule prefixRule = PrefixRule::Coverage;
   // What draws the geometry nodes when renderLod is given a ray caster (lod_geometry.hpp).
   GeometryDrawer geometry = GeometryDrawer::Auto;
-  // The frames a mesh BVH built for rays is expected to serve: Auto charges each frame that needs a build
-  // 1/this of it. 1 (a single view) charges it whole; a camera path sets its number of frames, since the
-  // BVHs are kept. Charged whole, a build the first frame declines is declined by every frame after it,
-  // and a path stays with the rasterizer where rays would have repaid the build within a frame or two.
+  // The frames a mesh BVH built for rays is expected to serve: Auto charges each frame that draws by rays a
+  // mesh its caster has not drawn before (EmbreeNodeCaster::drawnBefore) 1/this of the mesh's build. 1 (a single view)
+  // charges it whole; a camera path sets its number of frames, since the BVHs are kept. Charged whole, a build the
+  // first frame declines is declined by every frame after it, and a path stays with the rasterizer where rays would
+  // have repaid the build within a frame or two.
   double bvhBuildFrames = 1.0;
   // A surfel seen at angle θ between its normal and the view direction is drawn max(|cos θ|, this)
   // times the point size, so silhouettes stay sharp (paper, Sec. 3). 1 disables the shrinking.
