@@ -29,6 +29,7 @@ struct ViewOptions {
   int port = 8080;
   std::string bind = "127.0.0.1";
   LodOptions lod;
+  TextureFiltering textures = TextureFiltering::Anisotropic;
   std::uint64_t cacheMb = 1024;
   std::uint64_t maxMemory = 0;
   int threads = 0;
@@ -72,7 +73,8 @@ nlohmann::json pageCamera(const PathView& view, const glm::dvec3& center, double
           {"dist", along / radius}};
 }
 
-nlohmann::json sceneJson(const LoadedScene& loaded, const ViewRenderer& renderer, const LodOptions& lod) {
+nlohmann::json sceneJson(const LoadedScene& loaded, const ViewRenderer& renderer, const LodOptions& lod,
+                         TextureFiltering textures) {
   const Orbit start;
   nlohmann::json paths;
   for (const char* name : {"orbit", "approach", "flythrough"}) {
@@ -91,6 +93,7 @@ nlohmann::json sceneJson(const LoadedScene& loaded, const ViewRenderer& renderer
             {"overdraw", lod.overdraw},
             {"splat", splatModeName(lod.splat)},
             {"point", lod.pointSize}}},
+          {"texture_filter", textureFilteringName(textures)},
           {"paths", paths}};
 }
 
@@ -104,7 +107,7 @@ void run(const ViewOptions& options) {
        .alongside = pixelBytes,
        .what = "viewing frames up to " + std::to_string(kMaxViewWidth) + "x" + std::to_string(kMaxViewHeight),
        .maxMemory = options.maxMemory});
-  ViewRenderer renderer(scene, options.maxMemory);
+  ViewRenderer renderer(scene, options.maxMemory, options.textures);
   // Without a .surfels file the page may ask for one to be made: declared after the renderer it hands
   // the file to, so that it stops first.
   std::optional<TemporaryFolder> temporary;
@@ -116,7 +119,7 @@ void run(const ViewOptions& options) {
     background.emplace(scene.loaded.scene, scene.loaded.hierarchy, file,
                        [&renderer](const std::filesystem::path& made) { renderer.attachSurfels(made); });
   }
-  ViewServer server(renderer, sceneJson(scene.loaded, renderer, options.lod), options.lod,
+  ViewServer server(renderer, sceneJson(scene.loaded, renderer, options.lod, options.textures), options.lod,
                     background ? &*background : nullptr);
   const int port = server.bind(options.bind, options.port);
   if (!isLoopback(options.bind))
@@ -164,6 +167,7 @@ void addViewCommand(CLI::App& app) {
                    "address to listen on; anything but loopback lets other machines view the scene (a warning)")
       ->capture_default_str();
   addLodOptions(*command, options->lod);
+  addTextureFilterOption(*command, options->textures);
   addCacheOption(*command, options->cacheMb,
                  "surfels (and meshes, where the .surfels file allows) are read as frames draw them; the least "
                  "recently drawn are dropped beyond this many MB each");

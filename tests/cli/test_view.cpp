@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <thread>
 
@@ -321,6 +322,33 @@ TEST(View, WithoutSurfelsItShowsTheSceneExactly) {
   const auto exact = client.Get("/api/frame?w=64&h=64&show=embree");
   ASSERT_TRUE(exact);
   EXPECT_EQ(exact->status, 200);
+}
+
+// `--texture-filter` filters the frames a viewer shows as `pbs render`'s: the embedded default scene's textured
+// frames through rays, each the bytes `pbs render --texture-filter` writes for the same camera.
+TEST(View, FramesFilterTexturesAsTheCommandLineSays) {
+  ScratchDir scratch;
+  std::map<std::string, std::string> shown;
+  for (const std::string filter : {"anisotropic", "none"}) {
+    ViewServer server({"view", "default", "--texture-filter", filter});
+    ASSERT_GT(server.port, 0);
+    httplib::Client client("127.0.0.1", server.port);
+    const auto description = client.Get("/api/scene");
+    ASSERT_TRUE(description);
+    const nlohmann::json scene = nlohmann::json::parse(description->body);
+    EXPECT_EQ(scene["texture_filter"], filter);
+    const auto frame = client.Get(orbitFrameQuery(scene["center"], 75, 35, 2.2, "&show=embree"));
+    ASSERT_TRUE(frame);
+    ASSERT_EQ(frame->status, 200) << frame->body;
+    const std::filesystem::path rendered = scratch / (filter + ".png");
+    const CommandResult render = runPbs("render default --mode embree --texture-filter " + filter +
+                                        " --orbit 75,35,2.2 --size 160x96 -o " + quoted(rendered));
+    ASSERT_EQ(render.status, 0) << render.err;
+    EXPECT_TRUE(frame->body == readFile(rendered)) << filter;
+    shown[filter] = frame->body;
+  }
+  EXPECT_NE(shown["anisotropic"], shown["none"]);
+  EXPECT_EQ(runPbs("view default --texture-filter trilinear").status, 2) << "an unknown filter is bad usage";
 }
 
 TEST(View, SurfelsMadeInTheBackgroundAreSurfelizesAndAreDrawn) {

@@ -22,6 +22,14 @@ inline std::string exactDecimal(double value) {
   return text;
 }
 
+// The frame query (160×96) for an orbit around `center` (the scene description's), as `pbs render --orbit
+// AZ,EL,DIST --size 160x96` sees it.
+inline std::string orbitFrameQuery(const nlohmann::json& center, double az, double el, double dist,
+                                   const std::string& more) {
+  return "/api/frame?w=160&h=96&az=" + exactDecimal(az) + "&el=" + exactDecimal(el) + "&dist=" + exactDecimal(dist) +
+         "&tx=" + exactDecimal(center[0]) + "&ty=" + exactDecimal(center[1]) + "&tz=" + exactDecimal(center[2]) + more;
+}
+
 struct ViewedGroups {
   ScratchDir scratch;
   std::pair<std::string, std::string> files = groupsWithSurfels(scratch);
@@ -40,12 +48,9 @@ struct ViewedGroups {
     EXPECT_TRUE(response && response->status == 200);
     return response ? nlohmann::json::parse(response->body) : nlohmann::json{};
   }
-  // The frame query for an orbit around the scene's centre, as `pbs render --orbit AZ,EL,DIST` sees it.
+  // The frame query for an orbit around the scene's centre (orbitFrameQuery).
   std::string orbitQuery(double az, double el, double dist, const std::string& more) {
-    const nlohmann::json center = description()["center"];
-    return "/api/frame?w=160&h=96&az=" + exactDecimal(az) + "&el=" + exactDecimal(el) + "&dist=" + exactDecimal(dist) +
-           "&tx=" + exactDecimal(center[0]) + "&ty=" + exactDecimal(center[1]) + "&tz=" + exactDecimal(center[2]) +
-           more;
+    return orbitFrameQuery(description()["center"], az, el, dist, more);
   }
 };
 

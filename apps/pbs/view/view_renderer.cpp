@@ -71,8 +71,8 @@ const char* drawKindName(DrawKind kind) {
   return kind == DrawKind::Geometry ? "geometry" : kind == DrawKind::Surfels ? "surfels" : "band";
 }
 
-ViewRenderer::ViewRenderer(FrameScene& scene, std::uint64_t maxMemory)
-    : scene_(scene), maxMemory_(maxMemory), hasSurfels_(scene.surfels.has_value()) {
+ViewRenderer::ViewRenderer(FrameScene& scene, std::uint64_t maxMemory, TextureFiltering textures)
+    : scene_(scene), maxMemory_(maxMemory), textures_(textures), hasSurfels_(scene.surfels.has_value()) {
   // The orbit paths' centre and radius, so that a camera at the centre is `pbs render --orbit`'s.
   const Bounds bounds = sceneBounds(scene.loaded.hierarchy, scene.loaded.scene.roots);
   if (!bounds.empty()) center_ = bounds.center();
@@ -110,12 +110,12 @@ const EmbreeScene& ViewRenderer::rays() {
 }
 
 FrameResult ViewRenderer::renderFrame(RenderMode mode, std::uint32_t samples, FrameImage image,
-                                      const ViewRequest& request) {
-  return keptRenderer(mode, samples, image, request).render(camera(request));
+                                      TextureFiltering textures, const ViewRequest& request) {
+  return keptRenderer(mode, samples, image, textures, request).render(camera(request));
 }
 
 FrameRenderer& ViewRenderer::keptRenderer(RenderMode mode, std::uint32_t samples, FrameImage image,
-                                          const ViewRequest& request) {
+                                          TextureFiltering textures, const ViewRequest& request) {
   if (mode == RenderMode::Surfels) requireSurfels();
   // A viewer keeps drawing with the BVHs that rays build: each frame is charged its share of a build, as
   // if a second of frames at 30 a second shared it.
@@ -125,7 +125,7 @@ FrameRenderer& ViewRenderer::keptRenderer(RenderMode mode, std::uint32_t samples
   const SplatMode splat = lod.splat;
   auto kept = std::find_if(kept_.begin(), kept_.end(), [&](const Kept& k) {
     return k.mode == mode && (mode != RenderMode::Surfels || k.splat == splat) && k.samples == samples &&
-           k.image == image && k.width == request.width && k.height == request.height;
+           k.image == image && k.textures == textures && k.width == request.width && k.height == request.height;
   });
   if (kept == kept_.end()) {
     if (kept_.size() == kKeptRenderers)
@@ -134,11 +134,11 @@ FrameRenderer& ViewRenderer::keptRenderer(RenderMode mode, std::uint32_t samples
     FrameSources sources{.cache = mode == RenderMode::Surfels ? &*scene_.surfels : nullptr,
                          .meshes = scene_.meshes && mode != RenderMode::Embree ? &*scene_.meshes : nullptr,
                          .rays = mode == RenderMode::Embree ? &rays() : nullptr};
-    auto renderer =
-        std::make_unique<FrameRenderer>(scene_.loaded.scene, scene_.loaded.hierarchy,
-                                        FrameOptions{.mode = mode, .lod = lod, .samples = samples, .image = image},
-                                        request.width, request.height, sources);
-    kept_.push_back({mode, splat, samples, image, request.width, request.height, std::move(renderer), 0});
+    auto renderer = std::make_unique<FrameRenderer>(
+        scene_.loaded.scene, scene_.loaded.hierarchy,
+        FrameOptions{.mode = mode, .lod = lod, .samples = samples, .image = image, .textures = textures}, request.width,
+        request.height, sources);
+    kept_.push_back({mode, splat, samples, image, textures, request.width, request.height, std::move(renderer), 0});
     kept = std::prev(kept_.end());
   }
   kept->lastUse = ++uses_;
@@ -149,12 +149,14 @@ FrameRenderer& ViewRenderer::keptRenderer(RenderMode mode, std::uint32_t samples
 ViewFrame ViewRenderer::renderComparison(const ViewRequest& request) {
   const auto start = std::chrono::steady_clock::now();
   const RenderMode testMode = hasSurfels() ? RenderMode::Surfels : RenderMode::Embree;
-  const FrameResult test = renderFrame(testMode, request.samples, FrameImage::Float, request);
+  const FrameResult test = renderFrame(testMode, request.samples, FrameImage::Float, textures_, request);
   const Camera view = camera(request);
   if (reference_.clipFromWorld != view.clipFromWorld() || reference_.width != request.width ||
       reference_.height != request.height) {
-    reference_ = {view.clipFromWorld(), request.width, request.height,
-                  renderFrame(RenderMode::Embree, kReferenceSamples, FrameImage::Float, request).image};
+    reference_ = {
+        view.clipFromWorld(), request.width, request.height,
+        renderFrame(RenderMode::Embree, kReferenceSamples, FrameImage::Float, TextureFiltering::Anisotropic, request)
+            .image};
   }
   const RgbaImage a{request.width, request.height, test.image};
   const RgbaImage b{request.width, request.height, reference_.image};
@@ -175,7 +177,7 @@ ViewFrame ViewRenderer::renderComparison(const ViewRequest& request) {
 
 LodDraws ViewRenderer::traverse(const ViewRequest& request) {
   // The surfel frame's own cut: whether rays draw its geometry decides which nodes it descends into.
-  return keptRenderer(RenderMode::Surfels, request.samples, FrameImage::Rgba8, request).cut(camera(request));
+  return keptRenderer(RenderMode::Surfels, request.samples, FrameImage::Rgba8, textures_, request).cut(camera(request));
 }
 
 Framebuffer ViewRenderer::drawWithIds(const LodDraws& draws, const ViewRequest& request) {
@@ -289,7 +291,7 @@ std::optional<ViewFrame> ViewRenderer::render(const ViewRequest& request, const 
                           : request.show == ViewShow::Exact ? RenderMode::Exact
                                                             : RenderMode::Embree;
   const auto start = std::chrono::steady_clock::now();
-  FrameResult result = renderFrame(mode, request.samples, FrameImage::Rgba8, request);
+  FrameResult result = renderFrame(mode, request.samples, FrameImage::Rgba8, textures_, request);
   ViewFrame frame;
   frame.rgba8 = std::move(result.rgba8);
   frame.drawnBy = mode;

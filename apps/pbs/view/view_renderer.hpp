@@ -46,8 +46,9 @@ struct NodeDraw {
 
 class ViewRenderer {
  public:
-  // `scene` must outlive the renderer; `maxMemory` (0: the machine's) bounds the rays' BVH.
-  ViewRenderer(FrameScene& scene, std::uint64_t maxMemory);
+  // `scene` must outlive the renderer; `maxMemory` (0: the machine's) bounds the rays' BVH. Frames filter
+  // their textures by `textures`; the comparisons' reference by the default, as `pbs eval`'s does.
+  ViewRenderer(FrameScene& scene, std::uint64_t maxMemory, TextureFiltering textures = TextureFiltering::Anisotropic);
 
   glm::dvec3 center() const { return center_; }
   double radius() const { return radius_; }
@@ -76,10 +77,12 @@ class ViewRenderer {
  private:
   // The whole scene's BVH, built on first use. Meshes read on demand are all read for it, and kept.
   const EmbreeScene& rays();
-  FrameResult renderFrame(RenderMode mode, std::uint32_t samples, FrameImage image, const ViewRequest& request);
+  FrameResult renderFrame(RenderMode mode, std::uint32_t samples, FrameImage image, TextureFiltering textures,
+                          const ViewRequest& request);
   // The renderer kept for these settings (made, dropping the least recently used, if none is), its LOD options
   // the request's.
-  FrameRenderer& keptRenderer(RenderMode mode, std::uint32_t samples, FrameImage image, const ViewRequest& request);
+  FrameRenderer& keptRenderer(RenderMode mode, std::uint32_t samples, FrameImage image, TextureFiltering textures,
+                              const ViewRequest& request);
   // Difference or FLIP map of the surfel (else exact) frame against a 16-sample exact reference.
   ViewFrame renderComparison(const ViewRequest& request);
   // `draws` (with their prefixes loaded and their meshes leased here) into a G-buffer with node ids.
@@ -96,6 +99,7 @@ class ViewRenderer {
     SplatMode splat;
     std::uint32_t samples;
     FrameImage image;
+    TextureFiltering textures;
     std::uint32_t width, height;
     std::unique_ptr<FrameRenderer> renderer;
     std::uint64_t lastUse;
@@ -111,6 +115,7 @@ class ViewRenderer {
   double radius_ = 1.0;
   std::mutex mutex_;  // one frame at a time: renderers, caches and BVHs are not shared between threads
   std::uint64_t maxMemory_;
+  TextureFiltering textures_;
   std::atomic<bool> hasSurfels_;     // scene_.surfels is set (read without the lock by the server)
   LazyMeshes::Lease everyMesh_;      // with meshes read on demand: what the rays hold
   std::optional<EmbreeScene> rays_;  // built for the first frame that casts rays at the whole scene
