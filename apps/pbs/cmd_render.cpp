@@ -219,9 +219,11 @@ void run(const RenderOptions& options) {
   if (options.budgetFeedback && !timeBudget)
     throw CLI::ValidationError("--budget-feedback", "corrects --budget-ms: give it, in surfels mode");
   BudgetFeedback feedback(options.lod.budget.limit);
-  for (std::uint32_t f = 0; f < frames; ++f) {
+  std::uint32_t end = frames;  // after this run's last frame
+  while (end > 0 && !rendersFrame(options, end - 1)) --end;
+  for (std::uint32_t f = 0; f < end; ++f) {
     if (!rendersFrame(options, f)) {
-      // Another shard's frame, passed over as this run's frames would see it had the run drawn it.
+      // Another shard's frame, passed over so that this run's frames see what they would had the run drawn it.
       renderer.passOver(views[f].camera);
       continue;
     }
