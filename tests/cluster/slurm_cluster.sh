@@ -26,13 +26,15 @@ done
 
 work=$(mktemp -d /tmp/pbs-slurm.XXXXXX)
 # Every daemon this test started, by the pid it wrote, SIGTERM first, SIGKILL after 10 s; then the folder.
+# The pids are read once, before any signal: a daemon removes its pid file as it exits, so a file read after
+# the SIGTERM may be gone (a failed read here made a passing run exit 1).
 stop_daemons() {
+  local pids=() pidfile pid
   for pidfile in "$work"/slurmd.pid "$work"/slurmctld.pid "$work"/munged.pid; do
-    [ -s "$pidfile" ] && kill -TERM "$(cat "$pidfile")" 2>/dev/null || true
+    if pid=$(cat "$pidfile" 2>/dev/null) && [ -n "$pid" ]; then pids+=("$pid"); fi
   done
-  for pidfile in "$work"/slurmd.pid "$work"/slurmctld.pid "$work"/munged.pid; do
-    [ -s "$pidfile" ] || continue
-    pid=$(cat "$pidfile")
+  for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
+  for pid in "${pids[@]}"; do
     for _ in $(seq 100); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
     kill -KILL "$pid" 2>/dev/null || true
   done
@@ -109,8 +111,8 @@ done
 echo "slurm up on 127.0.0.1 (slurmctld port $ctld_port, slurmd port $slurmd_port) in $work"
 
 # The one-machine file to compare with.
-# shellcheck disable=SC2086
 start=$(date +%s%N)
+# shellcheck disable=SC2086
 "$pbs" surfelize "$scene" -o "$work"/single.surfels --quiet $options >/dev/null
 echo "one machine: $(elapsed "$start")"
 
