@@ -51,11 +51,12 @@ struct FrameCosts {
   double rasterPerBoxPixel = 0.0;      // each pixel of each geometry box, however many overlap (depth complexity)
   double rasterPerNode = 0.0;          // each geometry node
   // Each triangle that may reach a pixel centre (FrameWork::trianglesOnPixels): its full setup, binning and
-  // resolve. `pbs calibrate` fitted 67–108 ns on the 2-core machine (the city and the default scene): the
-  // least of them. Left at 0, the drawer's chooser priced near frames of large textured triangles at half what
-  // the rasterizer takes and drew them so, slower than rays (docs/evaluation.md, "The rasterizer's price of
-  // triangles on pixels").
-  double rasterPerTriangleOnPixels = 67e-9;
+  // resolve. `pbs calibrate` fitted 67–234 ns on the 2-core machine (the cities and the default scene, fitted
+  // with the other terms). 90 ns is the middle of the values (85–95 ns) that choose the measured-faster drawer
+  // on the most of 38 frames timed with each drawer forced; left at 0, the chooser priced near frames of large
+  // textured triangles at half what the rasterizer takes and drew them so, slower than rays (docs/evaluation.md,
+  // "The rasterizer's price of triangles on pixels").
+  double rasterPerTriangleOnPixels = 90e-9;
   double raysPerImagePixel = 2.9e-9;  // geometry by rays: each pixel of the image (a ray)
   double raysPerPixel = 55.2e-9;      // each pixel the geometry covers
   double raysPerBoxPixel = 0.0;       // each pixel of each geometry box, times its mesh's BVH levels
