@@ -382,32 +382,36 @@ TEST(LodGeometry, AFrameIsPricedByTheFramesBeforeItNotByWhatOthersBuilt) {
   const Camera groupA = perspectiveCamera(glm::lookAt(glm::dvec3(-5, 0, 8), glm::dvec3(-5, 0, 0), glm::dvec3(0, 1, 0)),
                                           glm::radians(40.0), 0.5, 100.0, 160, 120);
   const EmbreeScene prebuilt(scene, hierarchy);
-  const auto renderer = [&](const EmbreeScene* rays) {
-    return FrameRenderer(scene, hierarchy, {.mode = RenderMode::Surfels, .lod = lod}, 160, 120,
-                         {.surfels = &none, .rays = rays});
-  };
+  // One sample a pixel, and four (each pass chooses its drawer, and a passed-over frame makes the same passes).
+  for (const std::uint32_t samples : {1u, 4u}) {
+    SCOPED_TRACE(std::to_string(samples) + " samples");
+    const auto renderer = [&](const EmbreeScene* rays) {
+      return FrameRenderer(scene, hierarchy, {.mode = RenderMode::Surfels, .lod = lod, .samples = samples}, 160, 120,
+                           {.surfels = &none, .rays = rays});
+    };
 
-  FrameRenderer drawing = renderer(nullptr);
-  const FrameResult first = drawing.render(whole);
-  ASSERT_EQ(first.stats.geometryDrawer, GeometryDrawer::Rays);
-  ASSERT_EQ(first.stats.nodesGeometry, 4u);
-  const FrameResult second = drawing.render(groupA);
-  ASSERT_EQ(second.stats.nodesGeometry, 2u) << "the other group is out of view";
-  EXPECT_EQ(second.stats.geometryDrawer, GeometryDrawer::Rays) << "the mesh is built";
+    FrameRenderer drawing = renderer(nullptr);
+    const FrameResult first = drawing.render(whole);
+    ASSERT_EQ(first.stats.geometryDrawer, GeometryDrawer::Rays);
+    ASSERT_EQ(first.stats.nodesGeometry, 4u);
+    const FrameResult second = drawing.render(groupA);
+    ASSERT_EQ(second.stats.nodesGeometry, 2u) << "the other group is out of view";
+    EXPECT_EQ(second.stats.geometryDrawer, GeometryDrawer::Rays) << "the mesh is built";
 
-  FrameRenderer starting = renderer(nullptr);
-  EXPECT_EQ(starting.render(groupA).stats.geometryDrawer, GeometryDrawer::Raster) << "the build is priced";
+    FrameRenderer starting = renderer(nullptr);
+    EXPECT_EQ(starting.render(groupA).stats.geometryDrawer, GeometryDrawer::Raster) << "the build is priced";
 
-  FrameRenderer passing = renderer(nullptr);
-  passing.passOver(whole);
-  const FrameResult passed = passing.render(groupA);
-  EXPECT_EQ(passed.stats.geometryDrawer, GeometryDrawer::Rays);
-  EXPECT_GT(passed.stats.bvhBuildSeconds, 0.0) << "passing over built nothing";
-  EXPECT_TRUE(passed.image == second.image) << "the frame of the run that drew the first";
+    FrameRenderer passing = renderer(nullptr);
+    passing.passOver(whole);
+    const FrameResult passed = passing.render(groupA);
+    EXPECT_EQ(passed.stats.geometryDrawer, GeometryDrawer::Rays);
+    EXPECT_GT(passed.stats.bvhBuildSeconds, 0.0) << "passing over built nothing";
+    EXPECT_TRUE(passed.image == second.image) << "the frame of the run that drew the first";
 
-  FrameRenderer seeded = renderer(&prebuilt);
-  EXPECT_EQ(seeded.render(groupA).stats.geometryDrawer, GeometryDrawer::Raster)
-      << "another renderer's BVH changes no price";
+    FrameRenderer seeded = renderer(&prebuilt);
+    EXPECT_EQ(seeded.render(groupA).stats.geometryDrawer, GeometryDrawer::Raster)
+        << "another renderer's BVH changes no price";
+  }
 }
 
 // ---- The command line -------------------------------------------------------------------------------
