@@ -3,6 +3,7 @@
 
 #include "pbs/evaluation/contact_sheet.hpp"
 #include "pbs/evaluation/report_numbers.hpp"
+#include "pbs/surfels/geometry_drawer.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -126,7 +127,13 @@ std::string evalCsv(const std::vector<EvalSetting>& settings, const EvalResults&
     for (const EvalFrame& f : results.settings[s].frames) {
       const EvalView& view = results.views[f.frame];
       const ImageDifference& e = f.error;
-      appendCsvLine(csv, settings[s].name + "," + std::to_string(f.frame) + "," + frameKindName(view.kind),
+      // A surfel frame reports its own drawer; the peers and simplified meshes have one each.
+      const GeometryDrawer drawer = settings[s].mode == RenderMode::Embree    ? GeometryDrawer::Rays
+                                    : settings[s].mode == RenderMode::Surfels ? f.stats.geometryDrawer
+                                                                              : GeometryDrawer::Raster;
+      appendCsvLine(csv,
+                    settings[s].name + "," + std::to_string(f.frame) + "," + frameKindName(view.kind) + "," +
+                        geometryDrawerName(drawer),
                     {view.geometryShare, f.seconds, f.speedupOverFastestExact, f.stats.traverseSeconds,
                      f.stats.rasterSeconds, double(f.stats.triangles), double(f.stats.surfels), e.flipForegroundMean,
                      e.flipMean, e.flipMedian, e.flipMax, e.foregroundPsnr, e.psnr, e.ssim, e.holeFraction,

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -29,7 +30,7 @@ using test::readCsv;
 using test::ScratchDir;
 
 constexpr const char* kHeader =
-    "setting,frame,kind,geometry_share,seconds,speedup,traverse_seconds,raster_seconds,triangles,surfels,flip,"
+    "setting,frame,kind,geometry,geometry_share,seconds,speedup,traverse_seconds,raster_seconds,triangles,surfels,flip,"
     "flip_mean,flip_median,flip_max,foreground_psnr,psnr,ssim,hole_fraction,bloat_fraction,surfel_load_seconds,"
     "resolution_divisor";
 
@@ -155,6 +156,12 @@ TEST(EvalCli, PeersSurfelsAndSweepsAgainstTheReference) {
     EXPECT_LE(rows[i].number("flip"), 1.0);
     EXPECT_GT(rows[i].number("flip"), 0.0) << name << ": nothing but the reference itself has no error";
     const bool peer = name.rfind("embree", 0) == 0 || name.rfind("exact", 0) == 0;
+    const std::string geometry = rows[i].fields.at("geometry");
+    const std::string expected = name.rfind("embree", 0) == 0 ? "rays" : name.rfind("exact", 0) == 0 ? "raster" : "";
+    if (!expected.empty()) {
+      EXPECT_EQ(geometry, expected) << name;
+    }
+    EXPECT_TRUE(geometry == "rays" || geometry == "raster") << name << ": " << geometry;
     if (peer) {
       EXPECT_EQ(rows[i].number("surfels"), 0.0) << name;
     } else {
@@ -248,6 +255,22 @@ TEST(EvalCli, BaselineOptionsApplyToEverySetting) {
   EXPECT_GT(rows[1].number("surfels"), 0.0);
   EXPECT_EQ(eval.run("--sweep point=1,2+threshold=3").status, 2) << "one value per key when combined";
   EXPECT_EQ(eval.run("--sweep geometry=sideways").status, 2);
+}
+
+// The CSV says what drew each frame's geometry: rays for Embree, the rasterizer for the exact peer, and for
+// surfel frames the drawer their geometry nodes were given.
+TEST(EvalCli, ReportsWhatDrewEachFramesGeometry) {
+  const EvalRun eval;
+  const test::CommandResult run = eval.run(
+      "--size 96x64 --frames 2 --peers embree=1 --peers exact=1 --reference-samples 4 --orbit 30,20,1.2 "
+      "--sweep geometry=raster,rays --quiet");
+  ASSERT_EQ(run.status, 0) << run.err;
+  std::map<std::string, std::set<std::string>> drawers;
+  for (const test::CsvRow& row : eval.rows()) drawers[row.fields.at("setting")].insert(row.fields.at("geometry"));
+  EXPECT_EQ(drawers["embree=1"], std::set<std::string>{"rays"});
+  EXPECT_EQ(drawers["exact=1"], std::set<std::string>{"raster"});
+  EXPECT_EQ(drawers["geometry=raster"], std::set<std::string>{"raster"});
+  EXPECT_EQ(drawers["geometry=rays"], std::set<std::string>{"rays"});
 }
 
 TEST(EvalCli, SimplifiedMeshesAreMeasuredLikeSurfels) {

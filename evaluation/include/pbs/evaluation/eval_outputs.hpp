@@ -21,11 +21,12 @@
 
 namespace pbs {
 
-// The CSV header, in column order. "flip" is FLIP's mean over the foreground (the pixels either image
-// covers), the error every summary and plot reads; flip_mean over the whole image as NVIDIA's tool
-// reports it.
+// The CSV header, in column order. "geometry" is what drew the frame's geometry: "rays" (Embree, or a
+// surfel frame's geometry nodes by rays) or "raster" (the rasterizer, which also stands for none). "flip" is
+// FLIP's mean over the foreground (the pixels either image covers), the error every summary and plot reads;
+// flip_mean over the whole image as NVIDIA's tool reports it.
 inline constexpr const char* kEvalCsvHeader =
-    "setting,frame,kind,geometry_share,seconds,speedup,traverse_seconds,raster_seconds,triangles,surfels,flip,"
+    "setting,frame,kind,geometry,geometry_share,seconds,speedup,traverse_seconds,raster_seconds,triangles,surfels,flip,"
     "flip_mean,flip_median,flip_max,foreground_psnr,psnr,ssim,hole_fraction,bloat_fraction,surfel_load_seconds,"
     "resolution_divisor";
 
