@@ -227,18 +227,19 @@ void FrameRenderer::renderReduced(const Camera& camera, const BudgetResolution& 
 
 void FrameRenderer::passOver(const Camera& camera) {
   if (options_.mode != RenderMode::Surfels || !geometryRays_ || sources_.stream) return;
-  // render() itself, so that its passes are the ones a drawn frame makes; drawPass only chooses and notes.
-  const FrameImage image = std::exchange(options_.image, FrameImage::None);
+  // render() itself, so that its passes are the ones a drawn frame makes; drawPass only chooses and notes, and
+  // nothing is shaded. Restored however render() ends.
+  struct Restore {
+    FrameRenderer& renderer;
+    FrameImage image;
+    ~Restore() {
+      renderer.passingOver_ = false;
+      renderer.options_.image = image;
+    }
+  };
+  const Restore restore{*this, std::exchange(options_.image, FrameImage::None)};
   passingOver_ = true;
-  try {
-    render(camera);
-  } catch (...) {
-    passingOver_ = false;
-    options_.image = image;
-    throw;
-  }
-  passingOver_ = false;
-  options_.image = image;
+  render(camera);
 }
 
 FrameResult FrameRenderer::render(const Camera& camera) {
