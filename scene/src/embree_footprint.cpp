@@ -1,6 +1,7 @@
 // footprintBlocks: where on screen a set of boxes can show, in castRays' 4×4 blocks, so rays are cast
 // only where they can hit. Boxes are marked as rectangles in a 2D difference array, then summed, so the
-// cost is one step per box plus one per block however large the boxes are.
+// cost is one step per box plus one per block however large the boxes are. coveringBoxes: a bounded
+// number of boxes standing for a scene's many.
 #include "embree_instances.hpp"
 
 #include <algorithm>
@@ -55,6 +56,37 @@ std::vector<std::uint8_t> footprintBlocks(const Camera& camera, std::span<const 
     }
   }
   return blocks;
+}
+
+std::vector<Bounds> coveringBoxes(std::span<const Bounds> boxes) {
+  constexpr std::size_t kCells = kCoveringCells * kCoveringCells * kCoveringCells;
+  Bounds all;
+  std::size_t nonEmpty = 0;
+  for (const Bounds& box : boxes) {
+    all.extend(box);
+    nonEmpty += !box.empty();
+  }
+  std::vector<Bounds> covering;
+  if (nonEmpty <= kCells) {
+    for (const Bounds& box : boxes)
+      if (!box.empty()) covering.push_back(box);
+    return covering;
+  }
+  // The cell of a centre along one axis; a flat extent puts every centre in cell 0.
+  const glm::dvec3 extent = all.size();
+  const auto cellAlong = [&](double c, int axis) {
+    const double t = extent[axis] > 0.0 ? (c - all.min[axis]) / extent[axis] : 0.0;
+    return std::min(std::size_t(std::max(t, 0.0) * double(kCoveringCells)), kCoveringCells - 1);
+  };
+  std::vector<Bounds> cells(kCells);
+  for (const Bounds& box : boxes) {
+    if (box.empty()) continue;
+    const glm::dvec3 c = box.center();
+    cells[(cellAlong(c.z, 2) * kCoveringCells + cellAlong(c.y, 1)) * kCoveringCells + cellAlong(c.x, 0)].extend(box);
+  }
+  for (const Bounds& cell : cells)
+    if (!cell.empty()) covering.push_back(cell);
+  return covering;
 }
 
 }  // namespace pbs

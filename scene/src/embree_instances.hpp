@@ -49,4 +49,11 @@ void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffe
 // plane covers every block.
 std::vector<std::uint8_t> footprintBlocks(const Camera& camera, std::span<const Bounds> boxes);
 
+// At most kCoveringCells³ boxes whose union holds every box of `boxes`, for footprintBlocks to mark per frame
+// at a bounded cost however many instances a scene has: the boxes themselves when there are no more than
+// that, else the union of those whose centres share a cell of a uniform grid over them. Empty boxes are
+// left out. Deterministic: the order of `boxes` decides nothing but the order of the result.
+inline constexpr std::size_t kCoveringCells = 16;
+std::vector<Bounds> coveringBoxes(std::span<const Bounds> boxes);
+
 }  // namespace pbs

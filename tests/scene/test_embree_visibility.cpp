@@ -340,6 +340,50 @@ TEST(EmbreeVisibility, CulledSceneAgreesWithTheRasterizer) {
   range.expectWithinThresholds("grid");
 }
 
+// More instances than EmbreeScene keeps boxes for (kCoveringCells³ = 4,096: it casts rays only where the union of
+// each grid cell's instances shows), seen from afar, where the field covers a small part of the image, and from
+// inside it, with instances behind the eye and across the near plane: every pixel a triangle covers is hit.
+TEST(EmbreeVisibility, ManyInstancesFromAfarAndFromInsideAgreeWithTheRasterizer) {
+  constexpr int kSide = 72;  // 5,184 quads, 3 apart, at heights (by row) and turns (by column) that vary
+  Scene scene = sceneOf(quadMesh(), {});
+  for (int i = 0; i < kSide * kSide; ++i) {
+    const glm::dvec3 at(3.0 * (i % kSide), 3.0 * (i / kSide), 0.7 * (i / kSide % 5));
+    scene.roots.push_back(std::uint32_t(scene.nodes.size()));
+    scene.nodes.push_back(
+        Node{"quad", glm::rotate(glm::translate(glm::dmat4(1.0), at), 0.05 * (i % 7), glm::dvec3(1, 0, 0)), {}, 0});
+  }
+  validateScene(scene, "field");
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  const EmbreeScene embree(scene, hierarchy);
+  const glm::dvec3 middle(3.0 * kSide / 2, 3.0 * kSide / 2, 0.0);
+  const Camera afar = perspectiveCamera(lookFrom(middle + glm::dvec3(120, -280, 360), middle), glm::radians(40.0), 10.0,
+                                        3000.0, 640, 480);
+  const Camera inside = perspectiveCamera(lookFrom(middle + glm::dvec3(0, 0, 4), middle + glm::dvec3(60, 30, 0)),
+                                          glm::radians(70.0), 0.5, 400.0, 320, 240);
+  for (const Camera& camera : {afar, inside}) {
+    Framebuffer rays = makeFramebuffer(camera.width, camera.height, kChannelIds);
+    embree.render(camera, rays);
+    Framebuffer raster = makeFramebuffer(camera.width, camera.height, kChannelIds);
+    drawSceneTriangles(scene, hierarchy, camera, raster);
+    std::uint64_t covered = 0, uncovered = 0, disagree = 0;
+    for (std::size_t pixel = 0; pixel < rays.pixelCount(); ++pixel) {
+      covered += rays.covered(pixel);
+      uncovered += !rays.covered(pixel);
+      disagree += rays.covered(pixel) != raster.covered(pixel);
+    }
+    // Edges aside (a pixel centre on an edge may go either way), rays cover what the rasterizer covers, and
+    // both views hold covered and empty pixels, so that skipping the empty ones is tested.
+    EXPECT_GT(covered, rays.pixelCount() / 20);
+    EXPECT_GT(uncovered, rays.pixelCount() / 20);
+    EXPECT_LT(disagree, covered / 200 + 4) << "covered " << covered;
+  }
+  AgreementRange range;
+  range.add(renderBothAndCompare(scene, hierarchy, embree, afar));
+  range.add(renderBothAndCompare(scene, hierarchy, embree, inside));
+  range.print("field of 5,184 instances");
+  range.expectWithinThresholds("field");
+}
+
 TEST(SceneDraws, OutsideClipVolumeIsConservative) {
   const Camera camera = perspectiveCamera(lookFrom({0, 0, 0}, {0, 0, -1}), glm::radians(90.0), 1.0, 10.0, 64, 64);
   const auto box = [](glm::dvec3 lo, glm::dvec3 hi) { return Bounds{lo, hi}; };
