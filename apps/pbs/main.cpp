@@ -11,10 +11,10 @@ namespace {
 
 // Frames allocate images and G-buffer channels of 8 to 33 MB at 1920×1080. glibc maps a block that large
 // afresh and unmaps it when freed, until its threshold adapts, and gives freed heap back beyond twice that
-// threshold, so a renderer's first frames faulted every page of its buffers in again: about 100 ms of a
-// 30 ms Embree frame on the 2-core VM, charged to whichever renderer drew first (pbs eval's peer). Blocks up
-// to 32 MiB (glibc's largest threshold) come from the heap, and up to 128 MiB of freed heap is kept for the
-// next frame's.
+// threshold, so a renderer's first frames faulted every page of its buffers in again: about 100 ms on top of
+// a 30 ms Embree frame on the 2-core VM, charged to whichever renderer drew first (pbs eval's peer). Blocks
+// up to 32 MiB (glibc's largest threshold) come from the heap, and up to 128 MiB of freed heap is kept for
+// the next frame's.
 void keepFrameBuffersMapped() {
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 128 << 20);

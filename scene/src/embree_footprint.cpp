@@ -72,11 +72,12 @@ std::vector<Bounds> coveringBoxes(std::span<const Bounds> boxes) {
       if (!box.empty()) covering.push_back(box);
     return covering;
   }
-  // The cell of a centre along one axis; a flat extent puts every centre in cell 0.
+  // The cell of a centre along one axis. A flat extent puts every centre in cell 0, and so does a NaN (an
+  // extent that overflowed to infinity).
   const glm::dvec3 extent = all.size();
   const auto cellAlong = [&](double c, int axis) {
     const double t = extent[axis] > 0.0 ? (c - all.min[axis]) / extent[axis] : 0.0;
-    return std::min(std::size_t(std::max(t, 0.0) * double(kCoveringCells)), kCoveringCells - 1);
+    return t > 0.0 ? std::min(std::size_t(std::min(t, 1.0) * double(kCoveringCells)), kCoveringCells - 1) : 0;
   };
   std::vector<Bounds> cells(kCells);
   for (const Bounds& box : boxes) {
