@@ -54,6 +54,10 @@ EmbreeInstances makeEmbreeInstances(const EmbreeMeshes& meshes, const Scene& sce
         ShadedInstance{&scene.meshes[mesh], materials.forMesh(scene.meshes[mesh]), &world, node, mesh});
   }
   rtcCommitScene(instances.top.get());
+  std::vector<Bounds> boxes;
+  boxes.reserve(nodes.size());
+  for (std::uint32_t node : nodes) boxes.push_back(instanceWorldBounds(scene, hierarchy, node));
+  instances.footprint = coveringBoxes(boxes);
   return instances;
 }
 

@@ -20,6 +20,7 @@ struct EmbreeInstances {
   glm::dvec3 origin{0.0};  // Embree's frame is world − origin
   EmbreeSceneHandle top;
   std::vector<ShadedInstance> shaded;  // by the top-level scene's geometry id
+  std::vector<Bounds> footprint;       // where the instances lie (coveringBoxes): rays are cast only where these show
 };
 
 // The centre of the nodes' world bounds: Embree works in single precision, so its frame is centred
@@ -38,11 +39,12 @@ EmbreeInstances makeEmbreeInstances(const EmbreeMeshes& meshes, const Scene& sce
 inline constexpr std::uint32_t kRayBlock = 4;
 
 // Overwrites every pixel of the framebuffer's channels from one ray per pixel centre (see
-// EmbreeScene::render), rows of blocks in parallel. `castBlocks` (row-major, one per block; empty: all)
-// names the blocks where a ray may hit; the others are cleared without casting. Throws
-// std::invalid_argument when the framebuffer is not the camera's size.
-void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffer& framebuffer,
-              std::span<const std::uint8_t> castBlocks = {});
+// EmbreeScene::render), rows of blocks in parallel. Rays are cast only in the blocks where the instances'
+// footprint shows (footprintBlocks): a scene seen from afar covers a small part of the image, and casting
+// every other pixel's ray cost 22 ms of each 1920×1080 frame on two cores (the default scene from 2,000
+// radii away: 22.4 ms, 3.5 without them). The other pixels are cleared as a miss there would clear them.
+// Throws std::invalid_argument when the framebuffer is not the camera's size.
+void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffer& framebuffer);
 
 // The blocks (as castRays numbers them) that the window projections of `boxes`, one pixel wider all
 // round, overlap: where instances inside those boxes can be hit. A box reaching to or behind the eye

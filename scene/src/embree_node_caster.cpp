@@ -48,21 +48,12 @@ EmbreeNodeCaster& EmbreeNodeCaster::operator=(EmbreeNodeCaster&&) noexcept = def
 
 namespace {
 
-// The instances of `nodes` a render casts at, with their world boxes: those inside the camera's clip volume.
-struct InstancesInView {
-  std::vector<std::uint32_t> nodes;
-  std::vector<Bounds> boxes;
-};
-
-InstancesInView instancesInView(const Scene& scene, const Hierarchy& hierarchy, const Camera& camera,
-                                std::span<const std::uint32_t> nodes) {
-  InstancesInView inView;
-  for (std::uint32_t node : rayInstanceNodes(scene, hierarchy, nodes)) {
-    const Bounds box = instanceWorldBounds(scene, hierarchy, node);
-    if (outsideClipVolume(camera, box)) continue;
-    inView.nodes.push_back(node);
-    inView.boxes.push_back(box);
-  }
+// The instances of `nodes` a render casts at: those inside the camera's clip volume.
+std::vector<std::uint32_t> instancesInView(const Scene& scene, const Hierarchy& hierarchy, const Camera& camera,
+                                           std::span<const std::uint32_t> nodes) {
+  std::vector<std::uint32_t> inView;
+  for (std::uint32_t node : rayInstanceNodes(scene, hierarchy, nodes))
+    if (!outsideClipVolume(camera, instanceWorldBounds(scene, hierarchy, node))) inView.push_back(node);
   return inView;
 }
 
@@ -73,7 +64,7 @@ void noteMeshes(const Scene& scene, std::span<const std::uint32_t> nodes, std::v
 }  // namespace
 
 void EmbreeNodeCaster::noteDrawn(const Camera& camera, std::span<const std::uint32_t> nodes) {
-  noteMeshes(*impl_->scene, instancesInView(*impl_->scene, *impl_->hierarchy, camera, nodes).nodes, impl_->drawn);
+  noteMeshes(*impl_->scene, instancesInView(*impl_->scene, *impl_->hierarchy, camera, nodes), impl_->drawn);
 }
 
 EmbreeBuilds EmbreeNodeCaster::render(const Camera& camera, std::span<const std::uint32_t> nodes,
@@ -81,7 +72,7 @@ EmbreeBuilds EmbreeNodeCaster::render(const Camera& camera, std::span<const std:
   Impl& impl = *impl_;
   const Scene& scene = *impl.scene;
   const Hierarchy& hierarchy = *impl.hierarchy;
-  const auto [inView, boxes] = instancesInView(scene, hierarchy, camera, nodes);
+  const std::vector<std::uint32_t> inView = instancesInView(scene, hierarchy, camera, nodes);
   noteMeshes(scene, inView, impl.drawn);
 
   const auto start = std::chrono::steady_clock::now();
@@ -93,8 +84,7 @@ EmbreeBuilds EmbreeNodeCaster::render(const Camera& camera, std::span<const std:
     impl.instances = makeEmbreeInstances(impl.meshes, scene, hierarchy, impl.materials, inView, impl.origin);
     impl.topNodes = inView;
   }
-  // Rays only where the instances' boxes show: a frame's geometry often covers a small part of it.
-  castRays(impl.instances, camera, framebuffer, footprintBlocks(camera, boxes));
+  castRays(impl.instances, camera, framebuffer);
   return builds;
 }
 

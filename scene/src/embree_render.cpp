@@ -21,14 +21,14 @@ bool finiteRay(const Ray& ray) {
 
 }  // namespace
 
-void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffer& framebuffer,
-              std::span<const std::uint8_t> castBlocks) {
+void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffer& framebuffer) {
   if (framebuffer.width != camera.width || framebuffer.height != camera.height)
     throw std::invalid_argument("Embree rays: the framebuffer is not the size of the camera's viewport");
   const ShadingView view(camera);
   const WindowRays rays(camera);
   const std::uint32_t blocksX = (camera.width + kRayBlock - 1) / kRayBlock;
   const std::uint32_t blocksY = (camera.height + kRayBlock - 1) / kRayBlock;
+  const std::vector<std::uint8_t> castBlocks = footprintBlocks(camera, instances.footprint);
 
   // Every pixel depends on its own ray only, so any split of the rows gives the same image.
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, blocksY), [&](const tbb::blocked_range<std::uint32_t>& rows) {
@@ -44,7 +44,7 @@ void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffe
 
     for (std::uint32_t by = rows.begin(); by != rows.end(); ++by) {
       for (std::uint32_t bx = 0; bx < blocksX; ++bx) {
-        if (!castBlocks.empty() && !castBlocks[std::size_t(by) * blocksX + bx]) {
+        if (!castBlocks[std::size_t(by) * blocksX + bx]) {
           for (std::uint32_t py = by * kRayBlock; py < std::min(by * kRayBlock + kRayBlock, camera.height); ++py)
             for (std::uint32_t px = bx * kRayBlock; px < std::min(bx * kRayBlock + kRayBlock, camera.width); ++px)
               clearMissedPixel(framebuffer, std::size_t(py) * camera.width + px);

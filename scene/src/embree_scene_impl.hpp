@@ -14,8 +14,6 @@ struct EmbreeScene::Impl {
   // Declared in creation order so they are released in reverse: instances, meshes, then the device.
   EmbreeMeshes meshes;
   EmbreeInstances instances;
-  // Where the instances lie (coveringBoxes): render casts rays only where these show.
-  std::vector<Bounds> footprint;
 };
 
 }  // namespace pbs
