@@ -17,12 +17,6 @@ namespace pbs::bench {
 inline constexpr const char* kInterleavedTiming =
     "interleaved rounds: medians of each contender's seconds, ratios as medians of per-round ratios";
 
-inline double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
-}
-
 // Seconds of one run of `work`, timed whole.
 template <typename Work>
 double timedRun(Work&& work) {
