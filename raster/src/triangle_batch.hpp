@@ -70,7 +70,24 @@ inline glm::dvec4 clipPosition(const TriangleSpan& span, std::uint32_t index) {
   return span.clipFromObject * glm::dvec4(glm::dvec3(span.draw->positions[index]), 1.0);
 }
 
-struct TriangleBatch {
+// A batch's working memory. It outlives the draw call: each thread keeps what its last call used for its
+// next (drawTriangles), since the allocator returns blocks of these sizes to the system and faulting their
+// pages in again cost a frame's geometry pass a third of its time for several frames. Every stage writes
+// what it reads, so what a buffer held before never shows.
+struct BatchBuffers {
+  UninitializedVector<ProjectedVertex> vertices;  // each written whole by projectVertices
+  // The batch's chunks are the first chunkCount; those after them are kept for their memory.
+  std::vector<TriangleChunk> chunks;
+  // Bins: one per tile, then one of the triangles spanning more than kMaxBinnedTiles tiles, which
+  // every tile scans. Bin b is bins[binStart[b] … binStart[b + 1]), in submission order.
+  ScalableVector<std::uint32_t> tileCounts;  // per chunk, per bin: counts, then write offsets
+  ScalableVector<std::uint32_t> binStart;
+  ScalableVector<std::uint32_t> bins;  // packed ids
+
+  std::size_t capacityBytes() const;
+};
+
+struct TriangleBatch : BatchBuffers {
   TriangleBatch(Framebuffer& framebuffer, const Camera& camera, const TriangleOptions& options);
 
   Framebuffer& framebuffer;
@@ -87,13 +104,7 @@ struct TriangleBatch {
 
   std::vector<TriangleSpan> spans;
   std::uint32_t triangleCount = 0;
-  UninitializedVector<ProjectedVertex> vertices;  // each written whole by projectVertices
-  std::vector<TriangleChunk> chunks;
-  // Bins: one per tile, then one of the triangles spanning more than kMaxBinnedTiles tiles, which
-  // every tile scans. Bin b is bins[binStart[b] … binStart[b + 1]), in submission order.
-  ScalableVector<std::uint32_t> tileCounts;  // per chunk, per bin: counts, then write offsets
-  ScalableVector<std::uint32_t> binStart;
-  ScalableVector<std::uint32_t> bins;  // packed ids
+  std::uint32_t chunkCount = 0;  // of `chunks`, set by setupTriangles
 
   int tileCount() const { return tilesX * tilesY; }
 };

@@ -13,7 +13,7 @@ namespace {
 
 template <class Body>
 void forEachChunk(const TriangleBatch& batch, Body body) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batch.chunks.size(), 1),
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batch.chunkCount, 1),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t c = r.begin(); c < r.end(); ++c) body(c);
                     });
@@ -33,7 +33,7 @@ void binTriangles(TriangleBatch& batch) {
   ScalableVector<std::uint32_t>& counts = batch.tileCounts;  // [chunk][bin], counted by setup
 
   // Bin b holds chunk 0's triangles, then chunk 1's, …; counts become each chunk's write offsets.
-  const std::size_t chunkCount = batch.chunks.size();
+  const std::size_t chunkCount = batch.chunkCount;
   ScalableVector<std::uint32_t>& start = batch.binStart;
   start.assign(bins + 1, 0);
   forEachBinIndex(bins, [&](std::size_t b) {

@@ -335,7 +335,8 @@ void setupTriangles(TriangleBatch& batch) {
   batch.layouts[0] = shadingLayout(batch, false);
   batch.layouts[1] = shadingLayout(batch, true);
   const std::uint32_t chunkCount = (batch.triangleCount + kChunkTriangles - 1) / kChunkTriangles;
-  batch.chunks.resize(chunkCount);
+  batch.chunkCount = chunkCount;
+  if (batch.chunks.size() < chunkCount) batch.chunks.resize(chunkCount);
   batch.tileCounts.resize(chunkCount * binCount(batch));
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, chunkCount, 1),
                     [&](const tbb::blocked_range<std::uint32_t>& r) {

@@ -18,6 +18,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <thread>
 #include <set>
 #include <stdexcept>
 #include <utility>
@@ -596,6 +597,30 @@ TEST(TriangleDeterminism, LargeMeshesScannedInPiecesGiveTheSameBytes) {
     expectIdentical(one, scene.draw(camera, 2));
     expectIdentical(one, scene.draw(camera, 7));
   }
+}
+
+// A thread keeps its last draw call's batch buffers for its next: what a big draw with every channel
+// left in them never shows in a smaller draw with other channels, nor the other way round. Each side runs
+// on a thread of its own, whose first call finds no buffers.
+TEST(TriangleDeterminism, BuffersLeftByEarlierDrawsNeverShow) {
+  RandomScene big(60000, 11), small(4000, 5);
+  const Camera camera = lookCamera({0.3, 0.2, 3.0}, true, 300, 200);
+  const auto drawSmall = [&] {
+    Framebuffer framebuffer = makeFramebuffer(camera.width, camera.height, kChannelColor);
+    small.drawInto(framebuffer, camera, 2);
+    return framebuffer;
+  };
+  Framebuffer fresh, afterBig, bigAfterSmall, bigFresh;
+  std::thread([&] { fresh = drawSmall(); }).join();
+  std::thread([&] {
+    big.draw(camera, 2);
+    afterBig = drawSmall();
+    bigAfterSmall = big.draw(camera, 2);
+  }).join();
+  std::thread([&] { bigFresh = big.draw(camera, 2); }).join();
+  EXPECT_GT(coveredPixels(fresh).size(), 10000u);
+  expectIdentical(fresh, afterBig);
+  expectIdentical(bigFresh, bigAfterSmall);
 }
 
 // More triangles than one batch (2^18) in one call equal the same triangles in several calls.
