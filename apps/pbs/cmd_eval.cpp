@@ -47,6 +47,7 @@ struct EvalOptions {
   glm::vec3 background{1.0f};
   double pixelsPerDegree = kDefaultPixelsPerDegree;
   std::uint32_t frames = 24;
+  int draws = 3;
   std::string size = "1920x1080";
   std::string orbit = "30,20,2.5";
   std::string referenceRenderer = "embree";
@@ -131,6 +132,7 @@ void run(const EvalOptions& options) {
                           .meshes = meshes ? &*meshes : nullptr,
                           .compare = {.background = options.background, .pixelsPerDegree = options.pixelsPerDegree},
                           .sheetFrame = std::uint32_t(cameras.size() / 2),
+                          .draws = options.draws,
                           .kindSurfels = &sources.decisions(),
                           .kindLod = baseline};
   ProgressMeter meter("eval", ProgressMeter::styleFor(options.quiet));
@@ -158,6 +160,7 @@ void run(const EvalOptions& options) {
   EvalFiles files = evalFiles(info, settings, results, inputs.sheetFrame, options.background);
   files.summary["simplification"] = simplifiedScenes.json();
   files.summary["texture_filter"] = textureFilteringName(options.textures);
+  files.summary["draws_per_frame"] = options.draws;
   const std::filesystem::path folder(options.output);
   std::filesystem::create_directories(folder);
   writeTextFile(folder / "eval.csv", files.csv);
@@ -224,6 +227,12 @@ void addEvalCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--frames", options->frames, "views on the path")
       ->check(CLI::Range(1u, 100000u))
+      ->capture_default_str();
+  command
+      ->add_option("--draws", options->draws,
+                   "draws of each view by each setting (not the reference): the first gives the image, the median "
+                   "time the frame's time")
+      ->check(CLI::Range(1, 100))
       ->capture_default_str();
   command->add_option("--size", options->size, "WxH pixels")->capture_default_str();
   command

@@ -38,9 +38,10 @@ class Evaluation {
 
   // Runs `settings` (peers, then sweeps over `baseline`) on `cameras` against Embree at 4 samples per pixel.
   EvalResults run(const std::vector<EvalSetting>& settings, const std::vector<Camera>& cameras,
-                  const LodOptions& baseline = {}) {
+                  const LodOptions& baseline = {}, int draws = 1) {
     EvalInputs inputs;
     inputs.referenceSamples = 4;
+    inputs.draws = draws;
     inputs.kindSurfels = &sources_.decisions();
     inputs.kindLod = baseline;
     return runEval(
@@ -236,6 +237,30 @@ TEST(EvalRun, AllGeometryDrawsTheExactRasterizersPicture) {
     EXPECT_EQ(geometry.frames[f].stats.surfels, 0u);
     EXPECT_EQ(geometry.frames[f].error.flipForegroundMean, exact.frames[f].error.flipForegroundMean) << f;
   }
+}
+
+// Timed over three draws of each view, a frame keeps the first draw's image and its reading of the file:
+// the same errors and counts as one draw, the prefixes' reading charged where they were read.
+TEST(EvalRun, MoreDrawsTimeTheSameFrames) {
+  const std::vector<EvalSetting> settings = evalSettings({"embree=1"}, {}, grown());
+  Evaluation once, thrice;
+  const EvalResults one = once.run(settings, once.approach(3), grown(), 1);
+  const EvalResults three = thrice.run(settings, thrice.approach(3), grown(), 3);
+  double loadOnce = 0.0, loadThrice = 0.0;
+  for (std::size_t s = 0; s < settings.size(); ++s)
+    for (std::size_t f = 0; f < 3; ++f) {
+      const EvalFrame &a = one.settings[s].frames[f], &b = three.settings[s].frames[f];
+      EXPECT_EQ(a.error.flipForegroundMean, b.error.flipForegroundMean) << settings[s].name << " frame " << f;
+      EXPECT_EQ(a.error.holeFraction, b.error.holeFraction);
+      EXPECT_EQ(a.stats.surfels, b.stats.surfels);
+      EXPECT_EQ(a.stats.triangles, b.stats.triangles);
+      EXPECT_GT(b.seconds, 0.0);
+      loadOnce += a.surfelLoadSeconds;
+      loadThrice += b.surfelLoadSeconds;
+    }
+  EXPECT_GT(three.settings[indexOf(settings, "surfels")].frames[0].stats.surfels, 0u);
+  EXPECT_GT(loadOnce, 0.0);
+  EXPECT_GT(loadThrice, 0.0);
 }
 
 TEST(EvalOutputs, TheParetoFrontKeepsWhatNothingBeatsInBothTimeAndError) {

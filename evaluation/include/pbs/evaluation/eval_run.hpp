@@ -32,7 +32,9 @@ struct EvalView {
 // One row of eval.csv.
 struct EvalFrame {
   std::uint32_t frame = 0;
-  double seconds = 0.0;            // the whole frame (FrameResult::seconds) less reading surfels from the file
+  // The whole frame (FrameResult::seconds) less reading surfels from the file; of EvalInputs::draws draws of
+  // the view, the median one's (the lower middle one for an even count), as are `stats`.
+  double seconds = 0.0;
   double surfelLoadSeconds = 0.0;  // reading the prefixes it drew that were not read yet (SurfelCache)
   double divisor = 1.0;            // a budget's lower resolution (FrameResult::divisor)
   LodStats stats;
@@ -67,6 +69,11 @@ struct EvalInputs {
   LazyMeshes* meshes = nullptr;
   CompareOptions compare;        // background and observer; the FLIP map is taken for the sheet's frame only
   std::uint32_t sheetFrame = 0;  // the frame the contact sheet shows
+  // Draws of each view by each setting, one after the other: the first gives the image and its error, the
+  // median time of all the frame's time. Later draws find what the first read and built (prefixes, mesh
+  // BVHs) in place, as the frames after it on a path would; a renderer's first draw of a process also pays
+  // for faulting in its buffers.
+  int draws = 1;
   // The surfels and LOD options that decide each view's kind (the file's own arrays, the baseline), read
   // with one threshold for every node (descendExhausted off, whatever kindLod says).
   const SceneSurfels* kindSurfels = nullptr;
