@@ -144,12 +144,12 @@ PBS_AVX2_CLONES void drawTile(Framebuffer& framebuffer, const TileGrid& grid, st
   };
   bool any = false;
   for (const Chunk& chunk : chunks) any |= chunk.tileStart[tile + 1] > chunk.tileStart[tile];
-  if (!any) {  // most tiles of a frame: only geometry, or nothing
-    for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x) {
-        const std::size_t pixel = pixelOf(std::uint32_t(y << kTileShift | x));
-        framebuffer.coverage[pixel] = framebuffer.depth[pixel] != kClearDepth ? 1.0f : 0.0f;
-      }
+  if (!any) {  // most tiles of a frame: only geometry, or nothing; rows of plain arrays, so the loop vectorises
+    for (int y = 0; y < height; ++y) {
+      const float* depth = framebuffer.depth.data() + pixelOf(std::uint32_t(y << kTileShift));
+      float* coverage = framebuffer.coverage.data() + pixelOf(std::uint32_t(y << kTileShift));
+      for (int x = 0; x < width; ++x) coverage[x] = depth[x] != kClearDepth ? 1.0f : 0.0f;
+    }
     return;
   }
   for (int y = 0; y < height; ++y)
