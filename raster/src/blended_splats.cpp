@@ -69,9 +69,9 @@ void binChunk(const TileGrid& grid, Chunk& chunk) {
 
 // Sums of one layer at one pixel.
 struct LayerSums {
-  float coverage;
-  glm::vec3 color;  // coverage-weighted, 0–255
-  glm::vec3 normal;
+  float coverage = 0.0f;
+  glm::vec3 color{0.0f};  // coverage-weighted, 0–255
+  glm::vec3 normal{0.0f};
 };
 
 // A layer's alpha from its summed coverage S. Summed kernels conserve area, so S is right on average:
@@ -152,14 +152,14 @@ PBS_AVX2_CLONES void drawTile(Framebuffer& framebuffer, const TileGrid& grid, st
     }
     return;
   }
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const std::uint32_t local = std::uint32_t(y << kTileShift | x);
-      scratch.front[local] = kClearDepth;
-      scratch.nearest[local] = kClearDepth;
-      scratch.geometry[local] = framebuffer.depth[pixelOf(local)];
-      scratch.layers[0][local] = scratch.layers[1][local] = LayerSums{0.0f, glm::vec3(0.0f), glm::vec3(0.0f)};
-    }
+  // Row by row (each layer on its own: one assigned from the other stalled on the store of the first).
+  for (int y = 0; y < height; ++y) {
+    const std::uint32_t row = std::uint32_t(y << kTileShift);
+    std::fill_n(scratch.front.begin() + row, width, kClearDepth);
+    std::fill_n(scratch.nearest.begin() + row, width, kClearDepth);
+    std::copy_n(framebuffer.depth.begin() + std::ptrdiff_t(pixelOf(row)), width, scratch.geometry.begin() + row);
+    for (auto& layer : scratch.layers) std::fill_n(layer.begin() + row, width, LayerSums{});
+  }
 
   // A splat deeper than the geometry by more than its tolerance is hidden by it.
   forEachCoveredPixel(chunks, tile, tileX, tileY, [&](const Footprint& f, std::uint32_t local, int x, int y, float) {
