@@ -137,7 +137,7 @@ std::string evalCsv(const std::vector<EvalSetting>& settings, const EvalResults&
                     {view.geometryShare, f.seconds, f.speedupOverFastestExact, f.stats.traverseSeconds,
                      f.stats.rasterSeconds, double(f.stats.triangles), double(f.stats.surfels), e.flipForegroundMean,
                      e.flipMean, e.flipMedian, e.flipMax, e.foregroundPsnr, e.psnr, e.ssim, e.holeFraction,
-                     e.bloatFraction, f.surfelLoadSeconds, f.divisor});
+                     e.bloatFraction, f.surfelLoadSeconds, f.divisor, f.bvhBuildSeconds});
     }
   }
   return csv;

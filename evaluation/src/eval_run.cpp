@@ -144,6 +144,7 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
         return EvalFrame{.frame = std::uint32_t(f),
                          .seconds = drawn.seconds - drawn.surfelLoadSeconds,
                          .surfelLoadSeconds = frame.surfelLoadSeconds,
+                         .bvhBuildSeconds = frame.stats.bvhBuildSeconds,
                          .divisor = frame.divisor,
                          .stats = drawn.stats,
                          .error = {},

@@ -32,7 +32,7 @@ using test::ScratchDir;
 constexpr const char* kHeader =
     "setting,frame,kind,geometry,geometry_share,seconds,speedup,traverse_seconds,raster_seconds,triangles,surfels,flip,"
     "flip_mean,flip_median,flip_max,foreground_psnr,psnr,ssim,hole_fraction,bloat_fraction,surfel_load_seconds,"
-    "resolution_divisor";
+    "resolution_divisor,bvh_build_seconds";
 
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -128,6 +128,17 @@ TEST(EvalCli, ExactReferenceReadsMeshesAsFramesDrawThem) {
     ++compared;
   }
   EXPECT_EQ(compared, 6u) << "exact=1 and surfels, three frames each";
+  // The rays' BVHs are built by the first frame that draws a mesh by rays, and reported apart; with the
+  // peer's BVH over the whole scene there is nothing to build.
+  double builtOnDemand = 0.0, builtWhole = 0.0;
+  bool raysOnDemand = false;
+  for (const test::CsvRow& row : onDemand.rows()) {
+    builtOnDemand += row.number("bvh_build_seconds");
+    raysOnDemand = raysOnDemand || (row.fields.at("setting") == "surfels" && row.fields.at("geometry") == "rays");
+  }
+  for (const test::CsvRow& row : whole.rows()) builtWhole += row.number("bvh_build_seconds");
+  EXPECT_EQ(raysOnDemand, builtOnDemand > 0.0);
+  EXPECT_EQ(builtWhole, 0.0);
 }
 
 TEST(EvalCli, PeersSurfelsAndSweepsAgainstTheReference) {

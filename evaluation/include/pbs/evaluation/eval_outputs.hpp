@@ -28,7 +28,7 @@ namespace pbs {
 inline constexpr const char* kEvalCsvHeader =
     "setting,frame,kind,geometry,geometry_share,seconds,speedup,traverse_seconds,raster_seconds,triangles,surfels,flip,"
     "flip_mean,flip_median,flip_max,foreground_psnr,psnr,ssim,hole_fraction,bloat_fraction,surfel_load_seconds,"
-    "resolution_divisor";
+    "resolution_divisor,bvh_build_seconds";
 
 // Medians and worst frames of one setting over a set of frames (all, or those of one kind).
 struct EvalSummary {

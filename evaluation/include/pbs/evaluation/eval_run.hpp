@@ -36,6 +36,9 @@ struct EvalFrame {
   // the view, the median one's (the lower middle one for an even count), as are `stats`.
   double seconds = 0.0;
   double surfelLoadSeconds = 0.0;  // reading the prefixes it drew that were not read yet (SurfelCache)
+  // Building the BVHs of meshes its rays drew that had none yet, in its first draw: a part of `seconds` for
+  // one draw, paid once a path, which the median of several draws leaves out.
+  double bvhBuildSeconds = 0.0;
   double divisor = 1.0;            // a budget's lower resolution (FrameResult::divisor)
   LodStats stats;
   ImageDifference error;  // this frame (A) against the reference of the same view (B), without the map
