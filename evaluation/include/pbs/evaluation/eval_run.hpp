@@ -39,7 +39,7 @@ struct EvalFrame {
   // Building the BVHs of meshes its rays drew that had none yet, in its first draw: a part of `seconds` for
   // one draw, paid once a path, which the median of several draws leaves out.
   double bvhBuildSeconds = 0.0;
-  double divisor = 1.0;            // a budget's lower resolution (FrameResult::divisor)
+  double divisor = 1.0;  // a budget's lower resolution (FrameResult::divisor)
   LodStats stats;
   ImageDifference error;  // this frame (A) against the reference of the same view (B), without the map
   // The fastest peer's time on this frame (the least of the 1-sample peers': Embree and exact) over
