@@ -16,6 +16,7 @@ namespace pbs::triangles {
 
 // Source triangles set up and binned at once: bounds the memory of any draw list.
 inline constexpr std::uint32_t kBatchTriangles = 1u << 18;
+static_assert(kKeptTriangleBufferBytes == kTriangleBufferBytesPerTriangle * kBatchTriangles);
 // Source triangles per setup task; with at most kMaxClipVertices − 2 triangles out of clipping
 // each, a chunk's output fits the 16 local bits of a packed id.
 inline constexpr std::uint32_t kChunkTriangles = 2048;
@@ -71,9 +72,9 @@ inline glm::dvec4 clipPosition(const TriangleSpan& span, std::uint32_t index) {
 }
 
 // A batch's working memory. It outlives the draw call: each thread keeps what its last call used for its
-// next (drawTriangles), since the allocator returns blocks of these sizes to the system and faulting their
-// pages in again cost a frame's geometry pass a third of its time for several frames. Every stage writes
-// what it reads, so what a buffer held before never shows.
+// next (drawTriangles; up to kKeptTriangleBufferBytes), since the allocator returns blocks of these sizes to the system
+// and faulting their pages in again cost a frame's geometry pass a third of its time for several frames. Every stage
+// writes what it reads, so what a buffer held before never shows.
 struct BatchBuffers {
   UninitializedVector<ProjectedVertex> vertices;  // each written whole by projectVertices
   // The batch's chunks are the first chunkCount; those after them are kept for their memory.

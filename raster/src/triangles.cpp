@@ -43,10 +43,6 @@ std::size_t BatchBuffers::capacityBytes() const {
 
 namespace {
 
-// A thread keeps its last draw call's buffers up to this size (a frame of the default scene, 8 M triangles
-// in 32 batches, leaves 58 MB); larger ones, left by a draw of many clipped triangles, go back to the allocator.
-constexpr std::size_t kKeptBatchBytes = std::size_t(256) << 20;
-
 void checkTarget(const Framebuffer& framebuffer, const Camera& camera) {
   const auto fail = [](const std::string& what) { throw std::invalid_argument("drawTriangles: " + what); };
   if (framebuffer.width != camera.width || framebuffer.height != camera.height)
@@ -129,7 +125,8 @@ void drawTriangles(Framebuffer& framebuffer, const Camera& camera, std::span<con
     }
   }
   drawBatch(batch);
-  if (batch.capacityBytes() <= kKeptBatchBytes) kept = std::move(static_cast<BatchBuffers&>(batch));
+  // Larger buffers, left by a draw of many textured or clipped triangles, go back to the allocator.
+  if (batch.capacityBytes() <= kKeptTriangleBufferBytes) kept = std::move(static_cast<BatchBuffers&>(batch));
 }
 
 }  // namespace pbs

@@ -7,6 +7,7 @@
 #include "surfelize_shards.hpp"
 
 #include "pbs/raster/hash64.hpp"
+#include "pbs/raster/raster_limits.hpp"
 #include "pbs/scene/scene_draws.hpp"
 #include "pbs/scene/scene_fingerprint.hpp"
 #include "pbs/scene/scene_scan.hpp"
@@ -336,12 +337,18 @@ std::uint64_t surfelizeMemoryEstimate(const Scene& scene, const Hierarchy& hiera
   constexpr std::uint64_t kCandidateBytes = sizeof(Surfel) + 12 + 32;
   const std::uint64_t capture = pixels * (kGBufferBytes + options.file.directions * kCandidateBytes);
   const std::uint64_t frame = scene.nodes.size() * (sizeof(glm::dmat4) + sizeof(Bounds) + 24);
+  // The rasterizer's working memory, which each worker keeps between captures: a batch of the largest
+  // capture's triangles at most.
+  const std::uint64_t mostDrawn =
+      plan.primitivesDrawn.empty() ? 0 : *std::max_element(plan.primitivesDrawn.begin(), plan.primitivesDrawn.end());
+  const std::uint64_t rasterizer =
+      std::min<std::uint64_t>(mostDrawn * kTriangleBufferBytesPerTriangle, kKeptTriangleBufferBytes);
   // An array decoded and encoded for the file. Besides the arrays being made, held are those that
   // parents still to come capture from, and those finished ahead of an earlier one the file waits for.
   const std::uint64_t array = std::uint64_t(options.file.maxSurfels) * (sizeof(Surfel) + kSurfelBytes);
   const std::uint64_t held = arraysHeldInIndexOrder(plan.childArrays) + std::uint64_t(std::max(workers, 1));
   const std::uint64_t arrays = std::min<std::uint64_t>(held, plan.representative.size()) * array;
-  return std::uint64_t(std::max(workers, 1)) * (capture + frame) + arrays +
+  return std::uint64_t(std::max(workers, 1)) * (capture + frame + rasterizer) + arrays +
          plan.representative.size() * sizeof(SurfelArray);
 }
 
