@@ -36,18 +36,16 @@ constexpr double kSummedPixels = 81.0;
 // The kernel summed over the footprint's pixel centres within its cut-off, whether on screen or not (the
 // span is at most kSummedPixels, so its ends are small integers). Every weight is a float in [e^−4, 1]
 // (kernelWeight clamps q to kMaxCutoff), so a multiple of 2^−29, and there are at most 81 of them: their sum in
-// double is exact in any order. Four partial sums therefore give the same bits as one, without a chain of
-// dependent additions.
+// double is exact in any order, so the sum is the same bits however the loop adds them.
 static_assert(kMaxCutoff <= 8.0f && kSummedPixels <= 81.0, "the partial sums of pixelWeightSum must stay exact");
 PBS_CLONE_INLINE double pixelWeightSum(const Footprint& f, Span xs, Span ys) {
-  double sums[4] = {0.0, 0.0, 0.0, 0.0};
-  unsigned k = 0;
+  double sum = 0.0;
   for (int y = int(ys.first); y <= int(ys.last); ++y)
-    for (int x = int(xs.first); x <= int(xs.last); ++x, ++k) {
+    for (int x = int(xs.first); x <= int(xs.last); ++x) {
       const float q = f.distance(x, y);
-      sums[k & 3] += q <= f.cutoff ? double(f.weight(q)) : 0.0;
+      sum += q <= f.cutoff ? double(f.weight(q)) : 0.0;
     }
-  return (sums[0] + sums[1]) + (sums[2] + sums[3]);
+  return sum;
 }
 
 // Two unit tangents completing the unit normal n to an orthonormal basis, without a branch on its

@@ -33,9 +33,9 @@ struct KernelTable {
 extern const KernelTable kKernel;
 PBS_CLONE_INLINE float kernelWeight(float q) {
   const float t = std::clamp(q, 0.0f, kMaxCutoff) * float(kKernelSteps);
-  const auto i = std::size_t(t);
+  const int i = int(t);  // 0 … kMaxCutoff · kKernelSteps: a signed conversion is one instruction
   const float f = t - float(i);
-  return kKernel.values[i] + f * (kKernel.values[i + 1] - kKernel.values[i]);
+  return kKernel.values[std::size_t(i)] + f * (kKernel.values[std::size_t(i) + 1] - kKernel.values[std::size_t(i)]);
 }
 
 struct Footprint {
