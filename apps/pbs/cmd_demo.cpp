@@ -115,6 +115,7 @@ void run(const DemoOptions& options) {
                        {"height", options.height},
                        {"reference_samples", kReferenceSamples},
                        {"reference_seconds", reference.seconds},
+                       {"draws_per_time", kTimedFrames},
                        {"surfels_drawn", fast.stats.surfels},
                        {"triangles_drawn", fast.stats.triangles},
                        {"surfels_speedup_over_embree", speedup}};
@@ -136,9 +137,9 @@ void run(const DemoOptions& options) {
               withThousands(stats.arrays).c_str(), withThousands(stats.surfels).c_str(), surfelizeSeconds,
               settings.file.resolution);
   std::printf(
-      "render     %ux%u against Embree at %u samples per pixel (%.1f s); FLIP over the foreground, lower is "
-      "better:\n",
-      options.width, options.height, kReferenceSamples, reference.seconds);
+      "render     %ux%u against Embree at %u samples per pixel (%.1f s); each time the median of %d draws, FLIP "
+      "over the foreground (lower is better):\n",
+      options.width, options.height, kReferenceSamples, reference.seconds, kTimedFrames);
   for (std::size_t i = 0; i < std::size(frames); ++i)
     std::printf("  %-18s %8.1f ms   FLIP %.4f   foreground PSNR %5.1f dB   holes %.3f   bloat %.3f\n", frames[i].name,
                 frames[i].frame.seconds * 1e3, errors[i].flipForegroundMean, errors[i].foregroundPsnr,

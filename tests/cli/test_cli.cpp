@@ -104,6 +104,8 @@ TEST(Cli, DemoRunsOnTheEmbeddedDefault) {
   EXPECT_GT(frame["surfels_drawn"].get<std::uint64_t>(), 0u);
   EXPECT_LT(frame["triangles_drawn"].get<std::uint64_t>(), json["triangles"].get<std::uint64_t>());
   EXPECT_EQ(frame["reference_samples"], 64);
+  EXPECT_EQ(frame["draws_per_time"], 5) << "each time a median of five draws";
+  for (const char* key : {"surfels", "embree_1", "embree_4"}) EXPECT_GT(frame[key]["seconds"].get<double>(), 0.0);
   for (const char* key : {"surfels", "embree_1", "embree_4"}) {
     EXPECT_GT(frame[key]["flip"].get<double>(), 0.0) << key;
     EXPECT_LT(frame[key]["flip"].get<double>(), 1.0) << key;
