@@ -5,6 +5,7 @@
 #include "image_files.hpp"
 #include "progress_meter.hpp"
 #include <pbs/evaluation/report_numbers.hpp>
+#include <pbs/evaluation/view_draws.hpp>
 #include "scene_report.hpp"
 
 #include <pbs/raster/headlight_shading.hpp>
@@ -85,11 +86,9 @@ void run(const DemoOptions& options) {
   const auto frameOf = [&](RenderMode mode, std::uint32_t samples, int draws) {
     FrameRenderer renderer(loaded.scene, loaded.hierarchy, {.mode = mode, .lod = lod, .samples = samples},
                            options.width, options.height, {.surfels = &surfels, .simplified = nullptr, .rays = &rays});
-    FrameResult result = renderer.render(camera);
-    std::vector<double> seconds{result.seconds};
-    for (int draw = 1; draw < draws; ++draw) seconds.push_back(renderer.render(camera).seconds);
-    result.seconds = median(seconds);
-    return result;
+    ViewDraws drawn = drawView(renderer, camera, draws, [](const FrameResult& frame) { return frame.seconds; });
+    drawn.first.seconds = drawn.byTime[drawn.byTime.size() / 2].seconds;
+    return std::move(drawn.first);
   };
   const FrameResult reference = frameOf(RenderMode::Embree, kReferenceSamples, 1);
   const DemoFrame frames[] = {{"surfels", frameOf(RenderMode::Surfels, 1, kTimedFrames)},

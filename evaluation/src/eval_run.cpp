@@ -3,6 +3,7 @@
 #include "pbs/evaluation/eval_run.hpp"
 
 #include "pbs/evaluation/report_numbers.hpp"
+#include "pbs/evaluation/view_draws.hpp"
 
 #include <pbs/raster/flip.hpp>
 #include <pbs/raster/headlight_shading.hpp>
@@ -23,14 +24,6 @@ double coveredPixels(const std::vector<glm::vec4>& image) {
   double covered = 0.0;
   for (const glm::vec4& p : image) covered += p.a > 0.0f;
   return covered;
-}
-
-// Of a view's draws, the one of median time, by `seconds` (the lower middle one of an even count).
-EvalFrame medianDraw(std::vector<EvalFrame> draws) {
-  const auto middle = draws.begin() + std::ptrdiff_t((draws.size() - 1) / 2);
-  std::nth_element(draws.begin(), middle, draws.end(),
-                   [](const EvalFrame& a, const EvalFrame& b) { return a.seconds < b.seconds; });
-  return *middle;
 }
 
 // Per frame, the fastest 1-sample peer's time over each setting's.
@@ -129,8 +122,13 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
                            width, height, sources);
     EvalSettingResult result;
     for (std::size_t f = 0; f < cameras.size(); ++f) {
-      FrameResult frame = renderer.render(cameras[f]);
-      const RgbaImage image{width, height, std::move(frame.image)};
+      // Reading the file is reported apart (the first setting to draw a prefix would pay for all), and so
+      // are the first draw's BVH builds, which the median draw leaves out.
+      ViewDraws draws = drawView(renderer, cameras[f], inputs.draws,
+                                 [](const FrameResult& drawn) { return drawn.seconds - drawn.surfelLoadSeconds; });
+      const FrameResult& frame = draws.first;
+      const FrameResult& median = draws.byTime[(draws.byTime.size() - 1) / 2];
+      const RgbaImage image{width, height, std::move(draws.first.image)};
       CompareOptions compare = inputs.compare;
       compare.keepFlipMap = f == inputs.sheetFrame;
       ImageDifference error = compareImages(image, reference[f], compare);
@@ -139,22 +137,14 @@ EvalResults runEval(const Scene& scene, const Hierarchy& hierarchy, const std::v
         result.sheetFlip = flipMapRgba8(error.flipMap);
         error.flipMap = {};
       }
-      // Reading the file is reported apart: the first setting to draw a prefix would pay for all.
-      const auto timed = [&](const FrameResult& drawn) {
-        return EvalFrame{.frame = std::uint32_t(f),
-                         .seconds = drawn.seconds - drawn.surfelLoadSeconds,
-                         .surfelLoadSeconds = frame.surfelLoadSeconds,
-                         .bvhBuildSeconds = frame.stats.bvhBuildSeconds,
-                         .divisor = frame.divisor,
-                         .stats = drawn.stats,
-                         .error = {},
-                         .speedupOverFastestExact = 0.0};
-      };
-      std::vector<EvalFrame> draws{timed(frame)};
-      for (int draw = 1; draw < inputs.draws; ++draw) draws.push_back(timed(renderer.render(cameras[f])));
-      EvalFrame timedFrame = medianDraw(std::move(draws));
-      timedFrame.error = std::move(error);
-      result.frames.push_back(std::move(timedFrame));
+      result.frames.push_back({.frame = std::uint32_t(f),
+                               .seconds = median.seconds - median.surfelLoadSeconds,
+                               .surfelLoadSeconds = frame.surfelLoadSeconds,
+                               .bvhBuildSeconds = frame.stats.bvhBuildSeconds,
+                               .divisor = frame.divisor,
+                               .stats = median.stats,
+                               .error = std::move(error),
+                               .speedupOverFastestExact = 0.0});
       progress(setting.name, f);
     }
     results.settings.push_back(std::move(result));

@@ -1,5 +1,6 @@
 // calibrateFrameCosts: frames timed under cuts from coarse to fine, and the costs fitted to them.
 #include "pbs/evaluation/frame_calibration.hpp"
+#include "pbs/evaluation/view_draws.hpp"
 
 #include <pbs/raster/image_upscale.hpp>
 #include <pbs/scene/input_error.hpp>
@@ -124,18 +125,14 @@ FrameCalibration calibrateFrameCosts(const Scene& scene, const Hierarchy& hierar
     for (std::uint32_t v = 0; v < cameras.size(); ++v) {
       // The repeat of median time (the slower of two): a budgeted frame is drawn once, and takes what a frame
       // typically takes, not the least it can.
-      std::vector<TimedFrame> runs;
-      for (std::uint32_t r = 0; r < std::max(repeats, 1u); ++r) {
-        const FrameResult result = renderer.render(cameras[v]);
-        runs.push_back({.work = frameWork(result.stats, std::uint64_t(cameras[v].width) * cameras[v].height),
-                        .seconds = result.recurringSeconds(),
-                        .geometrySeconds = result.stats.geometrySeconds - result.stats.bvhBuildSeconds,
-                        .drawer = result.stats.geometryDrawer});
-      }
-      const auto median = runs.begin() + std::ptrdiff_t(runs.size() / 2);
-      std::nth_element(runs.begin(), median, runs.end(),
-                       [](const TimedFrame& a, const TimedFrame& b) { return a.seconds < b.seconds; });
-      CalibrationFrame frame{.cut = cuts[c].name, .view = v, .timed = *median};
+      const ViewDraws draws = drawView(renderer, cameras[v], int(std::max(repeats, 1u)),
+                                       [](const FrameResult& result) { return result.recurringSeconds(); });
+      const FrameResult& median = draws.byTime[draws.byTime.size() / 2];
+      const TimedFrame timedMedian{.work = frameWork(median.stats, std::uint64_t(cameras[v].width) * cameras[v].height),
+                                   .seconds = median.recurringSeconds(),
+                                   .geometrySeconds = median.stats.geometrySeconds - median.stats.bvhBuildSeconds,
+                                   .drawer = median.stats.geometryDrawer};
+      CalibrationFrame frame{.cut = cuts[c].name, .view = v, .timed = timedMedian};
       // The clock's resolution: no frame takes no time.
       frame.timed.seconds = std::max(frame.timed.seconds, 1e-6);
       frame.timed.geometrySeconds = std::clamp(frame.timed.geometrySeconds, 0.0, 0.99 * frame.timed.seconds);
