@@ -65,16 +65,6 @@ struct Footprint {
   }
 };
 
-// A surfel past the first step of its projection: where it lies in the window and the unit directions that the
-// footprint is made from.
-struct FacingSurfel {
-  std::size_t index;
-  double invW;        // 1 / the clip-space w of its centre
-  glm::dvec3 window;  // its centre in window coordinates
-  glm::dvec3 toEye;   // object frame, unit
-  glm::dvec3 normal;  // object frame, unit, turned toward the eye
-};
-
 // Projects the sets' surfels; per set, the transforms and the eye in its object frame are computed once.
 class FootprintProjector {
  public:
@@ -85,10 +75,10 @@ class FootprintProjector {
   // depth range, off screen, not finite) left out; returns how many were written.
   std::size_t projectRange(std::size_t first, std::size_t count, Footprint* out) const;
 
-  // projectRange's two steps (inlined there): surfel i if it lies in the depth range facing the eye (false when
-  // culled), then its footprint (false when off screen or degenerate).
-  bool facing(std::size_t i, FacingSurfel& out) const;
-  bool footprint(const FacingSurfel& surfel, Footprint& out) const;
+  // projectRange's body for surfels [first, first + count), count ≤ kProjectBatch (inlined into each SIMD clone
+  // of its caller): footprints into `out`, in surfel order; returns how many.
+  std::size_t projectBatch(std::size_t first, std::size_t count, Footprint* out) const;
+  static constexpr std::size_t kProjectBatch = 64;
 
  private:
   const SurfelSplatSet& set_;

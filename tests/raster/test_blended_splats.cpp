@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -205,6 +207,67 @@ TEST(BlendedSplats, BitIdenticalForAnyThreadCount) {
     EXPECT_EQ(images[i].ids, images[0].ids);
   }
   EXPECT_GT(totalCoverage(images[0]), 1000.0);
+}
+
+// Footprints are projected in batches, a step at a time across each batch's surfels (blend_footprint.cpp): what a
+// surfel draws must not depend on which surfels share its batch, nor on how many do. Surfels of every kind (facing
+// either way, no normal, not finite, behind the eye, off screen, edge-on) drawn as one set and as sets of other
+// lengths give the same image, in perspective and orthographic views.
+TEST(BlendedSplats, ASurfelDrawsTheSameWhateverSurfelsShareItsBatch) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::vector<glm::vec3> positions, normals;
+  std::vector<glm::u8vec4> colors;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (int i = 0; i < 700; ++i) {
+    glm::vec3 p(12.0f * unit(random), 8.0f * unit(random), 10.0f * unit(random));
+    glm::vec3 n(unit(random), unit(random), unit(random));
+    if (i % 97 == 5) p.x = nan;
+    if (i % 89 == 7) n = glm::vec3(0.0f);
+    if (i % 83 == 9) p.z = 60.0f;                       // behind the perspective eye
+    if (i % 79 == 11) p.x = 400.0f;                     // off screen
+    if (i % 73 == 13) n = glm::vec3(1.0f, 0.0f, 0.0f);  // edge-on to the orthographic view
+    positions.push_back(p);
+    normals.push_back(n);
+    colors.emplace_back(std::uint8_t(i), std::uint8_t(i * 7), std::uint8_t(i * 13), 255);
+  }
+  const auto setOf = [&](std::size_t first, std::size_t count) {
+    return SurfelSplatSet{.positions = std::span(positions).subspan(first, count),
+                          .normals = std::span(normals).subspan(first, count),
+                          .colors = std::span(colors).subspan(first, count),
+                          .worldFromObject = glm::translate(glm::dmat4(1.0), glm::dvec3(0.5, -0.25, 0.0)),
+                          .radius = 0.6f,
+                          .area = 0.36f};
+  };
+  const auto draw = [&](const Camera& camera, std::span<const std::size_t> lengths) {
+    std::vector<SurfelSplatSet> sets;
+    for (std::size_t first = 0, s = 0; first < positions.size(); ++s) {
+      const std::size_t count = std::min(lengths[s % lengths.size()], positions.size() - first);
+      sets.push_back(setOf(first, count));
+      first += count;
+    }
+    Framebuffer image = makeFramebuffer(camera.width, camera.height, kBlendChannels);
+    drawBlendedSplats(image, camera, sets);
+    return image;
+  };
+  const std::size_t whole[] = {positions.size()}, singles[] = {1}, mixed[] = {37, 64, 65, 1, 129, 3, 200};
+  const Camera cameras[] = {
+      perspectiveCamera(glm::lookAt(glm::dvec3(3.0, 4.0, 40.0), glm::dvec3(0.0), glm::dvec3(0.0, 1.0, 0.0)), 0.8, 0.5,
+                        200.0, 160, 120),
+      orthographicCamera(glm::lookAt(glm::dvec3(-50.0, 0.0, 0.0), glm::dvec3(0.0), glm::dvec3(0.0, 1.0, 0.0)), -14.0,
+                         14.0, -10.0, 10.0, 1.0, 100.0, 140, 100)};
+  for (const Camera& camera : cameras) {
+    const Framebuffer reference = draw(camera, whole);
+    EXPECT_GT(totalCoverage(reference), 500.0);
+    for (const std::span<const std::size_t> lengths :
+         {std::span<const std::size_t>(singles), std::span<const std::size_t>(mixed)}) {
+      const Framebuffer image = draw(camera, lengths);
+      EXPECT_EQ(image.depth, reference.depth);
+      EXPECT_EQ(image.color, reference.color);
+      EXPECT_EQ(image.normal, reference.normal);
+      EXPECT_EQ(image.coverage, reference.coverage);
+    }
+  }
 }
 
 TEST(BlendedSplats, StiffInputsAreDroppedOrDefined) {
