@@ -15,9 +15,14 @@ double cross(const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
 
 }  // namespace
 
-double projectedBoxPixels(const Camera& camera, const Bounds& box) {
+double projectedBoxPixels(const Camera& camera, const Bounds& box) { return BoxProjection(camera).pixels(box); }
+
+bool outsideClipVolume(const Camera& camera, const Bounds& box) { return BoxProjection(camera).outside(box); }
+
+double BoxProjection::pixels(const Bounds& box) const {
   if (box.empty()) return 0.0;
-  const glm::dmat4 clipFromWorld = camera.clipFromWorld();
+  const Camera& camera = camera_;
+  const glm::dmat4& clipFromWorld = clipFromWorld_;
   const glm::dvec3 half = box.size() * 0.5;
   const glm::dvec3 center = box.center();
   std::array<glm::dvec2, 8> points;
@@ -56,6 +61,21 @@ double projectedBoxPixels(const Camera& camera, const Bounds& box) {
     twiceArea += a.x * b.y - b.x * a.y;
   }
   return std::abs(twiceArea) * 0.5;
+}
+
+bool BoxProjection::outside(const Bounds& box) const {
+  if (box.empty()) return true;
+  // Signed distances to the six planes −w ≤ x, y, z ≤ w; outside one plane with all eight corners
+  // means outside the volume (the converse does not hold, which only makes the test conservative).
+  std::array<bool, 6> allOutside{true, true, true, true, true, true};
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 p{(corner & 1) ? box.max.x : box.min.x, (corner & 2) ? box.max.y : box.min.y,
+                       (corner & 4) ? box.max.z : box.min.z};
+    const glm::dvec4 c = clipFromWorld_ * glm::dvec4(p, 1.0);
+    const std::array<double, 6> distance{c.w + c.x, c.w - c.x, c.w + c.y, c.w - c.y, c.w + c.z, c.w - c.z};
+    for (int plane = 0; plane < 6; ++plane) allOutside[plane] = allOutside[plane] && distance[plane] < 0.0;
+  }
+  return std::any_of(allOutside.begin(), allOutside.end(), [](bool outside) { return outside; });
 }
 
 }  // namespace pbs

@@ -52,8 +52,9 @@ namespace {
 std::vector<std::uint32_t> instancesInView(const Scene& scene, const Hierarchy& hierarchy, const Camera& camera,
                                            std::span<const std::uint32_t> nodes) {
   std::vector<std::uint32_t> inView;
+  const BoxProjection boxes(camera);
   for (std::uint32_t node : rayInstanceNodes(scene, hierarchy, nodes))
-    if (!outsideClipVolume(camera, instanceWorldBounds(scene, hierarchy, node))) inView.push_back(node);
+    if (!boxes.outside(instanceWorldBounds(scene, hierarchy, node))) inView.push_back(node);
   return inView;
 }
 

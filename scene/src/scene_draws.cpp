@@ -24,22 +24,6 @@ Bounds instanceWorldBounds(const Scene& scene, const Hierarchy& hierarchy, std::
   return scene.nodes[node].mesh < 0 ? Bounds{} : hierarchy.instanceBounds[node];
 }
 
-bool outsideClipVolume(const Camera& camera, const Bounds& worldBox) {
-  if (worldBox.empty()) return true;
-  const glm::dmat4 clipFromWorld = camera.clipFromWorld();
-  // Signed distances to the six planes −w ≤ x, y, z ≤ w; outside one plane with all eight corners
-  // means outside the volume (the converse does not hold, which only makes the test conservative).
-  std::array<bool, 6> allOutside{true, true, true, true, true, true};
-  for (int corner = 0; corner < 8; ++corner) {
-    const glm::dvec3 p{(corner & 1) ? worldBox.max.x : worldBox.min.x, (corner & 2) ? worldBox.max.y : worldBox.min.y,
-                       (corner & 4) ? worldBox.max.z : worldBox.min.z};
-    const glm::dvec4 c = clipFromWorld * glm::dvec4(p, 1.0);
-    const std::array<double, 6> distance{c.w + c.x, c.w - c.x, c.w + c.y, c.w - c.y, c.w + c.z, c.w - c.z};
-    for (int plane = 0; plane < 6; ++plane) allOutside[plane] = allOutside[plane] && distance[plane] < 0.0;
-  }
-  return std::any_of(allOutside.begin(), allOutside.end(), [](bool outside) { return outside; });
-}
-
 void drawSceneTriangles(const Scene& scene, const Hierarchy& hierarchy, const Camera& camera, Framebuffer& framebuffer,
                         const TriangleOptions& options) {
   std::vector<std::uint32_t> nodes(scene.nodes.size());

@@ -244,10 +244,10 @@ FrameWork geometryNodeWork(double triangles, double boxPixels) {
           .geometryNodes = 1.0};
 }
 
-double clippedBoxPixels(const Camera& camera, const Bounds& box) {
-  if (box.empty() || outsideClipVolume(camera, box)) return 0.0;
+double clippedBoxPixels(const BoxProjection& boxes, const Bounds& box) {
+  if (boxes.outside(box)) return 0.0;
   // A box around or behind the eye projects to +infinity: it fills at most the image.
-  return std::min(projectedBoxPixels(camera, box), double(camera.width) * double(camera.height));
+  return std::min(boxes.pixels(box), double(boxes.camera().width) * double(boxes.camera().height));
 }
 
 FrameCostFit fitFrameCosts(std::span<const TimedFrame> frames, double quantile) {

@@ -44,6 +44,7 @@ class BudgetTraversal {
         hierarchy_(hierarchy),
         surfels_(surfels),
         camera_(camera),
+        boxes_(camera),
         options_(options),
         costs_(options.budgetCosts()),
         // A budget of primitives counts triangles whoever draws them.
@@ -54,9 +55,9 @@ class BudgetTraversal {
   // into.
   void coarsest(std::uint32_t node, Cut& cut) const {
     const Bounds& box = hierarchy_.worldBounds[node];
-    if (box.empty() || outsideClipVolume(camera_, box)) return;
+    if (boxes_.outside(box)) return;
     cut.work.nodesWeighed += 1.0;
-    const double pixels = projectedBoxPixels(camera_, box);
+    const double pixels = boxes_.pixels(box);
     const std::uint32_t array = node < surfels_.arrayOfNode.size() ? surfels_.arrayOfNode[node] : kNoSurfels;
     // A box that reaches the eye has no finite size: its surfels would be discs without bound near the eye,
     // so it is always descended into, as the threshold's traversal does.
@@ -85,7 +86,7 @@ class BudgetTraversal {
       const std::uint64_t triangles = scene_.meshes[std::size_t(mesh)].triangleCount();
       // Only a budget in seconds prices pixels.
       const double pixels = options_.budget.unit == BudgetUnit::Seconds
-                                ? clippedBoxPixels(camera_, instanceWorldBounds(scene_, hierarchy_, node))
+                                ? clippedBoxPixels(boxes_, instanceWorldBounds(scene_, hierarchy_, node))
                                 : 0.0;
       cut.work += geometryNodeWork(double(triangles), pixels);
       cut.triangles += triangles;
@@ -97,7 +98,7 @@ class BudgetTraversal {
         continue;
       }
       const Bounds& box = hierarchy_.worldBounds[child];
-      if (box.empty() || outsideClipVolume(camera_, box)) continue;
+      if (boxes_.outside(box)) continue;
       cut.work.nodesWeighed += 1.0;
       refine(child, cut, Descent::Geometry);
     }
@@ -127,6 +128,7 @@ class BudgetTraversal {
   const Hierarchy& hierarchy_;
   const SceneSurfels& surfels_;
   const Camera& camera_;
+  const BoxProjection boxes_;
   const LodOptions& options_;
   const FrameCosts costs_;
   const GeometryDrawer drawer_;
@@ -146,8 +148,9 @@ constexpr double kFinerBlur = 0.9;
 double cutBlur(const Scene& scene, const Hierarchy& hierarchy, const Camera& reduced, const LodDraws& draws,
                double divisor) {
   double weighted = 0.0, pixels = 0.0;
+  const BoxProjection boxes(reduced);
   const auto add = [&](const Bounds& box, double blur) {
-    const double covered = clippedBoxPixels(reduced, box) * divisor * divisor;
+    const double covered = clippedBoxPixels(boxes, box) * divisor * divisor;
     weighted += covered * blur;
     pixels += covered;
   };

@@ -54,15 +54,16 @@ GeometryWork geometryWork(const Scene& scene, const Hierarchy& hierarchy, std::s
   GeometryWork work;
   work.imagePixels = std::uint64_t(camera.width) * camera.height;
   std::vector<char> counted(scene.meshes.size(), 0);
+  const BoxProjection boxes(camera);
   for (std::uint32_t node : nodes) {
     const std::int32_t mesh = scene.nodes[node].mesh;
     if (mesh < 0) continue;
     const Bounds box = instanceWorldBounds(scene, hierarchy, node);
-    if (outsideClipVolume(camera, box)) continue;
+    if (boxes.outside(box)) continue;
     const std::uint64_t triangles = scene.meshes[std::size_t(mesh)].triangleCount();
     work.triangles += triangles;
     // A box around or behind the eye projects to +infinity: it fills at most the image.
-    const double pixels = std::min(projectedBoxPixels(camera, box), double(work.imagePixels));
+    const double pixels = std::min(boxes.pixels(box), double(work.imagePixels));
     work.boxPixels += pixels;
     ++work.nodes;
     work.boxRayPixels += pixels * rayLevels(double(triangles));

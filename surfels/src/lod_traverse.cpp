@@ -19,15 +19,15 @@ class Traversal {
  public:
   Traversal(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
             const LodOptions& options)
-      : scene_(scene), hierarchy_(hierarchy), surfels_(surfels), camera_(camera), options_(options) {}
+      : scene_(scene), hierarchy_(hierarchy), surfels_(surfels), camera_(camera), boxes_(camera), options_(options) {}
 
   // `growth` in [0, 1] scales the surfel prefixes of this subtree: below 1 while an ancestor's
   // transition hands over to its descendants.
   void visit(std::uint32_t node, double growth) {
     const Bounds& box = hierarchy_.worldBounds[node];
-    if (box.empty() || outsideClipVolume(camera_, box)) return;
+    if (boxes_.outside(box)) return;
     const std::uint32_t array = node < surfels_.arrayOfNode.size() ? surfels_.arrayOfNode[node] : kNoSurfels;
-    const double size = std::sqrt(projectedBoxPixels(camera_, box));
+    const double size = std::sqrt(boxes_.pixels(box));
     const NodeScale at =
         array != kNoSurfels ? lod::nodeScale(camera_, hierarchy_.world[node], surfels_.arrays[array]) : NodeScale{};
     const double threshold = array != kNoSurfels
@@ -50,7 +50,7 @@ class Traversal {
   // The node's array at full weight, sized by its projected size as if it were inside the threshold.
   void drawWhole(std::uint32_t node) {
     const std::uint32_t array = surfels_.arrayOfNode[node];
-    const double size = std::sqrt(projectedBoxPixels(camera_, hierarchy_.worldBounds[node]));
+    const double size = std::sqrt(boxes_.pixels(hierarchy_.worldBounds[node]));
     drawSurfels(node, array, lod::nodeScale(camera_, hierarchy_.world[node], surfels_.arrays[array]), size, 1.0);
   }
 
@@ -79,6 +79,7 @@ class Traversal {
   const Hierarchy& hierarchy_;
   const SceneSurfels& surfels_;
   const Camera& camera_;
+  const BoxProjection boxes_;
   const LodOptions& options_;
 };
 

@@ -14,4 +14,22 @@ namespace pbs {
 // centre and boxes far from the origin keep their digits.
 double projectedBoxPixels(const Camera& camera, const Bounds& box);
 
+// True when the box lies entirely outside one plane of the camera's clip volume. Conservative: a box that may
+// show any pixel is never reported outside; an empty box always is.
+bool outsideClipVolume(const Camera& camera, const Bounds& box);
+
+// The two for many boxes seen by one camera (the LOD traversals weigh every visible node of a frame): its
+// clip-from-world matrix made once instead of at every box, the same values.
+class BoxProjection {
+ public:
+  explicit BoxProjection(const Camera& camera) : camera_(camera), clipFromWorld_(camera.clipFromWorld()) {}
+  double pixels(const Bounds& box) const;  // projectedBoxPixels
+  bool outside(const Bounds& box) const;   // outsideClipVolume
+  const Camera& camera() const { return camera_; }
+
+ private:
+  const Camera& camera_;
+  glm::dmat4 clipFromWorld_;
+};
+
 }  // namespace pbs

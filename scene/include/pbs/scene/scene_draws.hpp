@@ -5,6 +5,7 @@
 #include "pbs/raster/bounds.hpp"
 #include "pbs/raster/camera.hpp"
 #include "pbs/raster/framebuffer.hpp"
+#include "pbs/raster/projected_box.hpp"  // outsideClipVolume, which drawing instances tests
 #include "pbs/raster/triangles.hpp"
 #include "pbs/scene/hierarchy.hpp"
 #include "pbs/scene/scene.hpp"
@@ -32,10 +33,6 @@ SceneMaterials makeSceneMaterials(const Scene& scene);
 // The tight world box of node `node`'s own mesh (not its subtree), Hierarchy::instanceBounds: known
 // without the mesh's vertices for a scene whose meshes are read on demand. Empty for nodes without a mesh.
 Bounds instanceWorldBounds(const Scene& scene, const Hierarchy& hierarchy, std::uint32_t node);
-
-// True when the box lies entirely outside one plane of the camera's clip volume. Conservative:
-// a box that may show any pixel is never reported outside.
-bool outsideClipVolume(const Camera& camera, const Bounds& worldBox);
 
 // Draws every mesh instance (nodes in index order; PixelIds: node = node index, instance = mesh
 // index, primitive = triangle index in the mesh), skipping instances outside the clip volume.

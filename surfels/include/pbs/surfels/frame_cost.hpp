@@ -4,6 +4,7 @@
 
 #include "pbs/raster/bounds.hpp"
 #include "pbs/raster/camera.hpp"
+#include "pbs/raster/projected_box.hpp"
 #include "pbs/surfels/geometry_drawer.hpp"
 #include "pbs/surfels/lod_render.hpp"
 #include "pbs/surfels/scene_surfels.hpp"
@@ -65,7 +66,7 @@ double rayLevels(double triangles);
 FrameWork geometryNodeWork(double triangles, double boxPixels);
 
 // The pixels a box fills at most: its projected box, clipped to the image; 0 outside the clip volume.
-double clippedBoxPixels(const Camera& camera, const Bounds& box);
+double clippedBoxPixels(const BoxProjection& boxes, const Bounds& box);
 
 // A timed frame: what it drew, its time, and of that its geometry pass and the drawer that drew it.
 struct TimedFrame {
