@@ -87,12 +87,22 @@ PBS_CLONE_INLINE float layerAlpha(const LayerSums& sums) {
   return std::min(1.0f, s + kRise * std::max(0.0f, s - 0.5f));
 }
 
+// A pixel of a footprint, within its cut-off, that the visibility pass found not hidden by the geometry: what
+// the accumulation pass needs of it, so that it need not walk the footprints' pixels again.
+struct Touch {
+  const Footprint* footprint;
+  float depth;  // the footprint's depth at the pixel
+  float q;      // the pixel centre's Mahalanobis distance²
+  std::uint32_t local;
+};
+
 struct TileScratch {
   std::array<float, kTilePixels> front;     // visibility pass: least depth + tolerance
   std::array<float, kTilePixels> geometry;  // depth drawn before the splats
   std::array<float, kTilePixels> nearest;   // accumulation pass: the nearest contributing depth
   std::array<std::uint32_t, kTilePixels> nearestSet, nearestIndex;
   std::array<LayerSums, kTilePixels> layers[2];
+  std::vector<Touch> touches;  // in footprint order, then pixel order: the accumulation pass's order
 };
 
 // Calls visit(footprint, pixel in tile, x, y, q) for every pixel of the tile within a footprint's cut-off,
@@ -162,15 +172,20 @@ PBS_AVX2_CLONES void drawTile(Framebuffer& framebuffer, const TileGrid& grid, st
   }
 
   // A splat deeper than the geometry by more than its tolerance is hidden by it.
-  forEachCoveredPixel(chunks, tile, tileX, tileY, [&](const Footprint& f, std::uint32_t local, int x, int y, float) {
-    const float depth = f.depthAt(x, y);
-    if (depth - f.tolerance <= scratch.geometry[local])
-      scratch.front[local] = std::min(scratch.front[local], depth + f.tolerance);
-  });
+  std::vector<Touch>& touches = scratch.touches;
+  touches.clear();
   forEachCoveredPixel(chunks, tile, tileX, tileY, [&](const Footprint& f, std::uint32_t local, int x, int y, float q) {
     const float depth = f.depthAt(x, y);
-    if (depth - f.tolerance > scratch.geometry[local]) return;
-    const float coverage = f.amplitude * f.weight(q);
+    if (depth - f.tolerance <= scratch.geometry[local]) {
+      scratch.front[local] = std::min(scratch.front[local], depth + f.tolerance);
+      touches.push_back({&f, depth, q, local});
+    }
+  });
+  for (const Touch& touch : touches) {
+    const Footprint& f = *touch.footprint;
+    const std::uint32_t local = touch.local;
+    const float depth = touch.depth;
+    const float coverage = f.amplitude * f.weight(touch.q);
     LayerSums& sums = scratch.layers[depth <= scratch.front[local] ? 0 : 1][local];
     sums.coverage += coverage;
     sums.color += coverage * glm::vec3(f.color);
@@ -180,7 +195,7 @@ PBS_AVX2_CLONES void drawTile(Framebuffer& framebuffer, const TileGrid& grid, st
       scratch.nearestSet[local] = f.set;
       scratch.nearestIndex[local] = f.index;
     }
-  });
+  }
 
   // Front layer over back layer over geometry, in premultiplied colour.
   const bool ids = framebuffer.has(kChannelIds);
