@@ -144,8 +144,10 @@ PBS_CLONE_INLINE std::size_t FootprintProjector::projectBatch(std::size_t first,
     nz = hasNormal ? nz * toUnitNormal : ez;
     const double cosine = (nx * ex + ny * ey) + nz * ez;
     const bool away = cosine < 0.0;
-    facing[k] = (hw > 0.0) & (cz >= 0.0) & (cz <= 1.0) & (std::abs(cx) <= kLargest) & (std::abs(cy) <= kLargest) &
-                (eyeDistance > 0.0) & (cosine >= backFaceCosine_);
+    // Every test made, and combined without a branch (as integers: a bitwise and of bools is taken for a typo).
+    using Lane = std::int64_t;
+    facing[k] = Lane(hw > 0.0) & Lane(cz >= 0.0) & Lane(cz <= 1.0) & Lane(std::abs(cx) <= kLargest) &
+                Lane(std::abs(cy) <= kLargest) & Lane(eyeDistance > 0.0) & Lane(cosine >= backFaceCosine_);
     f.invW[k] = invW;
     f.cx[k] = cx, f.cy[k] = cy, f.cz[k] = cz;
     f.ex[k] = ex, f.ey[k] = ey, f.ez[k] = ez;
@@ -195,7 +197,7 @@ PBS_CLONE_INLINE std::size_t FootprintProjector::projectBatch(std::size_t first,
     const double sxy = (ax * ay + bx * by) / 4.0;
     const double syy = (ay * ay + by * by) / 4.0 + 1.0 / 12.0;
     const double det = sxx * syy - sxy * sxy;
-    g.drawable[k] = (det > 0.0) & (det <= kLargest);
+    g.drawable[k] = std::int64_t(det > 0.0) & std::int64_t(det <= kLargest);
     // The cut-off ellipse's half-extents are √(cutoff · Σxx) and √(cutoff · Σyy); std::max and std::min spelt out.
     const double narrowest = syy < sxx ? syy : sxx;
     const double reachCutoff = double(kMinReach * kMinReach) / narrowest;
