@@ -19,7 +19,8 @@ double projectedBoxPixels(const Camera& camera, const Bounds& box);
 bool outsideClipVolume(const Camera& camera, const Bounds& box);
 
 // The two for many boxes seen by one camera (the LOD traversals weigh every visible node of a frame): its
-// clip-from-world matrix made once instead of at every box, the same values.
+// clip-from-world matrix made once instead of at every box, the same values. It refers to the camera, which
+// must outlive it.
 class BoxProjection {
  public:
   explicit BoxProjection(const Camera& camera) : camera_(camera), clipFromWorld_(camera.clipFromWorld()) {}
