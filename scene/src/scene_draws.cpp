@@ -1,8 +1,6 @@
 // Turns the scene model into TriangleDraws, culls instances outside the view and draws the rest.
 #include "pbs/scene/scene_draws.hpp"
 
-#include <algorithm>
-#include <array>
 #include <numeric>
 
 namespace pbs {
@@ -50,9 +48,10 @@ void drawNodeTriangles(const Scene& scene, const Hierarchy& hierarchy, std::span
                        std::span<const std::uint8_t> hiddenBackFaces) {
   const SceneMaterials materials = makeSceneMaterials(scene);
   std::vector<TriangleDraw> draws;
+  const BoxProjection boxes(camera);
   for (std::uint32_t node : nodes) {
     const std::int32_t meshIndex = scene.nodes[node].mesh;
-    if (meshIndex < 0 || outsideClipVolume(camera, instanceWorldBounds(scene, hierarchy, node))) continue;
+    if (meshIndex < 0 || boxes.outside(instanceWorldBounds(scene, hierarchy, node))) continue;
     const Mesh& mesh = scene.meshes[std::size_t(meshIndex)];
     TriangleDraw draw;
     draw.positions = mesh.positions;
