@@ -18,24 +18,6 @@ PBS_CLONE_INLINE glm::vec3 unitNormal(const glm::vec3& n, const float* facePart)
   return face2 > 0.0f && face2 < 1e30f ? face * (1.0f / std::sqrt(face2)) : glm::vec3(0.0f);
 }
 
-// Rows of the channels lie a window width apart: fetch the next row's lines for writing while
-// this row is shaded, so that the stores do not wait on them one by one.
-template <class Pixel>
-void prefetchSpan(const std::vector<Pixel>& channel, std::size_t first, int count) {
-  if (channel.empty()) return;
-  const char* begin = reinterpret_cast<const char*>(channel.data() + first);
-  const char* end = reinterpret_cast<const char*>(channel.data() + first + count);
-  for (const char* line = begin; line < end; line += 64) __builtin_prefetch(line, 1);
-}
-
-void prefetchRow(const Framebuffer& framebuffer, int x0, int y, int width) {
-  const std::size_t first = std::size_t(y) * framebuffer.width + std::size_t(x0);
-  prefetchSpan(framebuffer.position, first, width);
-  prefetchSpan(framebuffer.normal, first, width);
-  prefetchSpan(framebuffer.color, first, width);
-  prefetchSpan(framebuffer.ids, first, width);
-}
-
 // d(uv)/dx and d(uv)/dy at the pixel, times the sample spacing: uv = P·w with P the plane of uv/w and 1/w
 // a plane Q, so d(uv)/dx = (dP/dx − uv · dQ/dx) · w (the planes' x and y parts are their derivatives).
 PBS_CLONE_INLINE TextureFootprint uvFootprint(const float* record, const ShadingLayout& layout, bool perspective,
@@ -61,20 +43,20 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
   glm::u8vec4* const colors = framebuffer.has(kChannelColor) ? framebuffer.color.data() : nullptr;
   PixelIds* const ids = framebuffer.has(kChannelIds) ? framebuffer.ids.data() : nullptr;
   const TriangleChunk* const chunks = batch.chunks.data();
+  const std::uint32_t uniformStride = batch.uniformStride;
   const TriangleSpan* const spans = batch.spans.data();
   const std::size_t width = framebuffer.width;
   const auto sampleSpacing = float(batch.camera.sampleSpacing);
   const std::uint32_t textureProbes = batch.camera.textureProbes;
   for (int row = 0; row < tile.height; ++row) {
     const int y = tile.y0 + row;
-    if (row + 1 < tile.height) prefetchRow(framebuffer, tile.x0, y + 1, tile.width);
     for (int column = 0; column < tile.width; ++column) {
       const std::uint32_t id = tile.ids[row * kTileStride + column];
       if (id == kNoTriangle) continue;
       // Every pixel looks its winner up afresh. About half the pixels continue their left
       // neighbour's triangle, but a branch to reuse its values mispredicts so often that
       // recomputing them is faster.
-      const float* record = chunks[idChunk(id)].record(idLocal(id));
+      const float* record = chunks[idChunk(id)].record(idLocal(id), uniformStride);
       const ShadingHeader header = loadHeader(record);
       const TriangleSpan& span = spans[header.span];
       const ShadingLayout& layout = span.texture ? textured : flat;

@@ -100,6 +100,9 @@ struct TriangleBatch : BatchBuffers {
   ShadingLayout layouts[2];
   const ShadingLayout& layoutOf(const TriangleSpan& span) const { return layouts[span.texture != nullptr]; }
   std::uint32_t maxStride() const { return std::max(layouts[0].stride, layouts[1].stride); }
+  // Where the spans are all flat or all textured, the stride of their one layout: the records lie that
+  // far apart and need no table of starts (TriangleChunk::record). 0 where the batch mixes both.
+  std::uint32_t uniformStride = 0;
   double guardX, guardY;  // the guard band as bounds on |x/w| and |y/w|
   int tilesX, tilesY;
 

@@ -144,7 +144,7 @@ class ChunkWriter {
                                            const ProjectedVertex* v2, std::uint16_t px0, std::uint16_t py0) {
     const ShadingLayout& layout = batch_.layoutOf(span);
     const std::size_t at = chunk_.shading.size();
-    chunk_.recordStart.push_back(std::uint32_t(at));
+    if (batch_.uniformStride == 0) chunk_.recordStart.push_back(std::uint32_t(at));
     chunk_.shading.resize(at + layout.stride);
     float* const record = chunk_.shading.data() + at;
     storeHeader(record, ShadingHeader{source.span, source.primitive, px0, py0, span.flatColor});
@@ -286,7 +286,7 @@ void setupChunk(TriangleBatch& batch, std::uint32_t chunkIndex) {
   chunk.shading.clear();
   chunk.recordStart.clear();
   chunk.raster.reserve(kChunkTriangles);
-  chunk.recordStart.reserve(kChunkTriangles);
+  if (batch.uniformStride == 0) chunk.recordStart.reserve(kChunkTriangles);
   chunk.shading.reserve(std::size_t(kChunkTriangles) * batch.maxStride());
   std::fill_n(batch.tileCounts.data() + chunkIndex * binCount(batch), binCount(batch), 0u);
   ChunkWriter writer(batch, chunkIndex);
@@ -334,6 +334,12 @@ ShadingLayout shadingLayout(const TriangleBatch& batch, bool sampled) {
 void setupTriangles(TriangleBatch& batch) {
   batch.layouts[0] = shadingLayout(batch, false);
   batch.layouts[1] = shadingLayout(batch, true);
+  const auto any = [&](bool textured) {
+    return std::any_of(batch.spans.begin(), batch.spans.end(),
+                       [&](const TriangleSpan& span) { return (span.texture != nullptr) == textured; });
+  };
+  const bool anyFlat = any(false), anyTextured = any(true);
+  batch.uniformStride = anyFlat && anyTextured ? 0 : batch.layouts[anyTextured].stride;
   const std::uint32_t chunkCount = (batch.triangleCount + kChunkTriangles - 1) / kChunkTriangles;
   batch.chunkCount = chunkCount;
   if (batch.chunks.size() < chunkCount) batch.chunks.resize(chunkCount);

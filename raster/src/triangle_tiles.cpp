@@ -28,9 +28,13 @@ void prefetchRaster(const TriangleBatch& batch, std::uint32_t id) {
   __builtin_prefetch(&batch.chunks[idChunk(id)].raster[idLocal(id)]);
 }
 
+// __builtin_prefetch has no effect GCC's analysis sees: it deduced that this function, when it was
+// not inlined, was "pure", and deleted the call, its result unused. The records went unfetched and a
+// capture ran 20 % slower. The empty volatile asm is an effect it cannot see through; it emits nothing.
 void prefetchRecord(const TriangleBatch& batch, std::uint32_t id) {
-  const float* record = batch.chunks[idChunk(id)].record(idLocal(id));
+  const float* record = batch.chunks[idChunk(id)].record(idLocal(id), batch.uniformStride);
   for (std::uint32_t line = 0; line < batch.maxStride(); line += 16) __builtin_prefetch(record + line);
+  asm volatile("");
 }
 
 void storeTileDepth(Framebuffer& framebuffer, const TileBuffer& tile) {
