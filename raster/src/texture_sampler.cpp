@@ -2,6 +2,8 @@
 // footprint picks, RGBA8 rounding.
 #include "pbs/raster/texture.hpp"
 
+#include "pbs/raster/simd_clones.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -10,12 +12,14 @@
 namespace pbs {
 namespace {
 
-std::int64_t positiveModulo(std::int64_t i, std::int64_t n) {
+PBS_CLONE_INLINE std::int64_t positiveModulo(std::int64_t i, std::int64_t n) {
+  // Most coordinates lie in [0, 1): no division for them (one is 20-40 cycles).
+  if (std::uint64_t(i) < std::uint64_t(n)) return i;
   const std::int64_t m = i % n;
   return m < 0 ? m + n : m;
 }
 
-std::int64_t wrapTexel(std::int64_t i, std::int64_t size, TextureWrap wrap) {
+PBS_CLONE_INLINE std::int64_t wrapTexel(std::int64_t i, std::int64_t size, TextureWrap wrap) {
   switch (wrap) {
     case TextureWrap::ClampToEdge: return std::clamp<std::int64_t>(i, 0, size - 1);
     case TextureWrap::MirroredRepeat: {
@@ -29,7 +33,7 @@ std::int64_t wrapTexel(std::int64_t i, std::int64_t size, TextureWrap wrap) {
 
 // The coordinate in texels, bounded so that its floor converts to an integer (floats that large
 // have no fraction left anyway); NaN samples the origin.
-float texelCoordinate(float t, std::uint32_t size) {
+PBS_CLONE_INLINE float texelCoordinate(float t, std::uint32_t size) {
   const float s = t * float(size);
   constexpr float kLimit = 0x1p40f;
   return s == s ? std::clamp(s, -kLimit, kLimit) : 0.0f;
@@ -41,13 +45,13 @@ struct Level {
   const std::uint8_t* rgba8;
 };
 
-glm::vec4 texel(const Level& level, std::int64_t x, std::int64_t y) {
+PBS_CLONE_INLINE glm::vec4 texel(const Level& level, std::int64_t x, std::int64_t y) {
   const std::uint8_t* p = level.rgba8 + (std::size_t(y) * std::size_t(level.width) + std::size_t(x)) * 4;
   return {p[0], p[1], p[2], p[3]};
 }
 
 // RGBA in [0, 255] at uv in one level, by nearest or bilinear filtering.
-glm::vec4 sampleLevel(const Level& level, TextureFilter filter, const Texture& texture, glm::vec2 uv) {
+PBS_CLONE_INLINE glm::vec4 sampleLevel(const Level& level, TextureFilter filter, const Texture& texture, glm::vec2 uv) {
   const std::int64_t w = level.width, h = level.height;
   const float s = texelCoordinate(uv.x, std::uint32_t(w)), t = texelCoordinate(uv.y, std::uint32_t(h));
   if (filter == TextureFilter::Nearest) {
@@ -66,14 +70,14 @@ glm::vec4 sampleLevel(const Level& level, TextureFilter filter, const Texture& t
   return glm::mix(top, bottom, ay);
 }
 
-Level levelOf(const Texture& texture, std::size_t index) {
+PBS_CLONE_INLINE Level levelOf(const Texture& texture, std::size_t index) {
   if (index == 0) return {texture.width, texture.height, texture.rgba8.data()};
   const TextureLevel& level = texture.mipLevels[index - 1];
   return {level.width, level.height, level.rgba8.data()};
 }
 
 // The squared lengths of a footprint's two sides (dx, dy) in level-0 texels.
-glm::vec2 squaredSides(const Texture& texture, const TextureFootprint& f) {
+PBS_CLONE_INLINE glm::vec2 squaredSides(const Texture& texture, const TextureFootprint& f) {
   const glm::vec2 size(float(texture.width), float(texture.height));
   const glm::vec2 x = f.dx * size, y = f.dy * size;
   return {glm::dot(x, x), glm::dot(y, y)};
@@ -81,13 +85,13 @@ glm::vec2 squaredSides(const Texture& texture, const TextureFootprint& f) {
 
 // log2 of a footprint's larger side, from its squared sides: NaN where it has none (zero or NaN), which
 // samples level 0 magnified; an infinite one (a triangle seen edge-on) picks the last level.
-float levelOfDetail(const glm::vec2& sides2) {
+PBS_CLONE_INLINE float levelOfDetail(const glm::vec2& sides2) {
   const float rho2 = std::max(sides2.x, sides2.y);
   return rho2 > 0.0f ? 0.5f * std::log2(std::min(rho2, 1e30f)) : std::numeric_limits<float>::quiet_NaN();
 }
 
 // One probe at level of detail `lod`: level 0 magnified, else the level or levels `mipmap` picks.
-glm::vec4 sampleProbe(const Texture& texture, glm::vec2 uv, float lod) {
+PBS_CLONE_INLINE glm::vec4 sampleProbe(const Texture& texture, glm::vec2 uv, float lod) {
   // Not greater than 0 (NaN included): magnified.
   if (!(lod > 0.0f)) return sampleLevel(levelOf(texture, 0), texture.magFilter, texture, uv) / 255.0f;
   const std::size_t last = texture.mipLevels.size();
@@ -110,14 +114,6 @@ glm::vec4 sampleProbe(const Texture& texture, glm::vec2 uv, float lod) {
 }
 
 }  // namespace
-
-glm::u8vec4 toUnorm8(const glm::vec4& color) {
-  const auto unorm8 = [](float v) {
-    const float clamped = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
-    return std::uint8_t(clamped * 255.0f + 0.5f);
-  };
-  return {unorm8(color.r), unorm8(color.g), unorm8(color.b), unorm8(color.a)};
-}
 
 bool isSampleable(const Texture& texture) {
   return texture.width > 0 && texture.height > 0 &&
@@ -150,6 +146,9 @@ void buildMipLevels(Texture& texture) {
   }
 }
 
+// Cloned (with its helpers inlined) since both the rasterizer's resolve and the ray caster's shading
+// spend a textured frame's time here.
+PBS_AVX2_CLONES
 glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootprint& footprint) {
   if (footprint.maxProbes == 0) return sampleProbe(texture, uv, std::numeric_limits<float>::quiet_NaN());
   // A footprint longer than wide (a surface seen at a slant) is covered by probes spaced along its long

@@ -66,7 +66,14 @@ struct TextureFootprint {
 // at the sample), so their colours agree.
 glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootprint& footprint = {});
 
-// A colour in [0, 1] as RGBA8, rounded to nearest; out-of-range values clamp and NaN becomes 0.
-glm::u8vec4 toUnorm8(const glm::vec4& color);
+// A colour in [0, 1] as RGBA8, rounded to nearest; out-of-range values clamp and NaN becomes 0. Inline, so
+// that the resolve's clones inline it per pixel.
+inline glm::u8vec4 toUnorm8(const glm::vec4& color) {
+  const auto unorm8 = [](float v) {
+    const float clamped = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
+    return std::uint8_t(clamped * 255.0f + 0.5f);
+  };
+  return {unorm8(color.r), unorm8(color.g), unorm8(color.b), unorm8(color.a)};
+}
 
 }  // namespace pbs
