@@ -56,7 +56,13 @@ void appendSurfels(const Framebuffer& framebuffer, const glm::vec3& direction, C
       const glm::vec3 normal = normals[pixel];
       const bool behind = glm::dot(normal, direction) > 0.0f;
       seenFromBehind += behind;
-      surfels.push_back({positions[pixel], behind ? -normal : normal, colors[pixel]});
+      // Field by field: a braced Surfel was built on the stack and copied out in 16-byte loads that
+      // straddled its smaller stores, a store-forwarding stall per candidate (two thirds of this
+      // function's samples).
+      Surfel& surfel = surfels.emplace_back();
+      surfel.position = positions[pixel];
+      surfel.normal = behind ? -normal : normal;
+      surfel.color = colors[pixel];
     }
   }
   result.seenFromBehind += seenFromBehind;

@@ -127,11 +127,59 @@ std::uint64_t heapKey(float squaredDistance, std::uint32_t index) {
 // The squared distance a heap key holds (0 for a cell without pool points).
 float keyDistance(std::uint64_t key) { return std::bit_cast<float>(static_cast<std::uint32_t>(key >> 32)); }
 
+// A binary max-heap of (key, cell) entries whose top can be replaced in one sift-down: a stale top is
+// put back with its cell's current key, and a chosen point's cell with its new one, where std's heap
+// would pop and then push (two passes). Ordered by key alone (pair's synthesised three-way comparison
+// costs more): cells whose keys tie leave in either order, and a choice waits for the exact key, which
+// no other cell's can equal.
+class CellHeap {
+ public:
+  struct Entry {
+    std::uint64_t key;  // the cell's key when it was put in
+    std::uint32_t cell;
+  };
+  void add(Entry e) { entries_.push_back(e); }
+  void build() {
+    std::make_heap(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
+  }
+  bool empty() const { return entries_.empty(); }
+  const Entry& top() const { return entries_.front(); }
+  // The largest key below the top's (0 when the top is alone).
+  std::uint64_t nextKey() const {
+    const std::size_t n = entries_.size();
+    if (n < 2) return 0;
+    return n == 2 ? entries_[1].key : std::max(entries_[1].key, entries_[2].key);
+  }
+  void replaceTop(Entry e) { siftDown(e); }
+  void popTop() {
+    const Entry last = entries_.back();
+    entries_.pop_back();
+    if (!entries_.empty()) siftDown(last);
+  }
+
+ private:
+  // Puts e at the root and moves it down to where it belongs.
+  void siftDown(Entry e) {
+    const std::size_t n = entries_.size();
+    std::size_t i = 0;
+    for (;;) {
+      std::size_t child = 2 * i + 1;
+      if (child >= n) break;
+      if (child + 1 < n && entries_[child + 1].key > entries_[child].key) ++child;
+      if (entries_[child].key <= e.key) break;
+      entries_[i] = entries_[child];
+      i = child;
+    }
+    entries_[i] = e;
+  }
+  std::vector<Entry> entries_;
+};
+
 // Lowers the distances of slots [begin, end) to their squared distance from p and returns the largest,
 // as its bits read as a signed integer: they order non-negative floats as the floats, and the -1 of
 // chosen points below all of them. An integer maximum the compiler vectorises; a float one it may not.
-PBS_AVX2_CLONES std::int32_t lowerDistances(const CellSortedPoints& grid, std::uint32_t begin, std::uint32_t end,
-                                            glm::vec3 p, float* distance) {
+PBS_CLONE_INLINE std::int32_t lowerDistances(const CellSortedPoints& grid, std::uint32_t begin, std::uint32_t end,
+                                             glm::vec3 p, float* distance) {
   const float* x = grid.x.data();
   const float* y = grid.y.data();
   const float* z = grid.z.data();
@@ -147,13 +195,16 @@ PBS_AVX2_CLONES std::int32_t lowerDistances(const CellSortedPoints& grid, std::u
 
 }  // namespace
 
-std::vector<std::uint32_t> orderFarthest(std::span<const glm::vec3> points, std::uint32_t max, std::uint64_t seed) {
-  std::vector<std::uint32_t> order;
+// Cloned for AVX2 with the distance updates inlined: a rescanned cell holds a few points, so a call per
+// cell (to a clone of its own) cost more than the loop.
+PBS_AVX2_CLONES std::vector<std::uint32_t> orderFarthest(std::span<const glm::vec3> points, std::uint32_t max,
+                                                         std::uint64_t seed) {
+  std::vector<std::uint32_t> order;  // the chosen points' slots, their indices at the end
   if (points.empty() || max == 0) return order;
   const CellSortedPoints grid = sortIntoCells(points, max);
   SeededRandom rng(seed);
   const std::uint32_t first = static_cast<std::uint32_t>(rng.below(points.size()));
-  order.push_back(first);
+  order.push_back(grid.slotOf[first]);
 
   // Per slot: squared distance to the nearest chosen point; chosen points hold -1 so no update applies.
   std::vector<float> distance(points.size(), std::numeric_limits<float>::infinity());
@@ -165,70 +216,68 @@ std::vector<std::uint32_t> orderFarthest(std::span<const glm::vec3> points, std:
   const std::size_t cells = grid.cellStart.size() - 1;
   std::vector<std::uint64_t> cellBest(cells, 0);
   // Rescans a cell after its distances changed: a cell is small, and it was just read anyway. The bound
-  // is the farthest distance with the cell's lowest index; which slot holds that distance (the key's
-  // index) is only looked for when the cell reaches the top of the heap (exactKey).
+  // is the farthest distance with the lowest index there can be (index 0: all ones in the key's low
+  // half); which slot holds that distance, and its index, is only looked for when the cell reaches the
+  // top of the heap (exactSlot). Reading the cell's first index here instead cost a cache miss per cell.
   const auto updateCell = [&](std::size_t c, const glm::vec3& chosen) {
-    const std::uint32_t begin = grid.cellStart[c];
-    const std::int32_t best = lowerDistances(grid, begin, grid.cellStart[c + 1], chosen, distance.data());
-    cellBest[c] = best < 0 ? 0 : heapKey(std::bit_cast<float>(best), grid.index[begin]);
+    const std::int32_t best = lowerDistances(grid, grid.cellStart[c], grid.cellStart[c + 1], chosen, distance.data());
+    cellBest[c] = best < 0 ? 0 : heapKey(std::bit_cast<float>(best), 0);
   };
-  // Slots are in increasing index order within a cell, so the first at the farthest distance holds
-  // heapKey's tie rule.
-  const auto exactKey = [&](std::size_t c) {
+  // The slot of the cell's farthest pool point: slots are in increasing index order within a cell, so
+  // the first at the farthest distance holds heapKey's tie rule.
+  const auto exactSlot = [&](std::size_t c) {
     const std::uint32_t farthest = static_cast<std::uint32_t>(cellBest[c] >> 32);
     std::uint32_t s = grid.cellStart[c];
     while (std::bit_cast<std::uint32_t>(distance[s]) != farthest) ++s;
-    return heapKey(distance[s], grid.index[s]);
+    return s;
   };
-  using Entry = std::pair<std::uint64_t, std::uint32_t>;  // (cell's key when pushed, cell)
-  // By key alone: equal keys hold the same index, so they are entries of one cell (pair's synthesised
-  // three-way comparison costs more than the key's).
-  const auto byKey = [](const Entry& a, const Entry& b) { return a.first < b.first; };
-  std::vector<Entry> heap;
+  CellHeap heap;
   for (std::uint32_t c = 0; c < cells; ++c) {
     updateCell(c, points[first]);
-    if (cellBest[c] != 0) heap.emplace_back(cellBest[c], c);
+    if (cellBest[c] != 0) heap.add({cellBest[c], c});
   }
-  std::make_heap(heap.begin(), heap.end(), byKey);
+  heap.build();
 
   // Per axis, the squared gap from the chosen point to each layer of cells in its reach: a cell's gap
   // is then the sum of three (summed in glm::dot's order, so it is the very value of gapTo).
   std::array<std::vector<float>, 3> layerGap;
-  // Keys only shrink and the heap is not told: each entry is an upper bound of its cell's key, so a
-  // top that is current and exact holds the true farthest point; a stale top is pushed back with its
-  // current bound, a current one with its exact key when that is lower.
-  const auto push = [&](std::uint64_t key, std::uint32_t cell) {
-    heap.emplace_back(key, cell);
-    std::push_heap(heap.begin(), heap.end(), byKey);
-  };
+  // Distances only shrink and the heap is not told: each entry is an upper bound of its cell's key, so a
+  // top whose exact key is no lower than the next entry holds the true farthest point; a stale top is
+  // put back with its current bound, a current one with its exact key when another entry is higher.
   while (order.size() < max && !heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end(), byKey);
-    const auto [key, cell] = heap.back();
-    heap.pop_back();
+    const auto [key, cell] = heap.top();
     if (cellBest[cell] != key) {
-      if (cellBest[cell] != 0) push(cellBest[cell], cell);
+      if (cellBest[cell] != 0)
+        heap.replaceTop({cellBest[cell], cell});
+      else
+        heap.popTop();
       continue;
     }
-    cellBest[cell] = exactKey(cell);
-    if (cellBest[cell] != key) {
-      push(cellBest[cell], cell);
-      continue;
+    // The top cell's exact key is the farthest of all once no other entry's bound exceeds it. Its index
+    // (a cache miss) is read only where another entry's distance is as large, and the order is kept as
+    // slots until the end.
+    const std::uint32_t slot = exactSlot(cell);
+    if (const std::uint64_t next = heap.nextKey(); (next >> 32) >= (key >> 32)) {
+      const std::uint64_t exact = heapKey(distance[slot], grid.index[slot]);
+      cellBest[cell] = exact;
+      if (next > exact) {
+        heap.replaceTop({exact, cell});
+        continue;
+      }
     }
-    const std::uint32_t index = ~static_cast<std::uint32_t>(key);
-    const std::uint32_t slot = grid.slotOf[index];
     const float radius2 = distance[slot];
-    order.push_back(index);
+    order.push_back(slot);
     distance[slot] = -1.0f;
     if (radius2 == 0.0f) {
       // The farthest pool point is at distance 0, so all are, and stay so: ties go to the lower index,
       // so the rest of the order is the pool in index order. Taken in one pass, as rescanning the
       // chosen point's cell for each of n coincident points would cost n².
       for (std::uint32_t i = 0; i < points.size() && order.size() < max; ++i)
-        if (distance[grid.slotOf[i]] >= 0.0f) order.push_back(i);
+        if (distance[grid.slotOf[i]] >= 0.0f) order.push_back(grid.slotOf[i]);
       break;
     }
     // Only points within the chosen point's own distance can have it as their new nearest.
-    const glm::vec3 p = points[index];
+    const glm::vec3 p(grid.x[slot], grid.y[slot], grid.z[slot]);
     // A relative margin so float rounding never skips a point inside the radius.
     const float reach = std::sqrt(radius2) * 1.0001f;
     const glm::ivec3 lo = grid.cellOf(p - reach);
@@ -279,10 +328,13 @@ std::vector<std::uint32_t> orderFarthest(std::span<const glm::vec3> points, std:
         }
       }
     }
-    // The chosen point's own entry was consumed; its cell (always within reach) needs a new one.
-    const std::uint32_t own = static_cast<std::uint32_t>(grid.linear(grid.cellOf(p)));
-    if (cellBest[own] != 0) push(cellBest[own], own);
+    // The top is the chosen point's cell (always within reach, so rescanned): its entry takes the new key.
+    if (cellBest[cell] != 0)
+      heap.replaceTop({cellBest[cell], cell});
+    else
+      heap.popTop();
   }
+  for (std::uint32_t& chosen : order) chosen = grid.index[chosen];
   return order;
 }
 
