@@ -15,6 +15,8 @@ namespace pbs {
 
 namespace {
 
+constexpr int kBlockShift = 2;  // blocks of 4 × 4 × 4 cells
+
 // The input sorted cell by cell into a uniform grid once, so a radius query reads contiguous memory.
 struct CellSortedPoints {
   glm::vec3 lo{0.0f};
@@ -37,15 +39,16 @@ struct CellSortedPoints {
   glm::ivec3 cellOf(const glm::vec3& p) const {
     return glm::clamp(glm::ivec3(glm::floor((p - lo) / cellSize)), glm::ivec3(0), dims - 1);
   }
-  std::size_t linear(const glm::ivec3& c) const {
-    return (static_cast<std::size_t>(c.z) * dims.y + c.y) * dims.x + c.x;
-  }
   std::size_t blockLinear(const glm::ivec3& b) const {
     return (static_cast<std::size_t>(b.z) * blockDims.y + b.y) * blockDims.x + b.x;
   }
+  // Cells are numbered block by block (a block's index << 6, plus withinBlock), so that the per-cell
+  // arrays a search reads for one block (cellBest, cellStart) lie together, not in 16 rows of the grid.
+  static std::size_t withinBlock(const glm::ivec3& c) {
+    constexpr int mask = (1 << kBlockShift) - 1;
+    return std::size_t((((c.z & mask) << kBlockShift) + (c.y & mask)) << kBlockShift) + std::size_t(c.x & mask);
+  }
 };
-
-constexpr int kBlockShift = 2;  // blocks of 4 × 4 × 4 cells
 
 glm::ivec3 dimsFor(const glm::vec3& extent, float cellSize) { return glm::ivec3(glm::floor(extent / cellSize)) + 1; }
 
@@ -63,9 +66,9 @@ CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t 
   if (maxExtent > 0.0f) {
     grid.cellSize = 1.6f * maxExtent / std::sqrt(static_cast<float>(std::max(1u, max)));
     const double cellLimit = 2.0 * static_cast<double>(points.size()) + 8.0;
-    for (;;) {
-      const glm::dvec3 d(dimsFor(extent, grid.cellSize));
-      if (d.x * d.y * d.z <= cellLimit) break;
+    for (;;) {  // counting the cells that fill out the last block on each axis
+      const glm::dvec3 blocks(((dimsFor(extent, grid.cellSize) - 1) >> kBlockShift) + 1);
+      if (blocks.x * blocks.y * blocks.z * double(1 << (3 * kBlockShift)) <= cellLimit) break;
       grid.cellSize *= 1.25f;
     }
   }
@@ -74,30 +77,30 @@ CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t 
       std::max({std::abs(box.lo.x), std::abs(box.lo.y), std::abs(box.lo.z), std::abs(box.lo.x + extent.x),
                 std::abs(box.lo.y + extent.y), std::abs(box.lo.z + extent.z)});
   grid.slack = 1e-3f * grid.cellSize + 16.0f * std::numeric_limits<float>::epsilon() * magnitude;
-  const std::size_t cells = static_cast<std::size_t>(grid.dims.x) * grid.dims.y * grid.dims.z;
+  grid.blockDims = ((grid.dims - 1) >> kBlockShift) + 1;
+  const std::size_t blocks = static_cast<std::size_t>(grid.blockDims.x) * grid.blockDims.y * grid.blockDims.z;
+  const std::size_t cells = blocks << (3 * kBlockShift);
   std::vector<std::uint32_t> cellOfPoint(points.size());
   grid.cellStart.assign(cells + 1, 0);
-  grid.blockDims = ((grid.dims - 1) >> kBlockShift) + 1;
-  grid.blockOccupied.assign(static_cast<std::size_t>(grid.blockDims.x) * grid.blockDims.y * grid.blockDims.z, 0);
+  grid.blockOccupied.assign(blocks, 0);
   {
     // grid.cellOf for points of the box, where p - lo is not negative, so truncation is the floor (floor
     // itself is a long sequence on baseline x86-64). The grid's fields are copied: the byte stores
     // below may alias anything, and would have them reloaded per point.
     const glm::vec3 lo = grid.lo;
     const float cellSize = grid.cellSize;
-    const glm::ivec3 dims = grid.dims, blockDims = grid.blockDims;
+    const glm::ivec3 dims = grid.dims;
     std::uint32_t* count = grid.cellStart.data() + 1;
     std::uint8_t* blockOccupied = grid.blockOccupied.data();
     for (std::size_t i = 0; i < points.size(); ++i) {
       const glm::vec3 q = (points[i] - lo) / cellSize;
       const glm::ivec3 cell(std::min(int(q.x), dims.x - 1), std::min(int(q.y), dims.y - 1),
                             std::min(int(q.z), dims.z - 1));
-      const glm::uvec3 u(cell);  // the cell's index modulo 2^32, as the static_cast of grid.linear gives
-      const std::uint32_t c = (u.z * std::uint32_t(dims.y) + u.y) * std::uint32_t(dims.x) + u.x;
+      const std::size_t block = grid.blockLinear(cell >> kBlockShift);
+      const std::uint32_t c = static_cast<std::uint32_t>((block << (3 * kBlockShift)) + grid.withinBlock(cell));
       cellOfPoint[i] = c;
       ++count[c];
-      const glm::ivec3 block = cell >> kBlockShift;
-      blockOccupied[(std::size_t(block.z) * blockDims.y + block.y) * blockDims.x + block.x] = 1;
+      blockOccupied[block] = 1;
     }
   }
   for (std::size_t c = 0; c < cells; ++c) grid.cellStart[c + 1] += grid.cellStart[c];
@@ -303,8 +306,8 @@ PBS_AVX2_CLONES std::vector<std::uint32_t> orderFarthest(std::span<const glm::ve
       for (int by = blockLo.y; by <= blockHi.y; ++by) {
         for (int bx = blockLo.x; bx <= blockHi.x; ++bx) {
           const glm::ivec3 block(bx, by, bz);
-          if (!grid.blockOccupied[grid.blockLinear(block)] || gapTo(block << kBlockShift, blockSize) > reach * reach)
-            continue;
+          const std::size_t blockIndex = grid.blockLinear(block);
+          if (!grid.blockOccupied[blockIndex] || gapTo(block << kBlockShift, blockSize) > reach * reach) continue;
           const glm::ivec3 from = glm::max(lo, block << kBlockShift);
           const glm::ivec3 to = glm::min(hi, ((block + 1) << kBlockShift) - 1);
           for (int z = from.z; z <= to.z; ++z) {
@@ -313,13 +316,13 @@ PBS_AVX2_CLONES std::vector<std::uint32_t> orderFarthest(std::span<const glm::ve
               const float gapY = layerGap[1][std::size_t(y - lo.y)];
               // Rounding is monotone, so no cell of the row is nearer than its x gap 0 would make it.
               if (gapY + gapZ > reach * reach) continue;
-              const std::size_t row = grid.linear({0, y, z});
+              const std::size_t row = (blockIndex << (3 * kBlockShift)) + grid.withinBlock({0, y, z});
               for (int x = from.x; x <= to.x; ++x) {
                 // A cell is rescanned only if p can be nearer than some point's current distance: within
                 // the chosen point's reach, and nearer than the cell's farthest pool point (cells already
                 // covered by earlier choices are skipped; the margin covers the rounding of the squared
                 // distances, the slack that of the box).
-                const std::size_t c = row + std::size_t(x);
+                const std::size_t c = row + std::size_t(x & ((1 << kBlockShift) - 1));
                 const float gap2 = layerGap[0][std::size_t(x - lo.x)] + gapY + gapZ;
                 if (gap2 <= reach * reach && gap2 < keyDistance(cellBest[c]) * 1.0002f) updateCell(c, p);
               }
