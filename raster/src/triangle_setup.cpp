@@ -334,11 +334,8 @@ ShadingLayout shadingLayout(const TriangleBatch& batch, bool sampled) {
 void setupTriangles(TriangleBatch& batch) {
   batch.layouts[0] = shadingLayout(batch, false);
   batch.layouts[1] = shadingLayout(batch, true);
-  const auto any = [&](bool textured) {
-    return std::any_of(batch.spans.begin(), batch.spans.end(),
-                       [&](const TriangleSpan& span) { return (span.texture != nullptr) == textured; });
-  };
-  const bool anyFlat = any(false), anyTextured = any(true);
+  bool anyFlat = false, anyTextured = false;
+  for (const TriangleSpan& span : batch.spans) (span.texture ? anyTextured : anyFlat) = true;
   batch.uniformStride = anyFlat && anyTextured ? 0 : batch.layouts[anyTextured].stride;
   const std::uint32_t chunkCount = (batch.triangleCount + kChunkTriangles - 1) / kChunkTriangles;
   batch.chunkCount = chunkCount;

@@ -16,6 +16,8 @@ namespace pbs {
 namespace {
 
 constexpr int kBlockShift = 2;  // blocks of 4 × 4 × 4 cells
+constexpr int kBlockMask = (1 << kBlockShift) - 1;
+constexpr int kCellsPerBlockShift = 3 * kBlockShift;
 
 // The input sorted cell by cell into a uniform grid once, so a radius query reads contiguous memory.
 struct CellSortedPoints {
@@ -42,11 +44,13 @@ struct CellSortedPoints {
   std::size_t blockLinear(const glm::ivec3& b) const {
     return (static_cast<std::size_t>(b.z) * blockDims.y + b.y) * blockDims.x + b.x;
   }
-  // Cells are numbered block by block (a block's index << 6, plus withinBlock), so that the per-cell
-  // arrays a search reads for one block (cellBest, cellStart) lie together, not in 16 rows of the grid.
-  static std::size_t withinBlock(const glm::ivec3& c) {
-    constexpr int mask = (1 << kBlockShift) - 1;
-    return std::size_t((((c.z & mask) << kBlockShift) + (c.y & mask)) << kBlockShift) + std::size_t(c.x & mask);
+  // Cells are numbered block by block, so that the per-cell arrays a search reads for one block
+  // (cellBest, cellStart) lie together, not in 16 rows of the grid. `block` is blockLinear(c >> kBlockShift);
+  // within a block, x varies fastest, so the cells of a row are consecutive.
+  static std::size_t cellIndex(std::size_t block, const glm::ivec3& c) {
+    return (block << kCellsPerBlockShift) +
+           std::size_t((((c.z & kBlockMask) << kBlockShift) + (c.y & kBlockMask)) << kBlockShift) +
+           std::size_t(c.x & kBlockMask);
   }
 };
 
@@ -68,7 +72,7 @@ CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t 
     const double cellLimit = 2.0 * static_cast<double>(points.size()) + 8.0;
     for (;;) {  // counting the cells that fill out the last block on each axis
       const glm::dvec3 blocks(((dimsFor(extent, grid.cellSize) - 1) >> kBlockShift) + 1);
-      if (blocks.x * blocks.y * blocks.z * double(1 << (3 * kBlockShift)) <= cellLimit) break;
+      if (blocks.x * blocks.y * blocks.z * double(1 << kCellsPerBlockShift) <= cellLimit) break;
       grid.cellSize *= 1.25f;
     }
   }
@@ -79,7 +83,7 @@ CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t 
   grid.slack = 1e-3f * grid.cellSize + 16.0f * std::numeric_limits<float>::epsilon() * magnitude;
   grid.blockDims = ((grid.dims - 1) >> kBlockShift) + 1;
   const std::size_t blocks = static_cast<std::size_t>(grid.blockDims.x) * grid.blockDims.y * grid.blockDims.z;
-  const std::size_t cells = blocks << (3 * kBlockShift);
+  const std::size_t cells = blocks << kCellsPerBlockShift;
   std::vector<std::uint32_t> cellOfPoint(points.size());
   grid.cellStart.assign(cells + 1, 0);
   grid.blockOccupied.assign(blocks, 0);
@@ -97,7 +101,7 @@ CellSortedPoints sortIntoCells(std::span<const glm::vec3> points, std::uint32_t 
       const glm::ivec3 cell(std::min(int(q.x), dims.x - 1), std::min(int(q.y), dims.y - 1),
                             std::min(int(q.z), dims.z - 1));
       const std::size_t block = grid.blockLinear(cell >> kBlockShift);
-      const std::uint32_t c = static_cast<std::uint32_t>((block << (3 * kBlockShift)) + grid.withinBlock(cell));
+      const auto c = static_cast<std::uint32_t>(CellSortedPoints::cellIndex(block, cell));
       cellOfPoint[i] = c;
       ++count[c];
       blockOccupied[block] = 1;
@@ -153,8 +157,12 @@ class CellHeap {
     if (n < 2) return 0;
     return n == 2 ? entries_[1].key : std::max(entries_[1].key, entries_[2].key);
   }
-  void replaceTop(Entry e) { siftDown(e); }
-  void popTop() {
+  // Puts the top back with `key`, or drops it where key is 0 (its cell has no pool point left).
+  void resetTop(std::uint64_t key) {
+    if (key != 0) {
+      siftDown({key, entries_.front().cell});
+      return;
+    }
     const Entry last = entries_.back();
     entries_.pop_back();
     if (!entries_.empty()) siftDown(last);
@@ -250,10 +258,7 @@ PBS_AVX2_CLONES std::vector<std::uint32_t> orderFarthest(std::span<const glm::ve
   while (order.size() < max && !heap.empty()) {
     const auto [key, cell] = heap.top();
     if (cellBest[cell] != key) {
-      if (cellBest[cell] != 0)
-        heap.replaceTop({cellBest[cell], cell});
-      else
-        heap.popTop();
+      heap.resetTop(cellBest[cell]);
       continue;
     }
     // The top cell's exact key is the farthest of all once no other entry's bound exceeds it. Its index
@@ -264,7 +269,7 @@ PBS_AVX2_CLONES std::vector<std::uint32_t> orderFarthest(std::span<const glm::ve
       const std::uint64_t exact = heapKey(distance[slot], grid.index[slot]);
       cellBest[cell] = exact;
       if (next > exact) {
-        heap.replaceTop({exact, cell});
+        heap.resetTop(exact);
         continue;
       }
     }
@@ -316,13 +321,13 @@ PBS_AVX2_CLONES std::vector<std::uint32_t> orderFarthest(std::span<const glm::ve
               const float gapY = layerGap[1][std::size_t(y - lo.y)];
               // Rounding is monotone, so no cell of the row is nearer than its x gap 0 would make it.
               if (gapY + gapZ > reach * reach) continue;
-              const std::size_t row = (blockIndex << (3 * kBlockShift)) + grid.withinBlock({0, y, z});
+              const std::size_t row = CellSortedPoints::cellIndex(blockIndex, {0, y, z});
               for (int x = from.x; x <= to.x; ++x) {
                 // A cell is rescanned only if p can be nearer than some point's current distance: within
                 // the chosen point's reach, and nearer than the cell's farthest pool point (cells already
                 // covered by earlier choices are skipped; the margin covers the rounding of the squared
                 // distances, the slack that of the box).
-                const std::size_t c = row + std::size_t(x & ((1 << kBlockShift) - 1));
+                const std::size_t c = row + std::size_t(x & kBlockMask);
                 const float gap2 = layerGap[0][std::size_t(x - lo.x)] + gapY + gapZ;
                 if (gap2 <= reach * reach && gap2 < keyDistance(cellBest[c]) * 1.0002f) updateCell(c, p);
               }
@@ -332,10 +337,7 @@ PBS_AVX2_CLONES std::vector<std::uint32_t> orderFarthest(std::span<const glm::ve
       }
     }
     // The top is the chosen point's cell (always within reach, so rescanned): its entry takes the new key.
-    if (cellBest[cell] != 0)
-      heap.replaceTop({cellBest[cell], cell});
-    else
-      heap.popTop();
+    heap.resetTop(cellBest[cell]);
   }
   for (std::uint32_t& chosen : order) chosen = grid.index[chosen];
   return order;
