@@ -24,13 +24,6 @@ std::string sizeText(const RgbaImage& image) {
   return std::to_string(image.width) + "x" + std::to_string(image.height);
 }
 
-std::string dbText(double psnr) {
-  if (!std::isfinite(psnr)) return "inf";
-  char text[32];
-  std::snprintf(text, sizeof text, "%.2f", psnr);
-  return text;
-}
-
 // PSNR is +infinity for identical images: written as null.
 nlohmann::json differenceJson(const ImageDifference& d, const RgbaImage& a, const CompareOptions& options) {
   return {{"rmse", d.rmse},
@@ -57,8 +50,8 @@ void printDifference(const ImageDifference& d, const RgbaImage& a) {
   std::printf(
       "flip %.4f (median %.4f, max %.3f, foreground %.4f)  psnr %s dB (foreground %s dB)  ssim %.4f  "
       "holes %.4g  bloat %.4g (%s; coverage A %.0f px, B %.0f px)\n",
-      d.flipMean, d.flipMedian, d.flipMax, d.flipForegroundMean, dbText(d.psnr).c_str(),
-      dbText(d.foregroundPsnr).c_str(), d.ssim, d.holeFraction, d.bloatFraction, sizeText(a).c_str(), d.coverageA,
+      d.flipMean, d.flipMedian, d.flipMax, d.flipForegroundMean, decibelText(d.psnr).c_str(),
+      decibelText(d.foregroundPsnr).c_str(), d.ssim, d.holeFraction, d.bloatFraction, sizeText(a).c_str(), d.coverageA,
       d.coverageB);
 }
 

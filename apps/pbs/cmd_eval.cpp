@@ -58,13 +58,6 @@ struct EvalOptions {
   int threads = 0;
 };
 
-std::string dbText(double psnr) {
-  if (!std::isfinite(psnr)) return "inf";
-  char text[32];
-  std::snprintf(text, sizeof text, "%.2f", psnr);
-  return text;
-}
-
 void printTable(const std::vector<EvalSummary>& summaries) {
   std::printf("%-18s %6s %9s %9s %12s %12s %15s %13s %7s %8s %8s\n", "setting", "frames", "median ms", "speed-up",
               "surfels", "triangles", "FLIP med/worst", "fg PSNR med", "SSIM", "holes", "bloat");
@@ -73,8 +66,8 @@ void printTable(const std::vector<EvalSummary>& summaries) {
     std::snprintf(flip, sizeof flip, "%.4f/%.4f", s.medianFlip, s.worstFlip);
     std::printf("%-18s %6zu %9.2f %8.2fx %12s %12s %15s %13s %7.4f %8.4f %8.4f\n", s.name.c_str(), s.frames,
                 s.medianSeconds * 1e3, s.medianSpeedup, withThousands(std::uint64_t(s.medianSurfels)).c_str(),
-                withThousands(std::uint64_t(s.medianTriangles)).c_str(), flip, dbText(s.medianForegroundPsnr).c_str(),
-                s.medianSsim, s.medianHoleFraction, s.medianBloatFraction);
+                withThousands(std::uint64_t(s.medianTriangles)).c_str(), flip,
+                decibelText(s.medianForegroundPsnr).c_str(), s.medianSsim, s.medianHoleFraction, s.medianBloatFraction);
   }
 }
 

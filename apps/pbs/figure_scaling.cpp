@@ -31,7 +31,7 @@ struct ScalingPoint {
   double psnr = 0.0, ssim = 0.0;  // surfels against exact
 };
 
-constexpr const char* kCsvHeader =
+constexpr const char* kScalingCsvHeader =
     "triangles,instances,levels,fanout,surfelize_seconds,surfels_made,exact_ms,surfels_ms,surfels_drawn,"
     "triangles_drawn,exact_triangles_drawn,psnr,ssim";
 
@@ -76,7 +76,7 @@ ScalingPoint measureCity(const Scene& city, const Hierarchy& hierarchy, const Sc
 }
 
 std::string scalingCsv(const std::vector<ScalingPoint>& points) {
-  std::string csv = std::string(kCsvHeader) + "\n";
+  std::string csv = std::string(kScalingCsvHeader) + "\n";
   for (const ScalingPoint& p : points)
     appendCsvLine(
         csv, csvNumber(double(p.triangles)),

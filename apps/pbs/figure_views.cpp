@@ -23,7 +23,7 @@ namespace {
 
 constexpr std::array<const char*, 3> kViewNames = {"near", "middle", "far"};
 
-constexpr const char* kCsvHeader =
+constexpr const char* kViewsCsvHeader =
     "view,distance,exact_ms,surfels_ms,surfels_drawn,triangles_drawn,exact_triangles_drawn,geometry_nodes,"
     "surfel_nodes,psnr,ssim,hole_fraction";
 
@@ -37,7 +37,7 @@ struct ViewRow {
 };
 
 std::string viewsCsv(const std::vector<ViewRow>& rows) {
-  std::string csv = std::string(kCsvHeader) + "\n";
+  std::string csv = std::string(kViewsCsvHeader) + "\n";
   for (const ViewRow& r : rows)
     appendCsvLine(csv, r.name,
                   {r.distance, r.exactMs, r.surfelsMs, double(r.surfelsStats.surfels), double(r.surfelsStats.triangles),

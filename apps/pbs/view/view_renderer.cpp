@@ -5,6 +5,7 @@
 #include "../memory_limit.hpp"
 
 #include <pbs/evaluation/contact_sheet.hpp>
+#include <pbs/evaluation/report_numbers.hpp>
 #include <pbs/raster/flip.hpp>
 #include <pbs/raster/headlight_shading.hpp>
 #include <pbs/raster/image_metrics.hpp>
@@ -24,12 +25,8 @@ namespace {
 // Renderers kept at once: a few sizes and modes a user toggles between. Each holds a G-buffer (36 bytes
 // a pixel at most) and, in surfels mode, the BVHs of the meshes it cast rays at.
 constexpr std::size_t kKeptRenderers = 6;
-constexpr std::uint32_t kReferenceSamples = 16;
+constexpr std::uint32_t kFlipReferenceSamples = 16;
 constexpr float kDifferenceGain = 4.0f;  // |test − reference| × this, so small errors show
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // The overlay's colours: geometry blue, surfels orange, a band's thinned prefixes magenta.
 constexpr glm::vec3 kKindColors[] = {{0.20f, 0.47f, 0.96f}, {0.96f, 0.55f, 0.12f}, {0.80f, 0.16f, 0.80f}};
@@ -153,10 +150,10 @@ ViewFrame ViewRenderer::renderComparison(const ViewRequest& request) {
   const Camera view = camera(request);
   if (reference_.clipFromWorld != view.clipFromWorld() || reference_.width != request.width ||
       reference_.height != request.height) {
-    reference_ = {
-        view.clipFromWorld(), request.width, request.height,
-        renderFrame(RenderMode::Embree, kReferenceSamples, FrameImage::Float, TextureFiltering::Anisotropic, request)
-            .image};
+    reference_ = {view.clipFromWorld(), request.width, request.height,
+                  renderFrame(RenderMode::Embree, kFlipReferenceSamples, FrameImage::Float,
+                              TextureFiltering::Anisotropic, request)
+                      .image};
   }
   const RgbaImage a{request.width, request.height, test.image};
   const RgbaImage b{request.width, request.height, reference_.image};

@@ -25,26 +25,6 @@ constexpr std::size_t kMaxDrawsListed = 2000;      // /api/draws: the largest no
 constexpr std::size_t kRhoCurvePoints = 120;       // /api/node/rho: log-spaced prefix lengths
 constexpr std::uint32_t kCaptureViewPixels = 160;  // /api/node/views: each view's side
 
-// Each client's newest frame number: an older request still waiting for the renderer is dropped.
-class NewestFrames {
- public:
-  void note(const std::string& client, std::uint64_t sequence) {
-    const std::lock_guard lock(mutex_);
-    if (newest_.size() >= kMaxClients && !newest_.count(client)) newest_.clear();
-    std::uint64_t& newest = newest_[client];
-    newest = std::max(newest, sequence);
-  }
-  bool superseded(const std::string& client, std::uint64_t sequence) const {
-    const std::lock_guard lock(mutex_);
-    const auto found = newest_.find(client);
-    return found != newest_.end() && found->second > sequence;
-  }
-
- private:
-  mutable std::mutex mutex_;
-  std::unordered_map<std::string, std::uint64_t> newest_;
-};
-
 // Straight RGBA over white, as the page shows it, for JPEG (which has no alpha): a sheet of one tile.
 std::vector<std::uint8_t> overWhite(const std::vector<std::uint8_t>& rgba, std::uint32_t width, std::uint32_t height) {
   constexpr std::uint8_t kWhite[3] = {255, 255, 255};
@@ -79,6 +59,27 @@ void sendBytes(httplib::Response& response, const std::vector<std::uint8_t>& byt
 }
 
 }  // namespace
+
+// Each client's newest frame number: an older request still waiting for the renderer is dropped. Outside the
+// anonymous namespace: ViewServer::State holds one, and in the unity build this file is not the main file.
+class NewestFrames {
+ public:
+  void note(const std::string& client, std::uint64_t sequence) {
+    const std::lock_guard lock(mutex_);
+    if (newest_.size() >= kMaxClients && !newest_.count(client)) newest_.clear();
+    std::uint64_t& newest = newest_[client];
+    newest = std::max(newest, sequence);
+  }
+  bool superseded(const std::string& client, std::uint64_t sequence) const {
+    const std::lock_guard lock(mutex_);
+    const auto found = newest_.find(client);
+    return found != newest_.end() && found->second > sequence;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::unordered_map<std::string, std::uint64_t> newest_;
+};
 
 struct ViewServer::State {
   ViewRenderer& renderer;

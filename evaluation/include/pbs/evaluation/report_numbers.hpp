@@ -49,6 +49,14 @@ inline std::string csvNumber(double value) {
   return text;
 }
 
+// A PSNR as the text tables print it: two decimals, "inf" for identical images.
+inline std::string decibelText(double psnr) {
+  if (!std::isfinite(psnr)) return "inf";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f", psnr);
+  return text;
+}
+
 // Appends one CSV line: `first`, then every value as csvNumber writes it.
 inline void appendCsvLine(std::string& csv, std::string_view first, std::initializer_list<double> values) {
   csv.append(first);
