@@ -24,6 +24,14 @@ inline constexpr std::uint32_t kChunkTriangles = 2048;
 // batch's short list of such triangles instead, so bins stay bounded by triangles × 16.
 inline constexpr int kMaxBinnedTiles = 16;
 
+// A bin's count or offset of triangles of each kind, in one word so that counting, the offset pass
+// and the fill treat both at once: copies in the low half, ids in the high half (each below 2^32: a
+// bin holds at most the batch's triangles after clipping).
+using BinCount = std::uint64_t;
+inline constexpr BinCount kSoleUnit = 1, kSharedUnit = BinCount(1) << 32;
+inline std::uint32_t sole(BinCount count) { return std::uint32_t(count); }
+inline std::uint32_t shared(BinCount count) { return std::uint32_t(count >> 32); }
+
 // A run of consecutive triangles of one draw and one mesh part.
 struct TriangleSpan {
   const TriangleDraw* draw = nullptr;
@@ -79,11 +87,15 @@ struct BatchBuffers {
   UninitializedVector<ProjectedVertex> vertices;  // each written whole by projectVertices
   // The batch's chunks are the first chunkCount; those after them are kept for their memory.
   std::vector<TriangleChunk> chunks;
-  // Bins: one per tile, then one of the triangles spanning more than kMaxBinnedTiles tiles, which
-  // every tile scans. Bin b is bins[binStart[b] … binStart[b + 1]), in submission order.
-  ScalableVector<std::uint32_t> tileCounts;  // per chunk, per bin: counts, then write offsets
-  ScalableVector<std::uint32_t> binStart;
-  ScalableVector<std::uint32_t> bins;  // packed ids
+  // Bins: one per tile, then one of the triangles spanning more than kMaxBinnedTiles tiles, which every
+  // tile scans; each in submission order, in two parts (tile_bins.hpp). A triangle in one tile alone is
+  // copied into its bin, so that the tile reads those in one stream instead of one cache miss each (most
+  // triangles of a capture); of the others, the bins hold ids. Bin b is soleTriangles[sole(binStart[b]) …
+  // sole(binStart[b + 1])) and sharedIds[shared(binStart[b]) … shared(binStart[b + 1])).
+  ScalableVector<BinCount> tileCounts;  // per chunk, per bin: counts, then write offsets
+  ScalableVector<BinCount> binStart;
+  UninitializedVector<RasterTriangle> soleTriangles;
+  ScalableVector<std::uint32_t> sharedIds;  // packed ids
 
   std::size_t capacityBytes() const;
 };

@@ -1,6 +1,6 @@
-// Binning: the id of each set-up triangle into the tiles its box touches, in submission order:
-// from the per-chunk counts setup made, an offset pass and a parallel fill, so the bins never
-// depend on scheduling.
+// Binning: each set-up triangle into the tiles its box touches (a copy or its id: tile_bins.hpp), in
+// submission order: from the per-chunk counts setup made, an offset pass and a parallel fill, so the
+// bins never depend on scheduling.
 #include "tile_bins.hpp"
 
 #include <tbb/blocked_range.h>
@@ -30,27 +30,34 @@ void forEachBinIndex(std::size_t count, Body body) {
 
 void binTriangles(TriangleBatch& batch) {
   const std::size_t bins = binCount(batch);
-  ScalableVector<std::uint32_t>& counts = batch.tileCounts;  // [chunk][bin], counted by setup
+  ScalableVector<BinCount>& counts = batch.tileCounts;  // [chunk][bin], counted by setup
 
   // Bin b holds chunk 0's triangles, then chunk 1's, …; counts become each chunk's write offsets.
   const std::size_t chunkCount = batch.chunkCount;
-  ScalableVector<std::uint32_t>& start = batch.binStart;
+  ScalableVector<BinCount>& start = batch.binStart;
   start.assign(bins + 1, 0);
   forEachBinIndex(bins, [&](std::size_t b) {
     for (std::size_t c = 0; c < chunkCount; ++c) start[b + 1] += counts[c * bins + b];
   });
   for (std::size_t b = 0; b < bins; ++b) start[b + 1] += start[b];
   forEachBinIndex(bins, [&](std::size_t b) {
-    std::uint32_t offset = start[b];
+    BinCount offset = start[b];
     for (std::size_t c = 0; c < chunkCount; ++c) offset += std::exchange(counts[c * bins + b], offset);
   });
-  const std::uint32_t total = start[bins];
-
-  batch.bins.resize(total);
+  batch.soleTriangles.resize(sole(start[bins]));
+  batch.sharedIds.resize(shared(start[bins]));
   forEachChunk(batch, [&](std::size_t c) {
-    std::uint32_t* offsets = counts.data() + c * bins;
+    BinCount* offsets = counts.data() + c * bins;
+    RasterTriangle* const soleTriangles = batch.soleTriangles.data();
+    std::uint32_t* const sharedIds = batch.sharedIds.data();
     for (const RasterTriangle& t : batch.chunks[c].raster)
-      forEachBin(batch, t, [&](int bin) { batch.bins[offsets[bin]++] = t.id; });
+      forEachBin(batch, t, [&](int bin, BinCount unit) {
+        if (unit == kSoleUnit)
+          soleTriangles[sole(offsets[bin])] = t;
+        else
+          sharedIds[shared(offsets[bin])] = t.id;
+        offsets[bin] += unit;
+      });
   });
 }
 

@@ -134,7 +134,7 @@ class ChunkWriter {
                                                                              float(depth.x),
                                                                              float(depth.y),
                                                                              packTriangleId(chunkIndex_, local)});
-    forEachBin(batch_, raster, [&](int bin) { ++binCounts_[bin]; });
+    forEachBin(batch_, raster, [&](int bin, BinCount unit) { binCounts_[bin] += unit; });
     appendRecord(source, span, l, v0, v1, v2, std::uint16_t(px0), std::uint16_t(py0));
   }
 
@@ -178,7 +178,7 @@ class ChunkWriter {
   const TriangleBatch& batch_;
   TriangleChunk& chunk_;
   std::uint32_t chunkIndex_;
-  std::uint32_t* binCounts_;
+  BinCount* binCounts_;
 };
 
 bool isFinite(const glm::dvec4& c) {
@@ -288,7 +288,7 @@ void setupChunk(TriangleBatch& batch, std::uint32_t chunkIndex) {
   chunk.raster.reserve(kChunkTriangles);
   if (batch.uniformStride == 0) chunk.recordStart.reserve(kChunkTriangles);
   chunk.shading.reserve(std::size_t(kChunkTriangles) * batch.maxStride());
-  std::fill_n(batch.tileCounts.data() + chunkIndex * binCount(batch), binCount(batch), 0u);
+  std::fill_n(batch.tileCounts.data() + chunkIndex * binCount(batch), binCount(batch), BinCount(0));
   ChunkWriter writer(batch, chunkIndex);
 
   const std::uint32_t begin = chunkIndex * kChunkTriangles;

@@ -2,6 +2,7 @@
 // order, then writes depth back and resolves the winners' attributes. No two tasks share a pixel.
 #include "pbs/raster/simd_clones.hpp"
 #include "tile_buffer.hpp"
+#include "tile_bins.hpp"
 #include "tile_coverage.hpp"
 
 #include <tbb/blocked_range.h>
@@ -24,10 +25,6 @@ void loadTile(const Framebuffer& framebuffer, TileBuffer& tile) {
   std::fill(tile.ids, tile.ids + tile.height * kTileStride, kNoTriangle);
 }
 
-void prefetchRaster(const TriangleBatch& batch, std::uint32_t id) {
-  __builtin_prefetch(&batch.chunks[idChunk(id)].raster[idLocal(id)]);
-}
-
 // __builtin_prefetch has no effect GCC's analysis sees: it deduced that this function, when it was
 // not inlined, was "pure", and deleted the call, its result unused. The records went unfetched and a
 // capture ran 20 % slower. The empty volatile asm is an effect it cannot see through; it emits nothing.
@@ -43,14 +40,57 @@ void storeTileDepth(Framebuffer& framebuffer, const TileBuffer& tile) {
                 tile.depth + row * kTileStride, std::size_t(tile.width) * sizeof(float));
 }
 
+// A tile's triangles in submission order, merged from three sorted runs (tile_bins.hpp): its bin's
+// copies of the triangles in this tile alone, read in one stream; its bin's ids of those in several
+// tiles; and the large-triangle bin's ids. Each id is looked up in its chunk.
+class TileTriangles {
+ public:
+  TileTriangles(const TriangleBatch& batch, int tileIndex)
+      : batch_(batch),
+        sole_(batch.soleTriangles.data() + sole(batch.binStart[tileIndex])),
+        soleEnd_(batch.soleTriangles.data() + sole(batch.binStart[tileIndex + 1])),
+        shared_(batch.sharedIds.data() + shared(batch.binStart[tileIndex])),
+        sharedEnd_(batch.sharedIds.data() + shared(batch.binStart[tileIndex + 1])),
+        large_(batch.sharedIds.data() + shared(batch.binStart[batch.tileCount()])),
+        largeEnd_(batch.sharedIds.data() + shared(batch.binStart[batch.tileCount() + 1])) {
+    for (const std::uint32_t* id = shared_; id < sharedEnd_ && id < shared_ + kAhead; ++id) prefetchRaster(*id);
+  }
+
+  bool empty() const { return sole_ == soleEnd_ && shared_ == sharedEnd_ && large_ == largeEnd_; }
+
+  // The next triangle; only while not empty().
+  [[gnu::always_inline]] const RasterTriangle& next() {
+    // Packed ids grow with submission order; an exhausted bin reads as kNoTriangle, above them all.
+    const std::uint32_t soleId = sole_ != soleEnd_ ? sole_->id : kNoTriangle;
+    const std::uint32_t sharedId = shared_ != sharedEnd_ ? *shared_ : kNoTriangle;
+    const std::uint32_t largeId = large_ != largeEnd_ ? *large_ : kNoTriangle;
+    if (soleId < sharedId && soleId < largeId) return *sole_++;
+    std::uint32_t id;
+    if (sharedId < largeId) {
+      id = *shared_++;
+      if (sharedEnd_ - shared_ >= kAhead) prefetchRaster(shared_[kAhead - 1]);
+    } else {
+      id = *large_++;
+    }
+    return batch_.chunks[idChunk(id)].raster[idLocal(id)];
+  }
+
+ private:
+  // The ids' triangles lie scattered over the chunks: fetch a few ahead.
+  static constexpr std::ptrdiff_t kAhead = 4;
+
+  void prefetchRaster(std::uint32_t id) const { __builtin_prefetch(&batch_.chunks[idChunk(id)].raster[idLocal(id)]); }
+
+  const TriangleBatch& batch_;
+  const RasterTriangle *sole_, *soleEnd_;
+  const std::uint32_t *shared_, *sharedEnd_, *large_, *largeEnd_;
+};
+
 // The 8-lane coverage kernel gains from AVX-512 mask registers: about 5 % of a capture.
 PBS_AVX512_CLONES
 void rasterizeTile(const TriangleBatch& batch, int tileIndex) {
-  const std::uint32_t* binned = batch.bins.data() + batch.binStart[tileIndex];
-  const std::uint32_t* binnedEnd = batch.bins.data() + batch.binStart[tileIndex + 1];
-  const std::uint32_t* large = batch.bins.data() + batch.binStart[batch.tileCount()];
-  const std::uint32_t* largeEnd = batch.bins.data() + batch.binStart[batch.tileCount() + 1];
-  if (binned == binnedEnd && large == largeEnd) return;
+  TileTriangles triangles(batch, tileIndex);
+  if (triangles.empty()) return;
 
   Framebuffer& framebuffer = batch.framebuffer;
   TileBuffer tile;
@@ -59,22 +99,15 @@ void rasterizeTile(const TriangleBatch& batch, int tileIndex) {
   tile.width = std::min<int>(kTileSize, int(framebuffer.width) - tile.x0);
   tile.height = std::min<int>(kTileSize, int(framebuffer.height) - tile.y0);
   const bool resolves = framebuffer.channels != 0;
-  // The tile's triangles lie scattered over the chunks' records: fetch a few ahead.
-  constexpr std::ptrdiff_t kAhead = 4;
-  for (const std::uint32_t* id = binned; id < binnedEnd && id < binned + kAhead; ++id) prefetchRaster(batch, *id);
   bool loaded = false;
-  // Both bins are sorted by packed id, which is submission order: merge them.
-  while (binned != binnedEnd || large != largeEnd) {
-    const bool takeBinned = large == largeEnd || (binned != binnedEnd && *binned < *large);
-    const std::uint32_t id = takeBinned ? *binned++ : *large++;
-    if (binnedEnd - binned >= kAhead) prefetchRaster(batch, binned[kAhead - 1]);
-    const RasterTriangle& triangle = batch.chunks[idChunk(id)].raster[idLocal(id)];
+  while (!triangles.empty()) {
+    const RasterTriangle& triangle = triangles.next();
     if (!overlaps(triangle, tile)) continue;
     if (!loaded) loadTile(framebuffer, tile);
     loaded = true;
     // The resolve reads the winners' shading records once all triangles are in: fetch them now,
     // while the coverage work hides the latency.
-    if (resolves) prefetchRecord(batch, id);
+    if (resolves) prefetchRecord(batch, triangle.id);
     rasterizeInTile(tile, triangle);
   }
   if (!loaded) return;

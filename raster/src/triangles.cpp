@@ -34,7 +34,8 @@ TriangleBatch::TriangleBatch(Framebuffer& framebuffer, const Camera& camera, con
 
 std::size_t BatchBuffers::capacityBytes() const {
   std::size_t bytes = vertices.capacity() * sizeof(ProjectedVertex) + chunks.capacity() * sizeof(TriangleChunk) +
-                      (tileCounts.capacity() + binStart.capacity() + bins.capacity()) * sizeof(std::uint32_t);
+                      (tileCounts.capacity() + binStart.capacity()) * sizeof(BinCount) +
+                      soleTriangles.capacity() * sizeof(RasterTriangle) + sharedIds.capacity() * sizeof(std::uint32_t);
   for (const TriangleChunk& chunk : chunks)
     bytes += chunk.raster.capacity() * sizeof(RasterTriangle) + chunk.shading.capacity() * sizeof(float) +
              chunk.recordStart.capacity() * sizeof(std::uint32_t);

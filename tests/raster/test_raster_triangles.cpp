@@ -515,6 +515,28 @@ TEST(TriangleDepth, LessTestAndSubmissionOrderForTies) {
   EXPECT_EQ(both.ids[0], (PixelIds{3, 0, 0}));
 }
 
+// Ties between the three ways a tile meets its triangles (tile_bins.hpp): a triangle in that tile alone
+// (copied into its bin), one in a few tiles (its id) and one in more than kMaxBinnedTiles (the large
+// bin every tile scans). At equal depth the earliest submitted wins, in every submission order.
+TEST(TriangleDepth, SubmissionOrderForTiesAcrossBinKinds) {
+  const Camera camera = windowCamera(320, 320);                    // 5 × 5 tiles of 64 pixels
+  const glm::vec3 sole[3] = {at(4, 4), at(20, 4), at(4, 20)};      // tile (0, 0) only
+  const glm::vec3 shared[3] = {at(0, 0), at(100, 0), at(0, 100)};  // tiles (0 … 1, 0 … 1)
+  const glm::vec3 large[3] = {at(0, 0), at(640, 0), at(0, 640)};   // all 25 tiles
+  const glm::vec3* kinds[3] = {sole, shared, large};
+  int order[3] = {0, 1, 2};
+  do {
+    TestMesh mesh;
+    for (int kind : order) mesh.addTriangle(kinds[kind][0], kinds[kind][1], kinds[kind][2]);
+    const Framebuffer framebuffer = render(camera, mesh, kChannelIds);
+    const auto primitiveOf = [&](int kind) { return std::uint32_t(std::find(order, order + 3, kind) - order); };
+    // Pixel (10, 10) lies in all three; (70, 10) in the shared and the large one; (200, 10) in the large one.
+    EXPECT_EQ(framebuffer.ids[10 * 320 + 10].primitive, 0u);
+    EXPECT_EQ(framebuffer.ids[10 * 320 + 70].primitive, std::min(primitiveOf(1), primitiveOf(2)));
+    EXPECT_EQ(framebuffer.ids[10 * 320 + 200].primitive, primitiveOf(2));
+  } while (std::next_permutation(order, order + 3));
+}
+
 // Random overlapping triangles with every channel, textured and not, some crossing the near plane.
 struct RandomScene {
   TestMesh plain, textured;
