@@ -29,8 +29,8 @@ inline constexpr int kMaxBinnedTiles = 16;
 // bin holds at most the batch's triangles after clipping).
 using BinCount = std::uint64_t;
 inline constexpr BinCount kSoleUnit = 1, kSharedUnit = BinCount(1) << 32;
-inline std::uint32_t sole(BinCount count) { return std::uint32_t(count); }
-inline std::uint32_t shared(BinCount count) { return std::uint32_t(count >> 32); }
+inline std::uint32_t copiesPart(BinCount count) { return std::uint32_t(count); }
+inline std::uint32_t idsPart(BinCount count) { return std::uint32_t(count >> 32); }
 
 // A run of consecutive triangles of one draw and one mesh part.
 struct TriangleSpan {
@@ -90,8 +90,8 @@ struct BatchBuffers {
   // Bins: one per tile, then one of the triangles spanning more than kMaxBinnedTiles tiles, which every
   // tile scans; each in submission order, in two parts (tile_bins.hpp). A triangle in one tile alone is
   // copied into its bin, so that the tile reads those in one stream instead of one cache miss each (most
-  // triangles of a capture); of the others, the bins hold ids. Bin b is soleTriangles[sole(binStart[b]) …
-  // sole(binStart[b + 1])) and sharedIds[shared(binStart[b]) … shared(binStart[b + 1])).
+  // triangles of a capture); of the others, the bins hold ids. Bin b is soleTriangles[copiesPart(binStart[b]) …
+  // copiesPart(binStart[b + 1])) and sharedIds[idsPart(binStart[b]) … idsPart(binStart[b + 1])).
   ScalableVector<BinCount> tileCounts;  // per chunk, per bin: counts, then write offsets
   ScalableVector<BinCount> binStart;
   UninitializedVector<RasterTriangle> soleTriangles;

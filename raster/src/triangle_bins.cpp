@@ -44,8 +44,8 @@ void binTriangles(TriangleBatch& batch) {
     BinCount offset = start[b];
     for (std::size_t c = 0; c < chunkCount; ++c) offset += std::exchange(counts[c * bins + b], offset);
   });
-  batch.soleTriangles.resize(sole(start[bins]));
-  batch.sharedIds.resize(shared(start[bins]));
+  batch.soleTriangles.resize(copiesPart(start[bins]));
+  batch.sharedIds.resize(idsPart(start[bins]));
   forEachChunk(batch, [&](std::size_t c) {
     BinCount* offsets = counts.data() + c * bins;
     RasterTriangle* const soleTriangles = batch.soleTriangles.data();
@@ -53,9 +53,9 @@ void binTriangles(TriangleBatch& batch) {
     for (const RasterTriangle& t : batch.chunks[c].raster)
       forEachBin(batch, t, [&](int bin, BinCount unit) {
         if (unit == kSoleUnit)
-          soleTriangles[sole(offsets[bin])] = t;
+          soleTriangles[copiesPart(offsets[bin])] = t;
         else
-          sharedIds[shared(offsets[bin])] = t.id;
+          sharedIds[idsPart(offsets[bin])] = t.id;
         offsets[bin] += unit;
       });
   });

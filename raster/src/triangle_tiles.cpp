@@ -47,12 +47,12 @@ class TileTriangles {
  public:
   TileTriangles(const TriangleBatch& batch, int tileIndex)
       : batch_(batch),
-        sole_(batch.soleTriangles.data() + sole(batch.binStart[tileIndex])),
-        soleEnd_(batch.soleTriangles.data() + sole(batch.binStart[tileIndex + 1])),
-        shared_(batch.sharedIds.data() + shared(batch.binStart[tileIndex])),
-        sharedEnd_(batch.sharedIds.data() + shared(batch.binStart[tileIndex + 1])),
-        large_(batch.sharedIds.data() + shared(batch.binStart[batch.tileCount()])),
-        largeEnd_(batch.sharedIds.data() + shared(batch.binStart[batch.tileCount() + 1])) {
+        sole_(copiesFrom(tileIndex)),
+        soleEnd_(copiesFrom(tileIndex + 1)),
+        shared_(idsFrom(tileIndex)),
+        sharedEnd_(idsFrom(tileIndex + 1)),
+        large_(idsFrom(batch.tileCount())),
+        largeEnd_(idsFrom(batch.tileCount() + 1)) {
     for (const std::uint32_t* id = shared_; id < sharedEnd_ && id < shared_ + kAhead; ++id) prefetchRaster(*id);
   }
 
@@ -79,6 +79,11 @@ class TileTriangles {
   // The ids' triangles lie scattered over the chunks: fetch a few ahead.
   static constexpr std::ptrdiff_t kAhead = 4;
 
+  // Where bin b's copies and ids begin (the end of bin b − 1's).
+  const RasterTriangle* copiesFrom(int bin) const {
+    return batch_.soleTriangles.data() + copiesPart(batch_.binStart[bin]);
+  }
+  const std::uint32_t* idsFrom(int bin) const { return batch_.sharedIds.data() + idsPart(batch_.binStart[bin]); }
   void prefetchRaster(std::uint32_t id) const { __builtin_prefetch(&batch_.chunks[idChunk(id)].raster[idLocal(id)]); }
 
   const TriangleBatch& batch_;
