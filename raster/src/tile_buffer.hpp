@@ -5,6 +5,7 @@
 #include "triangle_batch.hpp"
 
 #include <cstdint>
+#include <vector>
 
 namespace pbs::triangles {
 
@@ -18,7 +19,7 @@ struct TileBuffer {
   int x0 = 0, y0 = 0;         // window pixel of the tile's first pixel
   int width = 0, height = 0;  // ≤ kTileSize; smaller at the right and bottom of the window
   alignas(64) float depth[kTileSize * kTileStride];
-  alignas(64) std::uint32_t ids[kTileSize * kTileStride];  // packed ids; kNoTriangle where none won
+  alignas(64) std::uint32_t ids[kTileSize * kTileStride];  // places in TileDrawn; kNoTriangle where none won
 };
 
 // Whether the triangle's pixel box meets the tile.
@@ -26,7 +27,17 @@ inline bool overlaps(const RasterTriangle& t, const TileBuffer& tile) {
   return t.maxX >= tile.x0 && t.minX < tile.x0 + tile.width && t.maxY >= tile.y0 && t.minY < tile.y0 + tile.height;
 }
 
+// The triangles a tile drew, in the order it drew them: a pixel's id in TileBuffer::ids is a place
+// here. The resolve's working memory beside them: per place the slot of its shading record where it
+// won a pixel, those winners in the order drawn, and their records (at most one per pixel).
+struct TileDrawn {
+  std::vector<const RasterTriangle*> triangles;
+  std::vector<std::uint32_t> slotOf;
+  std::vector<const RasterTriangle*> winners;
+  std::vector<float> records;
+};
+
 // Writes the channels other than depth for every pixel a triangle of this batch won.
-void resolveTile(const TriangleBatch& batch, const TileBuffer& tile);
+void resolveTile(const TriangleBatch& batch, const TileBuffer& tile, TileDrawn& drawn);
 
 }  // namespace pbs::triangles

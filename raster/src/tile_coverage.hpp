@@ -43,7 +43,7 @@ constexpr MaskLanes kLaneIndex = {0, 1, 2, 3, 4, 5, 6, 7};
 
 // One block row: lanes set in `lanes` whose biased edge values are all ≥ 0 (unless the block is
 // known inside) and whose depth, clamped to [0, 1], is less than the stored one take that depth
-// and the triangle's id.
+// and `id`.
 template <class Edge, bool kTestEdges>
 PBS_CLONE_INLINE void rasterizeLanes(float* depth, std::uint32_t* ids, const Lanes<Edge> (&edge)[3],
                                      const MaskLanes& lanes, const FloatLanes& unclamped, std::uint32_t id) {
@@ -69,7 +69,8 @@ PBS_CLONE_INLINE void rasterizeLanes(float* depth, std::uint32_t* ids, const Lan
 // values on row y, `lanes` which lanes are pixels of the triangle's box.
 template <class Edge, bool kTestEdges>
 PBS_CLONE_INLINE void rasterizeBlockRows(TileBuffer& tile, const RasterTriangle& t, Lanes<Edge> (&edge)[3],
-                                         const Edge (&stepY)[3], const MaskLanes& lanes, int bx, int y, int rows) {
+                                         const Edge (&stepY)[3], const MaskLanes& lanes, int bx, int y, int rows,
+                                         std::uint32_t id) {
   // The depth (z0 + zy·dy) + zx·dx: the zx·dx term per lane, the z0 + zy·dy term of each of the
   // block's rows computed at once, lane r for row y + r.
   const FloatLanes zColumn = t.zx * __builtin_convertvector(kLaneIndex + (bx - t.minX), FloatLanes);
@@ -80,7 +81,7 @@ PBS_CLONE_INLINE void rasterizeBlockRows(TileBuffer& tile, const RasterTriangle&
   std::uint32_t* ids = tile.ids + (y - tile.y0) * kTileStride + (bx - tile.x0);
   for (int row = 0; row < rows; ++row, depth += kTileStride, ids += kTileStride) {
     const FloatLanes z = zColumn + zRows[row];
-    rasterizeLanes<Edge, kTestEdges>(depth, ids, edge, lanes, z, t.id);
+    rasterizeLanes<Edge, kTestEdges>(depth, ids, edge, lanes, z, id);
     for (int k = 0; k < 3; ++k) edge[k] += stepY[k];
   }
 }
@@ -154,7 +155,8 @@ PBS_CLONE_INLINE void columnLanes(int bx, int x0, int x1, MaskLanes& lanes) {
 // everything set up once, as a triangle of a few pixels costs more to set up than to test. The
 // edge and depth values are those of the block loop below, so the two paths agree bit for bit.
 template <class Edge>
-PBS_CLONE_INLINE void rasterizeSmallRect(TileBuffer& tile, const RasterTriangle& t, int x0, int y0, int x1, int y1) {
+PBS_CLONE_INLINE void rasterizeSmallRect(TileBuffer& tile, const RasterTriangle& t, int x0, int y0, int x1, int y1,
+                                         std::uint32_t id) {
   const int ax = x0 & ~(kLanes - 1);
   const EdgeGrid<Edge> grid(t, ax, y0);
   const bool twoBlocks = x1 - ax >= kBlockSize;
@@ -175,10 +177,10 @@ PBS_CLONE_INLINE void rasterizeSmallRect(TileBuffer& tile, const RasterTriangle&
   float* depth = tile.depth + (y0 - tile.y0) * kTileStride + (ax - tile.x0);
   std::uint32_t* ids = tile.ids + (y0 - tile.y0) * kTileStride + (ax - tile.x0);
   for (int row = 0; row <= y1 - y0; ++row, depth += kTileStride, ids += kTileStride) {
-    rasterizeLanes<Edge, true>(depth, ids, edge, lanes, zColumn + zRows[row], t.id);
+    rasterizeLanes<Edge, true>(depth, ids, edge, lanes, zColumn + zRows[row], id);
     if (twoBlocks) {
       rasterizeLanes<Edge, true>(depth + kBlockSize, ids + kBlockSize, nextEdge, nextLanes, nextZColumn + zRows[row],
-                                 t.id);
+                                 id);
       for (int k = 0; k < 3; ++k) nextEdge[k] += grid.stepY[k];
     }
     for (int k = 0; k < 3; ++k) edge[k] += grid.stepY[k];
@@ -191,7 +193,8 @@ PBS_CLONE_INLINE void rasterizeSmallRect(TileBuffer& tile, const RasterTriangle&
 // an edge have small values, so most blocks qualify; false (nothing drawn) where one does not.
 PBS_CLONE_INLINE bool rasterizeNarrowBlock(TileBuffer& tile, const RasterTriangle& t,
                                            const EdgeGrid<std::int64_t>& grid, const bool (&inside)[3],
-                                           const MaskLanes& lanes, int ax, int y0, int bx, int by, int rows) {
+                                           const MaskLanes& lanes, int ax, int y0, int bx, int by, int rows,
+                                           std::uint32_t id) {
   constexpr std::int64_t kLimit = std::numeric_limits<std::int32_t>::max();
   Lanes<std::int32_t> edge[3];
   std::int32_t stepY[3];
@@ -206,7 +209,7 @@ PBS_CLONE_INLINE bool rasterizeNarrowBlock(TileBuffer& tile, const RasterTriangl
     edge[k] = kLaneIndex * std::int32_t(sx) + std::int32_t(first);
     stepY[k] = std::int32_t(sy);
   }
-  rasterizeBlockRows<std::int32_t, true>(tile, t, edge, stepY, lanes, bx, by, rows);
+  rasterizeBlockRows<std::int32_t, true>(tile, t, edge, stepY, lanes, bx, by, rows, id);
   return true;
 }
 
@@ -215,7 +218,8 @@ PBS_CLONE_INLINE bool rasterizeNarrowBlock(TileBuffer& tile, const RasterTriangl
 // then meet the earlier ones exactly or not at all, never partly, which would defeat
 // store-to-load forwarding.
 template <class Edge>
-PBS_CLONE_INLINE void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, int x0, int y0, int x1, int y1) {
+PBS_CLONE_INLINE void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, int x0, int y0, int x1, int y1,
+                                    std::uint32_t id) {
   const int ax = x0 & ~(kLanes - 1);
   const EdgeGrid<Edge> grid(t, ax, y0);
   const auto& origin = grid.origin;
@@ -242,15 +246,15 @@ PBS_CLONE_INLINE void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, i
       MaskLanes lanes;
       columnLanes(bx, x0, x1, lanes);
       if constexpr (sizeof(Edge) > sizeof(std::int32_t)) {
-        if (!accept && rasterizeNarrowBlock(tile, t, grid, inside, lanes, ax, y0, bx, by, rows)) continue;
+        if (!accept && rasterizeNarrowBlock(tile, t, grid, inside, lanes, ax, y0, bx, by, rows, id)) continue;
       }
       Lanes<Edge> edge[3];  // from the centre of pixel (bx, by)
       for (int k = 0; k < 3; ++k)
         edge[k] = grid.laneStep[k] + (origin[k] + stepX[k] * Edge(bx - ax) + stepY[k] * Edge(by - y0));
       if (accept)
-        rasterizeBlockRows<Edge, false>(tile, t, edge, stepY, lanes, bx, by, rows);
+        rasterizeBlockRows<Edge, false>(tile, t, edge, stepY, lanes, bx, by, rows, id);
       else
-        rasterizeBlockRows<Edge, true>(tile, t, edge, stepY, lanes, bx, by, rows);
+        rasterizeBlockRows<Edge, true>(tile, t, edge, stepY, lanes, bx, by, rows, id);
     }
   }
 }
@@ -258,8 +262,8 @@ PBS_CLONE_INLINE void rasterizeRect(TileBuffer& tile, const RasterTriangle& t, i
 }  // namespace coverage
 
 // Depth-tests the triangle's covered pixel centres in the tile (less: an equal depth keeps the
-// earlier triangle) and records its packed id where it wins.
-PBS_CLONE_INLINE void rasterizeInTile(TileBuffer& tile, const RasterTriangle& t) {
+// earlier triangle) and records `id` where it wins.
+PBS_CLONE_INLINE void rasterizeInTile(TileBuffer& tile, const RasterTriangle& t, std::uint32_t id) {
   using namespace coverage;
   const int x0 = std::max<int>(t.minX, tile.x0), x1 = std::min<int>(t.maxX, tile.x0 + tile.width - 1);
   const int y0 = std::max<int>(t.minY, tile.y0), y1 = std::min<int>(t.maxY, tile.y0 + tile.height - 1);
@@ -267,11 +271,11 @@ PBS_CLONE_INLINE void rasterizeInTile(TileBuffer& tile, const RasterTriangle& t)
   const CoordinateRange x = rangeOf(t.x[0], t.x[1], t.x[2]), y = rangeOf(t.y[0], t.y[1], t.y[2]);
   if (std::int64_t(x.max) - x.min <= kSmallExtent && std::int64_t(y.max) - y.min <= kSmallExtent) {
     if (y1 - y0 < kBlockSize && x1 - (x0 & ~(kLanes - 1)) < 2 * kBlockSize)
-      rasterizeSmallRect<std::int32_t>(tile, t, x0, y0, x1, y1);
+      rasterizeSmallRect<std::int32_t>(tile, t, x0, y0, x1, y1, id);
     else
-      rasterizeRect<std::int32_t>(tile, t, x0, y0, x1, y1);
+      rasterizeRect<std::int32_t>(tile, t, x0, y0, x1, y1, id);
   } else {
-    rasterizeRect<std::int64_t>(tile, t, x0, y0, x1, y1);
+    rasterizeRect<std::int64_t>(tile, t, x0, y0, x1, y1, id);
   }
 }
 

@@ -1,6 +1,8 @@
 // Resolving a tile: for each pixel a triangle of this batch won, its attributes are interpolated
-// once (perspective-correct) into the channels the framebuffer has; nothing else is computed.
+// once (perspective-correct) into the channels the framebuffer has; nothing else is computed. The
+// shading record of each winner is made here, the first time one of its pixels is met.
 #include "pbs/raster/simd_clones.hpp"
+#include "shading_records.hpp"
 #include "tile_buffer.hpp"
 
 #include <cmath>
@@ -29,12 +31,50 @@ PBS_CLONE_INLINE TextureFootprint uvFootprint(const float* record, const Shading
   return {(planeX - uv * inverseWX) * scale, (planeY - uv * inverseWY) * scale, probes};
 }
 
+// Marks in drawn.slotOf the places of the triangles that won a pixel of the tile.
+std::uint32_t* markWinners(const TileBuffer& tile, TileDrawn& drawn) {
+  drawn.slotOf.assign(drawn.triangles.size(), 0);
+  std::uint32_t* const slotOf = drawn.slotOf.data();
+  for (int row = 0; row < tile.height; ++row)
+    for (int column = 0; column < tile.width; ++column) {
+      const std::uint32_t id = tile.ids[row * kTileStride + column];
+      if (id != kNoTriangle) slotOf[id] = 1;
+    }
+  return slotOf;
+}
+
+// The records of the marked triangles, in the order the tile drew them (the order of their index and
+// vertex arrays, mostly), each marked place turned into its record's slot. The reads of the sources
+// are fetched ahead: the indices a few triangles ahead, the vertices they name half as far.
+PBS_CLONE_INLINE const float* makeRecords(const TriangleBatch& batch, TileDrawn& drawn) {
+  std::vector<const RasterTriangle*>& winners = drawn.winners;
+  winners.clear();
+  std::uint32_t* const slotOf = drawn.slotOf.data();
+  for (std::uint32_t place = 0; place < drawn.triangles.size(); ++place) {
+    if (slotOf[place] == 0) continue;
+    slotOf[place] = std::uint32_t(winners.size());
+    winners.push_back(drawn.triangles[place]);
+  }
+  const std::uint32_t stride = batch.maxStride();
+  if (drawn.records.size() < winners.size() * stride) drawn.records.resize(winners.size() * stride);
+  constexpr std::size_t kIndicesAhead = 8, kVerticesAhead = 4;
+  const std::size_t count = winners.size();
+  for (std::size_t i = 0; i < std::min(count, kIndicesAhead); ++i) prefetchSource(batch, *winners[i], 0);
+  for (std::size_t i = 0; i < std::min(count, kVerticesAhead); ++i) prefetchSource(batch, *winners[i], 1);
+  for (std::size_t i = 0; i < count; ++i) {
+    if (i + kIndicesAhead < count) prefetchSource(batch, *winners[i + kIndicesAhead], 0);
+    if (i + kVerticesAhead < count) prefetchSource(batch, *winners[i + kVerticesAhead], 1);
+    lazyShadingRecord(batch, *winners[i], drawn.records.data() + i * stride);
+  }
+  return drawn.records.data();
+}
+
 }  // namespace
 
 // The channels' arrays and the layouts are held in locals: through the batch, every store to a
 // channel could alias them, and each pixel would load them afresh.
 PBS_AVX2_CLONES
-void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
+void resolveTile(const TriangleBatch& batch, const TileBuffer& tile, TileDrawn& drawn) {
   Framebuffer& framebuffer = batch.framebuffer;
   const ShadingLayout flat = batch.layouts[0], textured = batch.layouts[1];
   constexpr std::uint32_t kAbsent = ShadingLayout::kAbsent;
@@ -42,9 +82,10 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
   glm::vec3* const normals = framebuffer.has(kChannelNormal) ? framebuffer.normal.data() : nullptr;
   glm::u8vec4* const colors = framebuffer.has(kChannelColor) ? framebuffer.color.data() : nullptr;
   PixelIds* const ids = framebuffer.has(kChannelIds) ? framebuffer.ids.data() : nullptr;
-  const TriangleChunk* const chunks = batch.chunks.data();
-  const std::uint32_t uniformStride = batch.uniformStride;
   const TriangleSpan* const spans = batch.spans.data();
+  const std::uint32_t stride = batch.maxStride();
+  std::uint32_t* const slotOf = markWinners(tile, drawn);
+  const float* const records = makeRecords(batch, drawn);
   const std::size_t width = framebuffer.width;
   const auto sampleSpacing = float(batch.camera.sampleSpacing);
   const std::uint32_t textureProbes = batch.camera.textureProbes;
@@ -53,10 +94,10 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile) {
     for (int column = 0; column < tile.width; ++column) {
       const std::uint32_t id = tile.ids[row * kTileStride + column];
       if (id == kNoTriangle) continue;
-      // Every pixel looks its winner up afresh. About half the pixels continue their left
+      // Every pixel looks its winner's record up afresh. About half the pixels continue their left
       // neighbour's triangle, but a branch to reuse its values mispredicts so often that
       // recomputing them is faster.
-      const float* record = chunks[idChunk(id)].record(idLocal(id), uniformStride);
+      const float* record = records + std::size_t(slotOf[id]) * stride;
       const ShadingHeader header = loadHeader(record);
       const TriangleSpan& span = spans[header.span];
       const ShadingLayout& layout = span.texture ? textured : flat;

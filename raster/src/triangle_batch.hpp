@@ -20,6 +20,7 @@ static_assert(kKeptTriangleBufferBytes == kTriangleBufferBytesPerTriangle * kBat
 // Source triangles per setup task; with at most kMaxClipVertices − 2 triangles out of clipping
 // each, a chunk's output fits the 16 local bits of a packed id.
 inline constexpr std::uint32_t kChunkTriangles = 2048;
+static_assert(kChunkTriangles <= 1u << kSourcePositionBits);
 // A triangle spanning more tiles than this is not listed in each tile's bin; the tiles scan the
 // batch's short list of such triangles instead, so bins stay bounded by triangles × 16.
 inline constexpr int kMaxBinnedTiles = 16;
@@ -112,9 +113,6 @@ struct TriangleBatch : BatchBuffers {
   ShadingLayout layouts[2];
   const ShadingLayout& layoutOf(const TriangleSpan& span) const { return layouts[span.texture != nullptr]; }
   std::uint32_t maxStride() const { return std::max(layouts[0].stride, layouts[1].stride); }
-  // Where the spans are all flat or all textured, the stride of their one layout: the records lie that
-  // far apart and need no table of starts (TriangleChunk::record). 0 where the batch mixes both.
-  std::uint32_t uniformStride = 0;
   double guardX, guardY;  // the guard band as bounds on |x/w| and |y/w|
   int tilesX, tilesY;
 

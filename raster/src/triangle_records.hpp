@@ -42,14 +42,15 @@ inline CoordinateRange rangeOf(std::int32_t a, std::int32_t b, std::int32_t c) {
   return {low, high};
 }
 
-// A triangle as coverage and depth need it: 48 bytes.
+// A triangle as coverage and depth need it, and where to find what shades it: 52 bytes.
 struct RasterTriangle {
   std::int32_t x[3];                     // snapped window positions in 1/256 pixel, ordered so that twice the signed
   std::int32_t y[3];                     // area is positive (clockwise on the y-down screen)
   std::uint16_t minX, minY, maxX, maxY;  // the pixels whose centres its box holds, within the viewport
   // Window depth at pixel (px, py) is (z0 + zy·dy) + zx·dx with dx = px − minX, dy = py − minY.
   float z0, zx, zy;
-  std::uint32_t id;  // packed id of its shading record
+  std::uint32_t id;      // packed id: its chunk and its place there, growing with submission order
+  std::uint32_t source;  // where its shading record is made from (sourceWord)
 };
 
 // An attribute as a plane over pixel offsets dx = px − minX, dy = py − minY from the triangle's
@@ -119,19 +120,13 @@ template <int N>
   storeVector(p + 2 * N, plane.y);
 }
 
-// What one setup task produced, in submission order: raster[i] and shading record i belong together.
+// What one setup task produced, in submission order.
 struct TriangleChunk {
   ScalableVector<RasterTriangle> raster;
-  // raster.size() records, each of its span's layout (TriangleBatch::layoutOf), written in place when
-  // it is added. In a batch of one layout record i begins at i · uniformStride; in a mixed batch
-  // (uniformStride 0) at recordStart[i], filled only then: the table's extra load per pixel cost a
-  // capture 4 %.
-  UninitializedVector<float> shading;
-  UninitializedVector<std::uint32_t> recordStart;
-
-  const float* record(std::uint32_t local, std::uint32_t uniformStride) const {
-    return shading.data() + (uniformStride != 0 ? std::size_t(local) * uniformStride : recordStart[local]);
-  }
+  // The shading records setup made, of its clipped triangles, each of its span's layout
+  // (TriangleBatch::layoutOf); those of the others are made by the tile stage (shading_records.hpp).
+  UninitializedVector<float> storedRecords;
+  std::uint32_t firstSpan = 0;  // the batch's span of the chunk's first source triangle
 };
 
 // Triangles are named by chunk and position within it; the packed id grows with submission order.
@@ -142,5 +137,20 @@ inline std::uint32_t packTriangleId(std::uint32_t chunk, std::uint32_t local) {
 }
 inline std::uint32_t idChunk(std::uint32_t id) { return id >> kLocalIdBits; }
 inline std::uint32_t idLocal(std::uint32_t id) { return id & ((1u << kLocalIdBits) - 1); }
+
+// RasterTriangle::source: for a triangle whose record setup made (a clipped one) kStoredRecord and the
+// offset of that record in its chunk's storedRecords; for any other, the position of its source triangle within its
+// chunk's (kChunkTriangles, triangle_batch.hpp: 11 bits), its span as an offset from the chunk's first (at most as many
+// as the chunk's source triangles: 11 bits), and kSwappedSource where its raster order swaps the source's vertices 1
+// and 2.
+inline constexpr std::uint32_t kStoredRecord = 1u << 31, kSwappedSource = 1u << 30;
+inline constexpr int kSourcePositionBits = 11;
+inline std::uint32_t sourceWord(std::uint32_t position, std::uint32_t spanOffset, bool swapped) {
+  return position | spanOffset << kSourcePositionBits | (swapped ? kSwappedSource : 0u);
+}
+inline std::uint32_t sourcePosition(std::uint32_t source) { return source & ((1u << kSourcePositionBits) - 1); }
+inline std::uint32_t sourceSpanOffset(std::uint32_t source) {
+  return (source >> kSourcePositionBits) & ((1u << kSourcePositionBits) - 1);
+}
 
 }  // namespace pbs::triangles

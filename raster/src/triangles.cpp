@@ -37,8 +37,7 @@ std::size_t BatchBuffers::capacityBytes() const {
                       (tileCounts.capacity() + binStart.capacity()) * sizeof(BinCount) +
                       soleTriangles.capacity() * sizeof(RasterTriangle) + sharedIds.capacity() * sizeof(std::uint32_t);
   for (const TriangleChunk& chunk : chunks)
-    bytes += chunk.raster.capacity() * sizeof(RasterTriangle) + chunk.shading.capacity() * sizeof(float) +
-             chunk.recordStart.capacity() * sizeof(std::uint32_t);
+    bytes += chunk.raster.capacity() * sizeof(RasterTriangle) + chunk.storedRecords.capacity() * sizeof(float);
   return bytes;
 }
 

@@ -537,6 +537,37 @@ TEST(TriangleDepth, SubmissionOrderForTiesAcrossBinKinds) {
   } while (std::next_permutation(order, order + 3));
 }
 
+// Each pixel's attributes come from its own triangle where a chunk of setup holds as many spans as
+// triangles (one-triangle draws: the shading records name their span relative to the chunk's first,
+// shading_records.hpp), mirrored draws among them (the raster order swaps their vertices).
+TEST(TriangleShading, ManyOneTriangleDrawsEachShadeTheirOwnPixels) {
+  constexpr int kColumns = 60, kRows = 50;  // 3,000 draws: more than one chunk's 2,048 source triangles
+  const Camera camera = windowCamera(6 * kColumns, 6 * kRows);
+  TestMesh mesh;
+  mesh.addTriangle(at(0, 0), at(5, 0), at(0, 5));
+  std::vector<TriangleDraw> draws;
+  for (int d = 0; d < kColumns * kRows; ++d) {
+    const glm::dvec3 cell(6.0 * (d % kColumns), 6.0 * (d / kColumns), 0.0);
+    glm::dmat4 world = glm::translate(glm::dmat4(1.0), cell);
+    // Odd draws mirrored about x = 2.5: the triangle (5, 0), (0, 0), (5, 5), wound the other way.
+    if (d % 2 == 1) world = glm::scale(glm::translate(world, glm::dvec3(5.0, 0.0, 0.0)), glm::dvec3(-1.0, 1.0, 1.0));
+    draws.push_back(mesh.draw(world));
+    draws.back().nodeId = std::uint32_t(d);
+  }
+  Framebuffer framebuffer = makeFramebuffer(camera.width, camera.height, kChannelPosition | kChannelIds);
+  drawTriangles(framebuffer, camera, draws);
+  int wrong = 0;
+  for (int d = 0; d < kColumns * kRows; ++d) {
+    // Pixel (2, 1) of each cell lies inside both windings; its centre is (2.5, 1.5) in the cell.
+    const int x = 6 * (d % kColumns) + 2, y = 6 * (d / kColumns) + 1;
+    const std::size_t pixel = std::size_t(y) * camera.width + std::size_t(x);
+    const glm::vec3 expected(float(x) + 0.5f, float(y) + 0.5f, -0.5f);
+    wrong +=
+        framebuffer.ids[pixel].node != std::uint32_t(d) || glm::length(framebuffer.position[pixel] - expected) > 1e-3f;
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
 // Random overlapping triangles with every channel, textured and not, some crossing the near plane.
 struct RandomScene {
   TestMesh plain, textured;
