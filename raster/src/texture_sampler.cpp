@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace pbs {
@@ -45,13 +46,25 @@ struct Level {
   const std::uint8_t* rgba8;
 };
 
-PBS_CLONE_INLINE glm::vec4 texel(const Level& level, std::int64_t x, std::int64_t y) {
-  const std::uint8_t* p = level.rgba8 + (std::size_t(y) * std::size_t(level.width) + std::size_t(x)) * 4;
-  return {p[0], p[1], p[2], p[3]};
+// RGBA in four float lanes: a texel's bytes widen in one vector conversion instead of four scalar ones,
+// and the filters' arithmetic runs on all four channels at once. Every lane sees the operations glm's
+// vec4 would apply to its component, in the same order, so the colours keep their bits.
+typedef float Rgba __attribute__((vector_size(4 * sizeof(float))));
+typedef std::int32_t Rgba32 __attribute__((vector_size(4 * sizeof(std::int32_t))));
+
+PBS_CLONE_INLINE Rgba texel(const Level& level, std::int64_t x, std::int64_t y) {
+  std::uint32_t word;
+  std::memcpy(&word, level.rgba8 + (std::size_t(y) * std::size_t(level.width) + std::size_t(x)) * 4, sizeof word);
+  // The bytes in the lanes by shifts and a mask, which vectorise where a conversion from bytes does not.
+  const Rgba32 bytes = (Rgba32{} + std::int32_t(word)) >> Rgba32{0, 8, 16, 24} & 0xff;
+  return __builtin_convertvector(bytes, Rgba);
 }
 
+// glm::mix's x · (1 − a) + y · a.
+PBS_CLONE_INLINE Rgba mix(const Rgba& x, const Rgba& y, float a) { return x * (1.0f - a) + y * a; }
+
 // RGBA in [0, 255] at uv in one level, by nearest or bilinear filtering.
-PBS_CLONE_INLINE glm::vec4 sampleLevel(const Level& level, TextureFilter filter, const Texture& texture, glm::vec2 uv) {
+PBS_CLONE_INLINE Rgba sampleLevel(const Level& level, TextureFilter filter, const Texture& texture, glm::vec2 uv) {
   const std::int64_t w = level.width, h = level.height;
   const float s = texelCoordinate(uv.x, std::uint32_t(w)), t = texelCoordinate(uv.y, std::uint32_t(h));
   if (filter == TextureFilter::Nearest) {
@@ -65,9 +78,9 @@ PBS_CLONE_INLINE glm::vec4 sampleLevel(const Level& level, TextureFilter filter,
   const std::int64_t x1 = wrapTexel(std::int64_t(fs) + 1, w, texture.wrapS);
   const std::int64_t y0 = wrapTexel(std::int64_t(ft), h, texture.wrapT);
   const std::int64_t y1 = wrapTexel(std::int64_t(ft) + 1, h, texture.wrapT);
-  const glm::vec4 top = glm::mix(texel(level, x0, y0), texel(level, x1, y0), ax);
-  const glm::vec4 bottom = glm::mix(texel(level, x0, y1), texel(level, x1, y1), ax);
-  return glm::mix(top, bottom, ay);
+  const Rgba top = mix(texel(level, x0, y0), texel(level, x1, y0), ax);
+  const Rgba bottom = mix(texel(level, x0, y1), texel(level, x1, y1), ax);
+  return mix(top, bottom, ay);
 }
 
 PBS_CLONE_INLINE Level levelOf(const Texture& texture, std::size_t index) {
@@ -90,8 +103,9 @@ PBS_CLONE_INLINE float levelOfDetail(const glm::vec2& sides2) {
   return rho2 > 0.0f ? 0.5f * std::log2(std::min(rho2, 1e30f)) : std::numeric_limits<float>::quiet_NaN();
 }
 
-// One probe at level of detail `lod`: level 0 magnified, else the level or levels `mipmap` picks.
-PBS_CLONE_INLINE glm::vec4 sampleProbe(const Texture& texture, glm::vec2 uv, float lod) {
+// One probe at level of detail `lod`: level 0 magnified, else the level or levels `mipmap` picks; RGBA in
+// [0, 1].
+PBS_CLONE_INLINE Rgba sampleProbe(const Texture& texture, glm::vec2 uv, float lod) {
   // Not greater than 0 (NaN included): magnified.
   if (!(lod > 0.0f)) return sampleLevel(levelOf(texture, 0), texture.magFilter, texture, uv) / 255.0f;
   const std::size_t last = texture.mipLevels.size();
@@ -105,13 +119,15 @@ PBS_CLONE_INLINE glm::vec4 sampleProbe(const Texture& texture, glm::vec2 uv, flo
     case TextureMipmap::Linear: {
       if (!(lod < float(last))) return sampleLevel(levelOf(texture, last), texture.minFilter, texture, uv) / 255.0f;
       const auto level = std::size_t(lod);
-      const glm::vec4 fine = sampleLevel(levelOf(texture, level), texture.minFilter, texture, uv);
-      const glm::vec4 coarse = sampleLevel(levelOf(texture, level + 1), texture.minFilter, texture, uv);
-      return glm::mix(fine, coarse, lod - float(level)) / 255.0f;
+      const Rgba fine = sampleLevel(levelOf(texture, level), texture.minFilter, texture, uv);
+      const Rgba coarse = sampleLevel(levelOf(texture, level + 1), texture.minFilter, texture, uv);
+      return mix(fine, coarse, lod - float(level)) / 255.0f;
     }
   }
   return sampleLevel(levelOf(texture, 0), texture.minFilter, texture, uv) / 255.0f;
 }
+
+PBS_CLONE_INLINE glm::vec4 toVec4(const Rgba& lanes) { return {lanes[0], lanes[1], lanes[2], lanes[3]}; }
 
 }  // namespace
 
@@ -150,7 +166,7 @@ void buildMipLevels(Texture& texture) {
 // spend a textured frame's time here.
 PBS_AVX2_CLONES
 glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootprint& footprint) {
-  if (footprint.maxProbes == 0) return sampleProbe(texture, uv, std::numeric_limits<float>::quiet_NaN());
+  if (footprint.maxProbes == 0) return toVec4(sampleProbe(texture, uv, std::numeric_limits<float>::quiet_NaN()));
   // A footprint longer than wide (a surface seen at a slant) is covered by probes spaced along its long
   // side, each with the footprint's long side divided among them: the level follows the short side, so the
   // texture is not blurred across the slant as one probe sized by the long side would blur it.
@@ -160,16 +176,16 @@ glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootp
   const float probes = shortSide > 0.0f && longSide < 1e30f && longSide > 1.0f
                            ? std::min(std::round(longSide / shortSide), float(footprint.maxProbes))
                            : 1.0f;
-  if (!(probes > 1.0f)) return sampleProbe(texture, uv, levelOfDetail(sides2));
+  if (!(probes > 1.0f)) return toVec4(sampleProbe(texture, uv, levelOfDetail(sides2)));
   const bool alongX = lengthX >= lengthY;
   const glm::vec2 axis = alongX ? footprint.dx : footprint.dy;
   const TextureFootprint probe = alongX ? TextureFootprint{footprint.dx / probes, footprint.dy, 1}
                                         : TextureFootprint{footprint.dx, footprint.dy / probes, 1};
   const float lod = levelOfDetail(squaredSides(texture, probe));  // every probe's footprint is the same
   const int count = int(probes);
-  glm::vec4 sum(0.0f);
+  Rgba sum{};
   for (int i = 0; i < count; ++i) sum += sampleProbe(texture, uv + axis * ((float(i) + 0.5f) / probes - 0.5f), lod);
-  return sum / probes;
+  return toVec4(sum / probes);
 }
 
 }  // namespace pbs
