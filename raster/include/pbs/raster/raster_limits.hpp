@@ -32,10 +32,10 @@ inline constexpr std::uint32_t kPointTilesMin = 64;
 inline constexpr std::uint32_t kPointTilesMax = 4096;
 
 // What the triangle rasterizer's working memory takes per triangle of a batch, about (vertex cache, set-up
-// records, bins: a frame of the default scene's approach at 1920×1080, 19 M triangles in batches of 2^18,
-// uses up to 73 MB), and what a thread that draws triangles keeps of it from one draw call to the next at
+// triangles, bins: a frame of the default scene's approach at 1920×1080, 19 M triangles in batches of 2^18,
+// uses up to 45 MB), and what a thread that draws triangles keeps of it from one draw call to the next at
 // most: a full batch's.
-inline constexpr std::size_t kTriangleBufferBytesPerTriangle = 320;
+inline constexpr std::size_t kTriangleBufferBytesPerTriangle = 256;
 inline constexpr std::size_t kKeptTriangleBufferBytes = kTriangleBufferBytesPerTriangle << 18;
 
 }  // namespace pbs
