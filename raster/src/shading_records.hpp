@@ -1,6 +1,6 @@
 // A triangle's shading record (triangle_records.hpp) and the barycentric planes it is made of. Setup
 // makes the record of a clipped triangle at once, from its clipped vertices; every other record is
-// made by the tile stage for the triangles that won a pixel once all are in (lazyShadingRecord), as
+// made by the tile stage for the triangles that won a pixel once all are in (shadingRecord), as
 // most triangles of a capture lose every pixel (the back faces of a closed mesh, those behind): for
 // them setup writes nothing. Both ways run the same code on the same inputs, so the bits agree.
 #pragma once
@@ -126,8 +126,10 @@ PBS_CLONE_INLINE void writeShadingRecord(const TriangleBatch& batch, std::uint32
     records::storeAttribute<2>(record + layout.uv, lf, v0.uv, v1.uv, v2.uv, w0, w1, w2);
 }
 
-// Where a set-up triangle whose record was not stored comes from (RasterTriangle::source).
+// Where a set-up triangle comes from (RasterTriangle::source): its stored record, or its span and
+// indices for making the record again.
 struct TriangleSource {
+  const float* stored;  // its record where setup made it, else null and the rest is set
   std::uint32_t spanIndex;
   std::uint32_t local;  // within its span
   const TriangleSpan* span;
@@ -136,10 +138,13 @@ struct TriangleSource {
 
 PBS_CLONE_INLINE TriangleSource sourceOf(const TriangleBatch& batch, const RasterTriangle& t) {
   const std::uint32_t chunkIndex = idChunk(t.id);
-  const std::uint32_t spanIndex = batch.chunks[chunkIndex].firstSpan + sourceSpanOffset(t.source);
+  const TriangleChunk& chunk = batch.chunks[chunkIndex];
+  if (t.source & kStoredRecord)
+    return {chunk.storedRecords.data() + (t.source & ~kStoredRecord), 0, 0, nullptr, nullptr};
+  const std::uint32_t spanIndex = chunk.firstSpan + sourceSpanOffset(t.source);
   const TriangleSpan& span = batch.spans[spanIndex];
   const std::uint32_t local = chunkIndex * kChunkTriangles + sourcePosition(t.source) - span.batchStart;
-  return {spanIndex, local, &span, span.draw->indices.data() + span.firstIndex + std::size_t(local) * 3};
+  return {nullptr, spanIndex, local, &span, span.draw->indices.data() + span.firstIndex + std::size_t(local) * 3};
 }
 
 // The cached vertex of a span that keeps its vertices' attributes, else null.
@@ -150,16 +155,16 @@ PBS_CLONE_INLINE const ProjectedVertex* cachedVertex(const TriangleBatch& batch,
              : nullptr;
 }
 
-// The record of a set-up triangle, made from its source: a stored one (a clipped triangle's) is copied
-// from its chunk; any other's is computed from its vertices as setup saw them.
-PBS_CLONE_INLINE void lazyShadingRecord(const TriangleBatch& batch, const RasterTriangle& t, float* record) {
-  if (t.source & kStoredRecord) {
-    const float* kept = batch.chunks[idChunk(t.id)].storedRecords.data() + (t.source & ~kStoredRecord);
-    const std::uint32_t stride = batch.layoutOf(batch.spans[loadHeader(kept).span]).stride;
-    for (std::uint32_t i = 0; i < stride; ++i) record[i] = kept[i];
+// The record of set-up triangle t from its source: a stored one copied, any other computed from its
+// vertices as setup saw them (cached; completed where the span defers attributes; projected again where
+// it has no cache).
+PBS_CLONE_INLINE void shadingRecord(const TriangleBatch& batch, const RasterTriangle& t, const TriangleSource& source,
+                                    float* record) {
+  if (source.stored != nullptr) {
+    const std::uint32_t stride = batch.layoutOf(batch.spans[loadHeader(source.stored).span]).stride;
+    for (std::uint32_t i = 0; i < stride; ++i) record[i] = source.stored[i];
     return;
   }
-  const TriangleSource source = sourceOf(batch, t);
   const TriangleSpan& span = *source.span;
   const ProjectedVertex* v[3];
   ProjectedVertex made[3];
@@ -181,19 +186,20 @@ PBS_CLONE_INLINE void lazyShadingRecord(const TriangleBatch& batch, const Raster
                      t.minY, record);
 }
 
-// Fetches what lazyShadingRecord will read of t: its indices (`stage` 0) or the vertices they name
-// (`stage` 1, once the indices are in).
-PBS_CLONE_INLINE void prefetchSource(const TriangleBatch& batch, const RasterTriangle& t, int stage) {
-  if (t.source & kStoredRecord) return;
-  const TriangleSource source = sourceOf(batch, t);
-  if (stage == 0) {
+// Fetches the first thing shadingRecord reads of a source: its stored record, or its indices.
+PBS_CLONE_INLINE void prefetchIndices(const TriangleBatch& batch, const TriangleSource& source) {
+  if (source.stored == nullptr) {
     __builtin_prefetch(source.indices);
     return;
   }
-  for (int k = 0; k < 3; ++k) {
-    const ProjectedVertex* v = cachedVertex(batch, *source.span, source.indices[k]);
-    if (v != nullptr) __builtin_prefetch(v);
-  }
+  for (std::uint32_t line = 0; line < batch.maxStride(); line += 16) __builtin_prefetch(source.stored + line);
+}
+
+// Fetches the cached vertices a source's indices name, once the indices are in.
+PBS_CLONE_INLINE void prefetchVertices(const TriangleBatch& batch, const TriangleSource& source) {
+  if (source.stored != nullptr) return;
+  for (int k = 0; k < 3; ++k)
+    if (const ProjectedVertex* v = cachedVertex(batch, *source.span, source.indices[k])) __builtin_prefetch(v);
 }
 
 }  // namespace pbs::triangles

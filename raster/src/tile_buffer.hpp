@@ -2,6 +2,7 @@
 // the triangle that won each pixel, whose attributes are resolved once at the end.
 #pragma once
 
+#include "shading_records.hpp"
 #include "triangle_batch.hpp"
 
 #include <cstdint>
@@ -29,11 +30,13 @@ inline bool overlaps(const RasterTriangle& t, const TileBuffer& tile) {
 
 // The triangles a tile drew, in the order it drew them: a pixel's id in TileBuffer::ids is a place
 // here. The resolve's working memory beside them: per place the slot of its shading record where it
-// won a pixel, those winners in the order drawn, and their records (at most one per pixel).
+// won a pixel, those winners in the order drawn with where their records come from, and the records (at
+// most one per pixel).
 struct TileDrawn {
   std::vector<const RasterTriangle*> triangles;
   std::vector<std::uint32_t> slotOf;
   std::vector<const RasterTriangle*> winners;
+  std::vector<TriangleSource> sources;  // the winners', found once
   std::vector<float> records;
 };
 

@@ -44,27 +44,31 @@ std::uint32_t* markWinners(const TileBuffer& tile, TileDrawn& drawn) {
 }
 
 // The records of the marked triangles, in the order the tile drew them (the order of their index and
-// vertex arrays, mostly), each marked place turned into its record's slot. The reads of the sources
-// are fetched ahead: the indices a few triangles ahead, the vertices they name half as far.
+// vertex arrays, mostly), each marked place turned into its record's slot (an unmarked place keeps 0, but
+// no pixel names it). What the records are made from is fetched ahead: the indices (or a stored record) a
+// few triangles ahead, the vertices they name half as far.
 PBS_CLONE_INLINE const float* makeRecords(const TriangleBatch& batch, TileDrawn& drawn) {
   std::vector<const RasterTriangle*>& winners = drawn.winners;
+  std::vector<TriangleSource>& sources = drawn.sources;
   winners.clear();
+  sources.clear();
   std::uint32_t* const slotOf = drawn.slotOf.data();
   for (std::uint32_t place = 0; place < drawn.triangles.size(); ++place) {
     if (slotOf[place] == 0) continue;
     slotOf[place] = std::uint32_t(winners.size());
     winners.push_back(drawn.triangles[place]);
+    sources.push_back(sourceOf(batch, *drawn.triangles[place]));
   }
   const std::uint32_t stride = batch.maxStride();
   if (drawn.records.size() < winners.size() * stride) drawn.records.resize(winners.size() * stride);
   constexpr std::size_t kIndicesAhead = 8, kVerticesAhead = 4;
   const std::size_t count = winners.size();
-  for (std::size_t i = 0; i < std::min(count, kIndicesAhead); ++i) prefetchSource(batch, *winners[i], 0);
-  for (std::size_t i = 0; i < std::min(count, kVerticesAhead); ++i) prefetchSource(batch, *winners[i], 1);
+  for (std::size_t i = 0; i < std::min(count, kIndicesAhead); ++i) prefetchIndices(batch, sources[i]);
+  for (std::size_t i = 0; i < std::min(count, kVerticesAhead); ++i) prefetchVertices(batch, sources[i]);
   for (std::size_t i = 0; i < count; ++i) {
-    if (i + kIndicesAhead < count) prefetchSource(batch, *winners[i + kIndicesAhead], 0);
-    if (i + kVerticesAhead < count) prefetchSource(batch, *winners[i + kVerticesAhead], 1);
-    lazyShadingRecord(batch, *winners[i], drawn.records.data() + i * stride);
+    if (i + kIndicesAhead < count) prefetchIndices(batch, sources[i + kIndicesAhead]);
+    if (i + kVerticesAhead < count) prefetchVertices(batch, sources[i + kVerticesAhead]);
+    shadingRecord(batch, *winners[i], sources[i], drawn.records.data() + i * stride);
   }
   return drawn.records.data();
 }
