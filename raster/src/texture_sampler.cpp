@@ -171,6 +171,8 @@ glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootp
   // side, each with the footprint's long side divided among them: the level follows the short side, so the
   // texture is not blurred across the slant as one probe sized by the long side would blur it.
   const glm::vec2 sides2 = squaredSides(texture, footprint);
+  // One probe at most (a capture's, or isotropic filtering): the level alone, without the sides' lengths.
+  if (footprint.maxProbes == 1) return toVec4(sampleProbe(texture, uv, levelOfDetail(sides2)));
   const float lengthX = std::sqrt(sides2.x), lengthY = std::sqrt(sides2.y);
   const float longSide = std::max(lengthX, lengthY), shortSide = std::min(lengthX, lengthY);
   const float probes = shortSide > 0.0f && longSide < 1e30f && longSide > 1.0f
