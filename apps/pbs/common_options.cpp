@@ -186,6 +186,12 @@ void addLodOptions(CLI::App& command, LodOptions& lod) {
                   "surfels")
       ->check(CLI::Range(0.01, 100.0))
       ->capture_default_str();
+  command
+      .add_option("--rays-near-share", lod.raysNearShare,
+                  "with --rays-cheaper descend, where rays draw the geometry: a frame whose geometry fills more than "
+                  "this share of its cut is drawn by more rays, all rays from 0.1 above it (1: never)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   const std::map<std::string, PrefixRule> rules = {{"coverage", PrefixRule::Coverage},
                                                    {"packing", PrefixRule::Packing}};
   command.add_option("--prefix-rule", lod.prefixRule, "coverage (paper, default) or packing (authors' later rule)")

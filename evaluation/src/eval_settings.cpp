@@ -65,6 +65,8 @@ void apply(const std::string& option, const std::string& key, const std::string&
     setting.lod.descendWhereRaysCheaper = value == "descend";
   } else if (key == "rays-preference") {
     setting.lod.raysPreference = parseNumber(option, key, value, 0.01, 100.0);
+  } else if (key == "rays-near-share") {
+    setting.lod.raysNearShare = parseNumber(option, key, value, 0.0, 1.0);
   } else if (key == "band") {
     setting.lod.band = parseNumber(option, key, value, 0.0, 10.0);
   } else if (key == "rule") {
@@ -122,7 +124,8 @@ bool EvalSetting::drawsLike(const EvalSetting& o) const {
 }
 
 std::string sweepKeys() {
-  return "embree, exact, overdraw, threshold, primitives, ms, exhausted, rays, rays-preference, point, splat, cull, "
+  return "embree, exact, overdraw, threshold, primitives, ms, exhausted, rays, rays-preference, rays-near-share, "
+         "point, splat, cull, "
          "gain, band, rule, geometry, ordering, simplify";
 }
 

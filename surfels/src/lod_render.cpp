@@ -121,12 +121,38 @@ LodDraws traverseLodForDrawer(const Scene& scene, const Hierarchy& hierarchy, co
   thresholdOnly.descendWhereRaysCheaper = false;
   if (!options.descendWhereRaysCheaper || !rays) return traverseLod(scene, hierarchy, surfels, camera, thresholdOnly);
   // With the rasterizer named, raysCheaperAbove already descends nowhere.
+  const auto rasterChosen = [&](const GeometryWork& work) {
+    return options.geometry == GeometryDrawer::Auto &&
+           chooseGeometryDrawer(work, options.frameCosts, options.bvhBuildFrames) == GeometryDrawer::Raster;
+  };
   LodDraws draws = traverseLod(scene, hierarchy, surfels, camera, options);
-  if (options.geometry == GeometryDrawer::Auto &&
-      chooseGeometryDrawer(geometryWork(scene, hierarchy, draws.geometryNodes, camera, rays), options.frameCosts,
-                           options.bvhBuildFrames) == GeometryDrawer::Raster)
+  const GeometryWork work = geometryWork(scene, hierarchy, draws.geometryNodes, camera, rays);
+  if (rasterChosen(work)) return traverseLod(scene, hierarchy, surfels, camera, thresholdOnly);
+  // The rasterizer's price is per triangle, so it draws the thresholds' cut; a budget chooses its cut by cost.
+  if (options.geometry == GeometryDrawer::Raster || options.budget.limit > 0.0) return draws;
+  const double scale =
+      nearFrameDescentScale(nearFrameShare(hierarchy, surfels, camera, draws, work.boxPixels), options.raysNearShare);
+  if (scale >= 1.0) return draws;
+  LodOptions near = options;
+  near.descentScale = scale;
+  LodDraws nearDraws = traverseLod(scene, hierarchy, surfels, camera, near);
+  if (rasterChosen(geometryWork(scene, hierarchy, nearDraws.geometryNodes, camera, rays)))
     return traverseLod(scene, hierarchy, surfels, camera, thresholdOnly);
-  return draws;
+  return nearDraws;
+}
+
+double nearFrameShare(const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
+                      const LodDraws& draws, double geometryBoxPixels) {
+  double splats = 0.0;
+  for (const LodDraws::Surfels& draw : draws.surfels)
+    splats += splatPixels(camera, hierarchy.world[draw.node], surfels.arrays[draw.array], draw);
+  const double all = geometryBoxPixels + splats;
+  return all > 0.0 ? geometryBoxPixels / all : 0.0;
+}
+
+double nearFrameDescentScale(double share, double raysNearShare) {
+  if (!(share > raysNearShare)) return 1.0;  // NaN too
+  return std::clamp(1.0 - (share - raysNearShare) / kNearFrameRamp, 0.0, 1.0);
 }
 
 LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,

@@ -226,6 +226,86 @@ TEST(LodGeometry, AFrameRenderersCutIsWhatItsFramesDraw) {
   EXPECT_THROW(FrameRenderer(s.scene, s.hierarchy, {.mode = RenderMode::Exact}, 16, 16).cut(camera), std::logic_error);
 }
 
+// A row of 16 groups receding along x, each a 5 × 5 grid of small boxes (2,700 triangles: the group has an array,
+// its boxes none). Seen from one end, the near groups are geometry and the far ones prefixes: twenty-five nodes
+// of rays each cost more than a few pixels of surfels.
+Scene recedingRow() {
+  Scene scene;
+  scene.materials.push_back(Material{"plain", glm::vec4(0.3f, 0.6f, 0.8f, 1.0f), -1});
+  scene.meshes.push_back(tessellatedBox(3));
+  scene.nodes.push_back(Node{"row", glm::dmat4(1.0), {}, -1});
+  for (int g = 0; g < 16; ++g) {
+    const auto group = std::uint32_t(scene.nodes.size());
+    scene.nodes[0].children.push_back(group);
+    scene.nodes.push_back(Node{"group", glm::translate(glm::dmat4(1.0), glm::dvec3(3.0 * g, 0.0, 0.0)), {}, -1});
+    for (int i = 0; i < 25; ++i) {
+      scene.nodes[group].children.push_back(std::uint32_t(scene.nodes.size()));
+      scene.nodes.push_back(
+          Node{"box", placed({0.0, 0.4 * (i % 5 - 2), 0.4 * (i / 5 - 2)}, 0.2 * i, glm::dvec3(0.18)), {}, 0});
+    }
+  }
+  scene.roots = {0};
+  validateScene(scene, "receding row");
+  return scene;
+}
+
+TEST(LodGeometry, TheNearFrameDescentScaleFallsFromOneToZeroOverTheRamp) {
+  EXPECT_EQ(nearFrameDescentScale(0.2, 0.35), 1.0);
+  EXPECT_EQ(nearFrameDescentScale(0.35, 0.35), 1.0);
+  EXPECT_NEAR(nearFrameDescentScale(0.35 + kNearFrameRamp / 4.0, 0.35), 0.75, 1e-12);
+  EXPECT_NEAR(nearFrameDescentScale(0.35 + kNearFrameRamp, 0.35), 0.0, 1e-12);
+  EXPECT_EQ(nearFrameDescentScale(1.0, 0.35), 0.0);
+  EXPECT_EQ(nearFrameDescentScale(1.0, 1.0), 1.0) << "1 turns the rule off";
+  EXPECT_EQ(nearFrameDescentScale(std::nan(""), 0.35), 1.0);
+}
+
+// Where rays draw a frame that is mostly geometry, the few prefixes left in it are drawn by rays too; a frame of
+// prefixes (from afar), and any frame the rasterizer draws, keep their cut.
+TEST(LodGeometry, AFrameMostlyOfGeometryIsDrawnByRaysWhole) {
+  const SurfeledScene s = surfeled(recedingRow());
+  EmbreeNodeCaster caster(s.scene, s.hierarchy);
+  LodOptions rule;
+  rule.descendWhereRaysCheaper = true;
+  rule.geometry = GeometryDrawer::Rays;
+  LodOptions off = rule;
+  off.raysNearShare = 1.0;
+  const auto cut = [&](const Camera& camera, const LodOptions& options) {
+    return traverseLodForDrawer(s.scene, s.hierarchy, s.surfels, camera, options, &caster);
+  };
+  const auto share = [&](const Camera& camera, const LodDraws& draws) {
+    const GeometryWork work = geometryWork(s.scene, s.hierarchy, draws.geometryNodes, camera, &caster);
+    return nearFrameShare(s.hierarchy, s.surfels, camera, draws, work.boxPixels);
+  };
+  const glm::dvec3 up(0.0, 1.0, 0.0);
+  const Camera near = perspectiveCamera(glm::lookAt(glm::dvec3(-1.5, 0.3, 0.4), glm::dvec3(45.0, 0.0, 0.0), up),
+                                        glm::radians(60.0), 0.05, 500.0, 256, 160);
+  const LodDraws kept = cut(near, off);
+  ASSERT_GT(kept.surfels.size(), 0u) << "the far groups are prefixes without the rule";
+  ASSERT_GT(kept.geometryNodes.size(), 25u) << "the near groups are geometry";
+  const double nearShare = share(near, kept);
+  std::printf("geometry's share of the near frame's cut: %.3f (%zu prefixes, %zu geometry nodes)\n", nearShare,
+              kept.surfels.size(), kept.geometryNodes.size());
+  EXPECT_GT(nearShare, rule.raysNearShare + kNearFrameRamp);
+  const LodDraws whole = cut(near, rule);
+  EXPECT_TRUE(whole.surfels.empty());
+  EXPECT_EQ(whole.surfelCount, 0u);
+  EXPECT_GT(whole.geometryNodes.size(), kept.geometryNodes.size());
+
+  // From afar the row is a line of prefixes: the same cut either way.
+  const Camera far = perspectiveCamera(glm::lookAt(glm::dvec3(22.5, 60.0, 400.0), glm::dvec3(22.5, 0.0, 0.0), up),
+                                       glm::radians(30.0), 1.0, 1000.0, 256, 160);
+  const LodDraws farCut = cut(far, rule);
+  ASSERT_GT(farCut.surfels.size(), 0u);
+  EXPECT_LT(share(far, farCut), rule.raysNearShare);
+  EXPECT_EQ(farCut.surfelCount, cut(far, off).surfelCount);
+  EXPECT_EQ(farCut.geometryNodes, cut(far, off).geometryNodes);
+
+  // The rasterizer's price is per triangle: its cut is the threshold's, near or far.
+  rule.geometry = off.geometry = GeometryDrawer::Raster;
+  EXPECT_EQ(cut(near, rule).surfelCount, cut(near, off).surfelCount);
+  EXPECT_GT(cut(near, rule).surfelCount, 0u);
+}
+
 // A wall (a mesh without surfels, so always geometry) with a small box in front of it and one behind,
 // both drawn as surfels: the one in front shows, the one behind is hidden, whichever drawer drew the wall.
 TEST(LodGeometry, SurfelsComposeByDepthOverRayCastGeometry) {

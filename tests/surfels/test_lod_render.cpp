@@ -9,10 +9,12 @@
 #include <pbs/raster/orbit_camera.hpp>
 #include <pbs/raster/projected_box.hpp>
 #include <pbs/raster/thread_arena.hpp>
+#include <pbs/scene/embree_node_caster.hpp>
 #include <pbs/scene/generate.hpp>
 #include <pbs/scene/gltf_export.hpp>
 #include <pbs/scene/gltf_import.hpp>
 #include <pbs/scene/scene_draws.hpp>
+#include <pbs/surfels/lod_geometry.hpp>
 #include <pbs/surfels/lod_render.hpp>
 #include <pbs/surfels/surfelize.hpp>
 
@@ -258,11 +260,11 @@ TEST(TraverseLod, ASubtreeWhoseRaysCostLessThanItsSurfelsIsDescendedFromTheSizeW
 }
 
 std::vector<glm::vec4> renderImage(const SurfeledScene& s, const Camera& camera, const LodOptions& options,
-                                   const SceneSurfels& surfels) {
+                                   const SceneSurfels& surfels, EmbreeNodeCaster* rays = nullptr) {
   // Blended splats need the coverage channel (their partly covered pixels).
   const ChannelMask coverage = options.splat == SplatMode::Blend ? ChannelMask{kChannelCoverage} : ChannelMask{0};
   Framebuffer gbuffer = makeFramebuffer(camera.width, camera.height, kChannelColor | kChannelNormal | coverage);
-  renderLod(s.scene, s.hierarchy, surfels, camera, gbuffer, options);
+  renderLod(s.scene, s.hierarchy, surfels, camera, gbuffer, options, rays);
   return shadeHeadlight(gbuffer, camera);
 }
 
@@ -425,17 +427,25 @@ struct PoppingMeasure {
 // frame, so popping is measured on what the LOD adds to it: the frame's error against the exact
 // rendering of the same camera, err(f). A switch point is a step where any node changes between
 // geometry, surfels and not drawn; a pop makes err jump there.
-PoppingMeasure popping(const SurfeledScene& s, const LodOptions& options) {
-  constexpr int kFrames = 96;
+constexpr int kPoppingFrames = 96;
+
+std::vector<Camera> poppingPath(const SurfeledScene& s) {
   constexpr double kFar = 6.0, kNear = 0.8;  // bounding radii
+  std::vector<Camera> cameras;
+  for (int f = 0; f < kPoppingFrames; ++f)
+    cameras.push_back(orbitAround(s, kFar * std::pow(kNear / kFar, double(f) / (kPoppingFrames - 1)), 192));
+  return cameras;
+}
+
+PoppingMeasure popping(const SurfeledScene& s, const LodOptions& options, EmbreeNodeCaster* rays = nullptr) {
+  constexpr int kFrames = kPoppingFrames;
   constexpr int kAround = 5;
   std::vector<double> error;
   std::vector<std::vector<std::pair<std::uint32_t, bool>>> decisions;
-  for (int f = 0; f < kFrames; ++f) {
-    const double distance = kFar * std::pow(kNear / kFar, double(f) / (kFrames - 1));
-    const Camera camera = orbitAround(s, distance, 192);
-    error.push_back(meanDifference(renderImage(s, camera, options, s.surfels), renderImage(s, camera, options, {})));
-    const LodDraws draws = traverseLod(s.scene, s.hierarchy, s.surfels, camera, options);
+  for (const Camera& camera : poppingPath(s)) {
+    error.push_back(
+        meanDifference(renderImage(s, camera, options, s.surfels, rays), renderImage(s, camera, options, {}, rays)));
+    const LodDraws draws = traverseLodForDrawer(s.scene, s.hierarchy, s.surfels, camera, options, rays);
     std::vector<std::pair<std::uint32_t, bool>> d;
     for (std::uint32_t n : draws.geometryNodes) d.emplace_back(n, true);
     for (const auto& sd : draws.surfels) d.emplace_back(sd.node, false);
@@ -494,6 +504,45 @@ TEST_P(Transitions, DoNotPopOnASharedScene) {
   const double bound = GetParam() == SplatMode::Blend ? 3.0 : 2.5;
   EXPECT_LE(banded.worstRatio, bound);
   EXPECT_GT(popped.worstRatio, bound) << "the same criterion must catch abrupt switching";
+}
+
+// The same where rays draw the geometry, nodes whose rays cost less than their surfels are descended into, and a
+// frame mostly of geometry is drawn by rays whole (LodOptions::raysNearShare): its thresholds shrink over a ramp of
+// the geometry's share, under the bands. The path crosses the ramp. (Without the band the measure cannot be
+// checked here: the frames drawn by rays whole have no error against exact, so around a switch nothing changes.)
+TEST(TransitionsWithRays, DoNotPopWhereAFrameTurnsToRaysWhole) {
+  PBS_SHARED_SCENE(spot, "spot.glb");
+  PBS_SHARED_SCENE(teapot, "teapot.glb");
+  Scene city = generateCity({importGltf(spot).scene, importGltf(teapot).scene}, CityOptions{.levels = 2, .fanout = 4});
+  validateScene(city, "city");
+  const SurfeledScene s = surfeled(std::move(city), 5000);
+  EmbreeNodeCaster caster(s.scene, s.hierarchy);
+  LodOptions smooth;
+  smooth.geometry = GeometryDrawer::Rays;
+  smooth.descendWhereRaysCheaper = true;
+  smooth.threshold = 48.0;
+  smooth.band = 1.0;
+  int below = 0, inside = 0, above = 0;  // frames whose share lies below, in and above the ramp
+  LodOptions off = smooth;
+  off.raysNearShare = 1.0;
+  for (const Camera& camera : poppingPath(s)) {
+    const LodDraws draws = traverseLodForDrawer(s.scene, s.hierarchy, s.surfels, camera, off, &caster);
+    const double share =
+        nearFrameShare(s.hierarchy, s.surfels, camera, draws,
+                       geometryWork(s.scene, s.hierarchy, draws.geometryNodes, camera, &caster).boxPixels);
+    const double scale = nearFrameDescentScale(share, smooth.raysNearShare);
+    (scale >= 1.0 ? below : scale > 0.0 ? inside : above) += 1;
+  }
+  const PoppingMeasure banded = popping(s, smooth, &caster);
+  std::printf(
+      "rays: frames below, in and above the ramp %d, %d, %d; switch steps %d, worst change / changes around "
+      "%.2f\n",
+      below, inside, above, banded.switches, banded.worstRatio);
+  EXPECT_GT(below, 0);
+  EXPECT_GT(inside, 0);
+  EXPECT_GT(above, 0);
+  EXPECT_GT(banded.switches, 0) << "the path must cross switch points";
+  EXPECT_LE(banded.worstRatio, 3.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(RenderLod, Transitions, testing::Values(SplatMode::Nearest, SplatMode::Blend),

@@ -170,6 +170,16 @@ struct LodOptions {
   // paths of the default scene and two cities and no worse in median FLIP on any: the prefixes it gives up were
   // mostly the slower and the less exact picture.
   double raysPreference = 2.0;
+  // With descendWhereRaysCheaper, where rays draw the cut: a frame whose geometry fills more than this share of
+  // what its cut draws (nearFrameShare) has every node's descent threshold shrunk, linearly down to 0 at this
+  // plus kNearFrameRamp, so that a frame rays draw nearly whole is drawn by them whole. The prefixes left in such a
+  // frame save little (its rays are cast over most of the image anyway) and cost accuracy: the default scene's
+  // near frames drew 0.2-18 % of their pixels as splats and scored up to 4 % above one ray's FLIP, in about the
+  // time of the frame drawn all by rays (docs/evaluation.md, "Near frames drawn by rays whole"). The shares
+  // measured lie at 0.15-0.30 on mid and far frames and at 0.5-1 on near ones. 1 turns the rule off.
+  double raysNearShare = 0.35;
+  // Multiplies every node's descent threshold: set by traverseLodForDrawer from raysNearShare; 1 elsewhere.
+  double descentScale = 1.0;
   // With a limit: the cut is chosen by cost instead of by the threshold. From the coarsest cut (every
   // visible node with an array drawn as surfels, the rest descended), the node largest on screen is
   // refined (drawn as its own mesh and its children) while the cost stays within the limit; nodes whose
@@ -263,8 +273,23 @@ LodStats renderLod(const Scene& scene, const Hierarchy& hierarchy, const SceneSu
 // geometry rays will draw (options.geometry Rays, or Auto choosing them for that cut, their BVH builds priced as
 // drawLodGeometry prices them). Otherwise, and without `rays`, the threshold's cut: a single view whose BVHs
 // are yet to build is drawn by the rasterizer, whose price is per triangle.
+// Where rays draw the cut and its geometry fills more than options.raysNearShare of it, the cut made again with
+// the descent scale nearFrameDescentScale gives.
 LodDraws traverseLodForDrawer(const Scene& scene, const Hierarchy& hierarchy, const SceneSurfels& surfels,
                               const Camera& camera, const LodOptions& options, const EmbreeNodeCaster* rays);
+
+// The width of the share over which LodOptions::raysNearShare shrinks the thresholds to 0.
+inline constexpr double kNearFrameRamp = 0.1;
+
+// The share of a cut's pixels its geometry fills: the geometry nodes' projected boxes (each clipped to the image,
+// `geometryBoxPixels`) over those plus the prefixes' splat pixels (splatPixels). Both overcount where things
+// overlap, so it is an estimate, not the share of pixels the frame's geometry covers (frame_kind.hpp); 0 for an
+// empty cut.
+double nearFrameShare(const Hierarchy& hierarchy, const SceneSurfels& surfels, const Camera& camera,
+                      const LodDraws& draws, double geometryBoxPixels);
+
+// 1 up to raysNearShare (and for NaN), 0 from raysNearShare + kNearFrameRamp, linear between.
+double nearFrameDescentScale(double share, double raysNearShare);
 
 // renderLod's drawing half, for `draws` that traverseLod made with the same arguments (a caller that
 // loads the drawn prefixes first traverses once). Every drawn prefix must be loaded (std::logic_error).
