@@ -41,9 +41,12 @@ void printRasterReport(const nlohmann::json& r) {
   if (c["llvmpipe"].contains("missing"))
     std::printf("  llvmpipe          %s\n", seconds(c["llvmpipe"]).c_str());
   else
-    std::printf("  llvmpipe          %s  (pbs %.1fx faster; same channels, positions agree on %.2f%% of pixels)\n",
-                seconds(c["llvmpipe"]).c_str(), c["vs_llvmpipe"].get<double>(),
-                100.0 * c["llvmpipe"]["position_agreement"].get<double>());
+    std::printf(
+        "  llvmpipe          %s  (pbs %.1fx faster; same channels, positions agree on %.2f%% of pixels, "
+        "colours within 4/255 on %.2f%%)\n",
+        seconds(c["llvmpipe"]).c_str(), c["vs_llvmpipe"].get<double>(),
+        100.0 * c["llvmpipe"]["position_agreement"].get<double>(),
+        100.0 * c["llvmpipe"]["color_agreement"].get<double>());
   std::printf("  embree packets    %s  (pbs %.1fx faster; BVH build %.4f s apart)\n", seconds(c["embree"]).c_str(),
               c["vs_embree"].get<double>(), c["embree"]["bvh_seconds"].get<double>());
   for (const char* size : {"1px", "4px"}) {

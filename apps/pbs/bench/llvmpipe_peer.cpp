@@ -1,11 +1,12 @@
 // The llvmpipe peer: OSMesa and OpenGL entry points resolved at run time. Points use fixed-function
 // vertex arrays (the least driver overhead llvmpipe offers for plain coloured geometry); capture
-// triangles go through a small shader program into a G-buffer of the channels pbs fills, so both
-// do the same work.
+// triangles go through a small shader program into a G-buffer of the channels pbs fills, textured
+// base colours included, so both do the same work.
 #include "llvmpipe_peer.hpp"
 
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <limits>
 #include <string>
@@ -31,17 +32,25 @@ constexpr GLbitfield kColorBit = 0x4000, kDepthBit = 0x0100;
 constexpr GLenum kFramebuffer = 0x8D40, kRenderbuffer = 0x8D41, kColorAttachment0 = 0x8CE0, kDepthAttachment = 0x8D00;
 constexpr GLenum kFramebufferComplete = 0x8CD5, kRgba8 = 0x8058, kRgb32f = 0x8815, kDepth32f = 0x8CAC, kRgb = 0x1907;
 constexpr GLenum kVertexShader = 0x8B31, kFragmentShader = 0x8B30, kCompileStatus = 0x8B81, kLinkStatus = 0x8B82;
+constexpr GLenum kTexture2d = 0x0DE1, kTextureMagFilter = 0x2800, kTextureMinFilter = 0x2801, kTextureWrapS = 0x2802,
+                 kTextureWrapT = 0x2803;
+constexpr GLenum kNearest = 0x2600, kLinear = 0x2601, kNearestMipmapNearest = 0x2700, kLinearMipmapNearest = 0x2701,
+                 kNearestMipmapLinear = 0x2702, kLinearMipmapLinear = 0x2703;
+constexpr GLenum kRepeat = 0x2901, kClampToEdge = 0x812F, kMirroredRepeat = 0x8370;
 
 // World position and normal per vertex into the colour, position and normal attachments.
 constexpr const char* kCaptureVertexShader = R"(#version 330 core
 layout(location = 0) in vec3 objectPosition;
 layout(location = 1) in vec3 objectNormal;
+layout(location = 2) in vec2 objectUv;
 uniform mat4 clipFromObject;
 uniform mat4 positionFromObject;
 uniform mat3 normalFromObject;
 out vec3 position;
 out vec3 normal;
+out vec2 uv;
 void main() {
+  uv = objectUv;
   position = (positionFromObject * vec4(objectPosition, 1.0)).xyz;
   normal = normalFromObject * objectNormal;
   gl_Position = clipFromObject * vec4(objectPosition, 1.0);
@@ -49,13 +58,16 @@ void main() {
 )";
 constexpr const char* kCaptureFragmentShader = R"(#version 330 core
 uniform vec4 baseColor;
+uniform bool textured;
+uniform sampler2D baseTexture;
 in vec3 position;
 in vec3 normal;
+in vec2 uv;
 layout(location = 0) out vec4 outColor;
 layout(location = 1) out vec3 outPosition;
 layout(location = 2) out vec3 outNormal;
 void main() {
-  outColor = baseColor;
+  outColor = textured ? baseColor * texture(baseTexture, uv) : baseColor;
   outPosition = position;
   outNormal = normalize(normal);
 }
@@ -110,6 +122,13 @@ struct LlvmpipePeer::Gl {
   void (*uniform4fv)(GLint, GLsizei, const GLfloat*);
   void (*enableVertexAttribArray)(GLuint);
   void (*vertexAttribPointer)(GLuint, GLint, GLenum, GLboolean, GLsizei, const void*);
+  void (*disableVertexAttribArray)(GLuint);
+  void (*uniform1i)(GLint, GLint);
+  void (*genTextures)(GLsizei, GLuint*);
+  void (*bindTexture)(GLenum, GLuint);
+  void (*texImage2D)(GLenum, GLint, GLint, GLsizei, GLsizei, GLint, GLenum, GLenum, const void*);
+  void (*texParameteri)(GLenum, GLenum, GLint);
+  void (*generateMipmap)(GLenum);
   void (*destroyContext)(void*);
 };
 
@@ -180,6 +199,13 @@ LlvmpipePeer::LlvmpipePeer(std::uint32_t width, std::uint32_t height, int thread
       resolve<decltype(Gl::uniform4fv)>(getProc, "glUniform4fv"),
       resolve<decltype(Gl::enableVertexAttribArray)>(getProc, "glEnableVertexAttribArray"),
       resolve<decltype(Gl::vertexAttribPointer)>(getProc, "glVertexAttribPointer"),
+      resolve<decltype(Gl::disableVertexAttribArray)>(getProc, "glDisableVertexAttribArray"),
+      resolve<decltype(Gl::uniform1i)>(getProc, "glUniform1i"),
+      resolve<decltype(Gl::genTextures)>(getProc, "glGenTextures"),
+      resolve<decltype(Gl::bindTexture)>(getProc, "glBindTexture"),
+      resolve<decltype(Gl::texImage2D)>(getProc, "glTexImage2D"),
+      resolve<decltype(Gl::texParameteri)>(getProc, "glTexParameteri"),
+      resolve<decltype(Gl::generateMipmap)>(getProc, "glGenerateMipmap"),
       destroy,
   });
   gl->viewport(0, 0, GLsizei(width), GLsizei(height));
@@ -216,7 +242,8 @@ bool LlvmpipePeer::useCaptureGBuffer() {
       gl.readBuffer && gl.createShader && gl.shaderSource && gl.compileShader && gl.getShaderiv && gl.createProgram &&
       gl.attachShader && gl.linkProgram && gl.getProgramiv && gl.useProgram && gl.getUniformLocation &&
       gl.uniformMatrix4fv && gl.uniformMatrix3fv && gl.uniform4fv && gl.enableVertexAttribArray &&
-      gl.vertexAttribPointer;
+      gl.vertexAttribPointer && gl.disableVertexAttribArray && gl.uniform1i && gl.genTextures && gl.bindTexture &&
+      gl.texImage2D && gl.texParameteri && gl.generateMipmap;
   if (!hasEntryPoints) return fail("libOSMesa lacks the OpenGL 3.3 entry points the G-buffer needs");
   GLuint framebuffer = 0;
   gl.genFramebuffers(1, &framebuffer);
@@ -263,6 +290,8 @@ bool LlvmpipePeer::useCaptureGBuffer() {
   positionFromObjectAt_ = gl.getUniformLocation(program, "positionFromObject");
   normalFromObjectAt_ = gl.getUniformLocation(program, "normalFromObject");
   baseColorAt_ = gl.getUniformLocation(program, "baseColor");
+  texturedAt_ = gl.getUniformLocation(program, "textured");
+  gl.uniform1i(gl.getUniformLocation(program, "baseTexture"), 0);  // texture unit 0
   // The program reads generic attributes 0 and 1; the fixed-function arrays stay off.
   gl.disableClientState(kVertexArray);
   gl.disableClientState(kColorArray);
@@ -271,15 +300,51 @@ bool LlvmpipePeer::useCaptureGBuffer() {
   return true;
 }
 
+std::uint32_t LlvmpipePeer::uploadTexture(const Texture& texture) {
+  const Gl& gl = *gl_;
+  GLuint name = 0;
+  gl.genTextures(1, &name);
+  gl.bindTexture(kTexture2d, name);
+  // Rows top first, as glTF's v runs: uploaded as they are, texture(uv) reads what pbs's sampler reads at uv.
+  gl.texImage2D(kTexture2d, 0, GLint(kRgba8), GLsizei(texture.width), GLsizei(texture.height), 0, kRgba, kUnsignedByte,
+                texture.rgba8.data());
+  const auto wrap = [](TextureWrap w) {
+    return GLint(w == TextureWrap::ClampToEdge      ? kClampToEdge
+                 : w == TextureWrap::MirroredRepeat ? kMirroredRepeat
+                                                    : kRepeat);
+  };
+  const bool linear = texture.minFilter == TextureFilter::Linear;
+  GLenum minFilter = linear ? kLinear : kNearest;
+  if (texture.mipmap == TextureMipmap::Nearest) minFilter = linear ? kLinearMipmapNearest : kNearestMipmapNearest;
+  if (texture.mipmap == TextureMipmap::Linear) minFilter = linear ? kLinearMipmapLinear : kNearestMipmapLinear;
+  gl.texParameteri(kTexture2d, kTextureMinFilter, GLint(minFilter));
+  gl.texParameteri(kTexture2d, kTextureMagFilter,
+                   GLint(texture.magFilter == TextureFilter::Linear ? kLinear : kNearest));
+  gl.texParameteri(kTexture2d, kTextureWrapS, wrap(texture.wrapS));
+  gl.texParameteri(kTexture2d, kTextureWrapT, wrap(texture.wrapT));
+  if (texture.mipmap != TextureMipmap::None) gl.generateMipmap(kTexture2d);
+  return name;
+}
+
 void LlvmpipePeer::drawCaptureTriangles(const glm::mat4& clipFromObject, const glm::mat4& positionFromObject,
                                         const glm::mat3& normalFromObject, const glm::vec4& baseColor,
                                         std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
-                                        std::span<const std::uint32_t> indices) {
+                                        std::span<const std::uint32_t> indices, std::span<const glm::vec2> uvs,
+                                        std::uint32_t texture) {
   const Gl& gl = *gl_;
   gl.uniformMatrix4fv(clipFromObjectAt_, 1, 0, &clipFromObject[0][0]);
   gl.uniformMatrix4fv(positionFromObjectAt_, 1, 0, &positionFromObject[0][0]);
   gl.uniformMatrix3fv(normalFromObjectAt_, 1, 0, &normalFromObject[0][0]);
   gl.uniform4fv(baseColorAt_, 1, &baseColor[0]);
+  const bool textured = texture != 0 && uvs.size() == positions.size();
+  gl.uniform1i(texturedAt_, textured);
+  if (textured) {
+    gl.bindTexture(kTexture2d, texture);
+    gl.enableVertexAttribArray(2);
+    gl.vertexAttribPointer(2, 2, kFloat, 0, 0, uvs.data());
+  } else {
+    gl.disableVertexAttribArray(2);
+  }
   gl.vertexAttribPointer(0, 3, kFloat, 0, 0, positions.data());
   gl.vertexAttribPointer(1, 3, kFloat, 0, 0, normals.data());
   gl.drawElements(kTriangles, GLsizei(indices.size()), kUnsignedInt, indices.data());
@@ -307,6 +372,18 @@ std::uint64_t LlvmpipePeer::coveredPixels() {
   std::uint64_t covered = 0;
   for (float d : depth) covered += d < 1.0f;
   return covered;
+}
+
+std::vector<glm::u8vec4> LlvmpipePeer::captureColors() {
+  const std::size_t width = viewportWidth_, height = viewportHeight_;
+  std::vector<glm::u8vec4> color(width * height);
+  gl_->readBuffer(kColorAttachment0);
+  gl_->readPixels(0, 0, GLsizei(width), GLsizei(height), kRgba, kUnsignedByte, color.data());
+  std::vector<glm::u8vec4> topDown(width * height);
+  for (std::size_t row = 0; row < height; ++row)
+    std::copy_n(color.begin() + std::ptrdiff_t((height - 1 - row) * width), width,
+                topDown.begin() + std::ptrdiff_t(row * width));
+  return topDown;
 }
 
 std::vector<glm::vec3> LlvmpipePeer::capturePositions() {

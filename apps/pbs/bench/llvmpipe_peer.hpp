@@ -2,6 +2,8 @@
 // Loaded with dlopen at run time: pbs neither links nor needs Mesa unless a benchmark asks for it.
 #pragma once
 
+#include <pbs/raster/texture.hpp>
+
 #include <glm/glm.hpp>
 
 #include <cstdint>
@@ -40,13 +42,18 @@ class LlvmpipePeer {
   // the context's size, written by a shader program. False, with missingReason() set, where the
   // driver lacks something it needs.
   bool useCaptureGBuffer();
+  // The texture as a GL texture with its wrap modes and filters (mip levels made by the driver where its
+  // minFilter uses them): the name drawCaptureTriangles takes. Upload before timing.
+  std::uint32_t uploadTexture(const Texture& texture);
   // Indexed triangles into the G-buffer: clip position from `clipFromObject`, the position channel
   // from `positionFromObject` (world minus the framebuffer's origin), the normal channel from
-  // `normalFromObject` (normalised per pixel), and `baseColor` as the colour channel.
+  // `normalFromObject` (normalised per pixel), and `baseColor` as the colour channel, times the texture
+  // `texture` (uploadTexture's; 0: none) at `uvs` where the mesh has them.
   void drawCaptureTriangles(const glm::mat4& clipFromObject, const glm::mat4& positionFromObject,
                             const glm::mat3& normalFromObject, const glm::vec4& baseColor,
                             std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
-                            std::span<const std::uint32_t> indices);
+                            std::span<const std::uint32_t> indices, std::span<const glm::vec2> uvs = {},
+                            std::uint32_t texture = 0);
   // Waits until everything drawn is in the buffers (glFinish), so timings include the work.
   void finish();
 
@@ -55,6 +62,8 @@ class LlvmpipePeer {
   // The G-buffer's position channel over the viewport, rows from the top as pbs stores them; NaN
   // where nothing was drawn.
   std::vector<glm::vec3> capturePositions();
+  // The G-buffer's colour channel over the viewport, rows from the top.
+  std::vector<glm::u8vec4> captureColors();
 
  private:
   struct Gl;
@@ -64,7 +73,7 @@ class LlvmpipePeer {
   std::string missing_;
   std::uint32_t width_ = 0, height_ = 0;
   std::uint32_t viewportWidth_ = 0, viewportHeight_ = 0;
-  int clipFromObjectAt_ = -1, positionFromObjectAt_ = -1, normalFromObjectAt_ = -1, baseColorAt_ = -1;
+  int clipFromObjectAt_ = -1, positionFromObjectAt_ = -1, normalFromObjectAt_ = -1, baseColorAt_ = -1, texturedAt_ = -1;
   std::unique_ptr<std::uint8_t[]> colorBuffer_;
 };
 

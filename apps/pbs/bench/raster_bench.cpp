@@ -80,11 +80,31 @@ double positionAgreement(const Framebuffer& pbs, const std::vector<glm::vec3>& l
   return both > 0 ? double(agree) / double(both) : 0.0;
 }
 
-// llvmpipe filling the same channels as pbs's capture: depth, base colour, world position and
-// normal (untextured: a textured material gets its base colour only, which spares llvmpipe work).
+// The share of pixels covered by both whose colours agree within 4 of 255 in every channel: evidence that
+// llvmpipe samples the textures pbs samples (its level of detail and filtering differ in the last bits).
+double colorAgreement(const Framebuffer& pbs, const std::vector<glm::u8vec4>& llvmpipe,
+                      const std::vector<glm::vec3>& llvmpipePositions) {
+  std::uint64_t both = 0, agree = 0;
+  for (std::size_t i = 0; i < pbs.pixelCount(); ++i) {
+    if (!pbs.covered(i) || std::isnan(llvmpipePositions[i].x)) continue;
+    ++both;
+    const glm::ivec4 difference = glm::abs(glm::ivec4(pbs.color[i]) - glm::ivec4(llvmpipe[i]));
+    agree += glm::all(glm::lessThanEqual(difference, glm::ivec4(4)));
+  }
+  return both > 0 ? double(agree) / double(both) : 0.0;
+}
+
+// llvmpipe filling the same channels as pbs's capture: depth, base colour (textured where the material
+// is, with the texture's filters and wrap modes), world position and normal.
 class LlvmpipeCapture {
  public:
-  LlvmpipeCapture(const CaptureViews& views, int threads) : LlvmpipeCapture(views, largestViewport(views), threads) {}
+  LlvmpipeCapture(const Scene& scene, const CaptureViews& views, int threads)
+      : LlvmpipeCapture(views, largestViewport(views), threads) {
+    if (!available_) return;
+    // Uploaded before any timing, as Embree's BVH is built before its.
+    for (const Texture& texture : scene.textures)
+      textureNames_.push_back(isSampleable(texture) ? peer_.uploadTexture(texture) : 0);
+  }
   bool available() const { return available_; }
   const std::string& missingReason() const { return peer_.missingReason(); }
 
@@ -100,8 +120,9 @@ class LlvmpipeCapture {
     return drawing;
   }
   std::uint64_t covered() const { return covered_; }
-  // The position channel of the view drawn last.
+  // The position and colour channels of the view drawn last.
   std::vector<glm::vec3> positions() { return peer_.capturePositions(); }
+  std::vector<glm::u8vec4> colors() { return peer_.captureColors(); }
 
  private:
   LlvmpipeCapture(const CaptureViews& views, glm::uvec2 context, int threads)
@@ -129,11 +150,13 @@ class LlvmpipeCapture {
       const glm::dmat4& world = hierarchy.world[n];
       const glm::mat3 normalFromObject(glm::transpose(glm::inverse(glm::dmat3(world))));
       for (const MeshPart& part : mesh.parts) {
-        const glm::vec4 color =
-            part.material < scene.materials.size() ? scene.materials[part.material].baseColorFactor : glm::vec4(1.0f);
-        peer_.drawCaptureTriangles(glm::mat4(clipFromWorld * world), glm::mat4(positionFromWorld * world),
-                                   normalFromObject, color, mesh.positions, mesh.normals,
-                                   std::span(mesh.indices).subspan(part.firstIndex, part.indexCount));
+        const Material* material = part.material < scene.materials.size() ? &scene.materials[part.material] : nullptr;
+        const glm::vec4 color = material ? material->baseColorFactor : glm::vec4(1.0f);
+        const std::int32_t texture = material ? material->baseColorTexture : -1;
+        peer_.drawCaptureTriangles(
+            glm::mat4(clipFromWorld * world), glm::mat4(positionFromWorld * world), normalFromObject, color,
+            mesh.positions, mesh.normals, std::span(mesh.indices).subspan(part.firstIndex, part.indexCount), mesh.uvs,
+            texture >= 0 && std::size_t(texture) < textureNames_.size() ? textureNames_[std::size_t(texture)] : 0u);
       }
     }
     peer_.finish();
@@ -141,6 +164,7 @@ class LlvmpipeCapture {
 
   const CaptureViews& views_;
   LlvmpipePeer peer_;
+  std::vector<std::uint32_t> textureNames_;  // per scene texture, 0 where it cannot be sampled
   bool available_ = false;
   std::uint64_t covered_ = 0;
 };
@@ -169,7 +193,7 @@ nlohmann::json benchCapture(const Scene& scene, const Hierarchy& hierarchy, cons
       for (std::size_t v = 0; v < views.cameras.size(); ++v) embree->render(views.cameras[v], views.framebuffers[v]);
     });
   };
-  LlvmpipeCapture llvmpipe(views, all);
+  LlvmpipeCapture llvmpipe(scene, views, all);
   std::vector<std::function<double()>> runs = {pbsRun(1), pbsRun(all), embreeRun};
   if (llvmpipe.available()) runs.push_back([&] { return llvmpipe.run(scene, hierarchy); });
   const auto rounds = interleavedRounds(runs, options.repeats);
@@ -185,7 +209,9 @@ nlohmann::json benchCapture(const Scene& scene, const Hierarchy& hierarchy, cons
   if (llvmpipe.available()) {
     capture["llvmpipe"] = timingEntry(rounds[3], all, llvmpipe.covered());
     capture["llvmpipe"]["channels"] = "depth, colour, position, normal";
-    capture["llvmpipe"]["position_agreement"] = positionAgreement(views.framebuffers.back(), llvmpipe.positions(), box);
+    const std::vector<glm::vec3> positions = llvmpipe.positions();
+    capture["llvmpipe"]["position_agreement"] = positionAgreement(views.framebuffers.back(), positions, box);
+    capture["llvmpipe"]["color_agreement"] = colorAgreement(views.framebuffers.back(), llvmpipe.colors(), positions);
     capture["vs_llvmpipe"] = medianRatio(rounds[3], rounds[1]);
   } else {
     capture["llvmpipe"] = {{"missing", llvmpipe.missingReason()}};
