@@ -129,7 +129,8 @@ LodDraws traverseLodForDrawer(const Scene& scene, const Hierarchy& hierarchy, co
   const GeometryWork work = geometryWork(scene, hierarchy, draws.geometryNodes, camera, rays);
   if (rasterChosen(work)) return traverseLod(scene, hierarchy, surfels, camera, thresholdOnly);
   // The rasterizer's price is per triangle, so it draws the thresholds' cut; a budget chooses its cut by cost.
-  if (options.geometry == GeometryDrawer::Raster || options.budget.limit > 0.0) return draws;
+  if (options.geometry == GeometryDrawer::Raster || options.budget.limit > 0.0 || !(options.raysNearShare < 1.0))
+    return draws;
   const double scale =
       nearFrameDescentScale(nearFrameShare(hierarchy, surfels, camera, draws, work.boxPixels), options.raysNearShare);
   if (scale >= 1.0) return draws;
