@@ -238,6 +238,8 @@ TEST(EvalCli, BadSweepsFailWithUsageErrors) {
   EXPECT_EQ(eval.run("--sweep overdraw=").status, 2);
   EXPECT_EQ(eval.run("--sweep overdraw=1,x").status, 2);
   EXPECT_EQ(eval.run("--sweep ordering=best").status, 2);
+  EXPECT_EQ(eval.run("--sweep rays-near-share=1.5").status, 2) << "a share lies in [0, 1]";
+  EXPECT_EQ(eval.run("--rays-near-share -0.1").status, 2);
   EXPECT_EQ(eval.run("--sweep embree=3").status, 2) << "samples per pixel are 1, 4, 16, 64 or 256";
   EXPECT_EQ(eval.run("--peers overdraw=2").status, 2) << "peers are exact renderers";
   EXPECT_EQ(eval.run("--reference-samples 8").status, 2);
