@@ -172,7 +172,7 @@ glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootp
   // texture is not blurred across the slant as one probe sized by the long side would blur it.
   const glm::vec2 sides2 = squaredSides(texture, footprint);
   // One probe at most (a capture's, or isotropic filtering): the level alone, without the sides' lengths.
-  if (footprint.maxProbes == 1) return toVec4(sampleProbe(texture, uv, levelOfDetail(sides2)));
+  if (footprint.maxProbes == 1) return sampleTextureAtLevel(texture, uv, levelOfDetail(sides2));
   const float lengthX = std::sqrt(sides2.x), lengthY = std::sqrt(sides2.y);
   const float longSide = std::max(lengthX, lengthY), shortSide = std::min(lengthX, lengthY);
   const float probes = shortSide > 0.0f && longSide < 1e30f && longSide > 1.0f
@@ -188,6 +188,15 @@ glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootp
   Rgba sum{};
   for (int i = 0; i < count; ++i) sum += sampleProbe(texture, uv + axis * ((float(i) + 0.5f) / probes - 0.5f), lod);
   return toVec4(sum / probes);
+}
+
+float textureLevelOfDetail(const Texture& texture, const TextureFootprint& footprint) {
+  return levelOfDetail(squaredSides(texture, footprint));
+}
+
+PBS_AVX2_CLONES
+glm::vec4 sampleTextureAtLevel(const Texture& texture, glm::vec2 uv, float lod) {
+  return toVec4(sampleProbe(texture, uv, lod));
 }
 
 }  // namespace pbs

@@ -38,6 +38,7 @@ struct TileDrawn {
   std::vector<const RasterTriangle*> winners;
   std::vector<TriangleSource> sources;  // the winners', found once
   std::vector<float> records;
+  std::vector<float> textureLevels;  // per record of an affine textured triangle: its one probe's level of detail
 };
 
 // Writes the channels other than depth for every pixel a triangle of this batch won.

@@ -73,6 +73,25 @@ PBS_CLONE_INLINE const float* makeRecords(const TriangleBatch& batch, TileDrawn&
   return drawn.records.data();
 }
 
+// Where every textured triangle of the batch is affine (an orthographic view) and takes one probe, the footprint
+// is the same at each of its pixels: the level of detail of each winner's, found once (null where not so). With
+// w = 1 and the 1/w plane's slopes 0, uvFootprint's uv · 0 is ±0 and leaves each side's squared length as it is.
+PBS_CLONE_INLINE const float* affineTextureLevels(const TriangleBatch& batch, TileDrawn& drawn, const float* records,
+                                                  const ShadingLayout& textured, float spacing, std::uint32_t probes) {
+  if (probes != 1 || textured.inverseW != ShadingLayout::kAbsent) return nullptr;
+  const std::uint32_t stride = batch.maxStride();
+  drawn.textureLevels.resize(drawn.winners.size());
+  for (std::size_t i = 0; i < drawn.winners.size(); ++i) {
+    const float* record = records + i * stride;
+    const TriangleSpan& span = batch.spans[loadHeader(record).span];
+    drawn.textureLevels[i] =
+        span.texture ? textureLevelOfDetail(
+                           *span.texture, uvFootprint(record, textured, false, glm::vec2(0.0f), 1.0f, spacing, probes))
+                     : 0.0f;
+  }
+  return drawn.textureLevels.data();
+}
+
 }  // namespace
 
 // The channels' arrays and the layouts are held in locals: through the batch, every store to a
@@ -93,6 +112,8 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile, TileDrawn& 
   const std::size_t width = framebuffer.width;
   const auto sampleSpacing = float(batch.camera.sampleSpacing);
   const std::uint32_t textureProbes = batch.camera.textureProbes;
+  const float* const levels =
+      colors ? affineTextureLevels(batch, drawn, records, textured, sampleSpacing, textureProbes) : nullptr;
   for (int row = 0; row < tile.height; ++row) {
     const int y = tile.y0 + row;
     for (int column = 0; column < tile.width; ++column) {
@@ -119,9 +140,13 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile, TileDrawn& 
       if (colors) {
         if (span.texture) {
           const glm::vec2 uv = planeValue<2>(record + layout.uv, dx, dy) * w;
-          colors[pixel] = toUnorm8(span.baseColor * sampleTexture(*span.texture, uv,
-                                                                  uvFootprint(record, layout, perspective, uv, w,
-                                                                              sampleSpacing, textureProbes)));
+          // The level found once for the triangle holds where uv is finite (else uv · 0 is NaN in the footprint).
+          const glm::vec4 texel =
+              levels && std::isfinite(uv.x) && std::isfinite(uv.y)
+                  ? sampleTextureAtLevel(*span.texture, uv, levels[slotOf[id]])
+                  : sampleTexture(*span.texture, uv,
+                                  uvFootprint(record, layout, perspective, uv, w, sampleSpacing, textureProbes));
+          colors[pixel] = toUnorm8(span.baseColor * texel);
         } else {
           colors[pixel] = header.flatColor;
         }

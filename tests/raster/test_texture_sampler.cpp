@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace pbs {
@@ -84,6 +86,30 @@ TEST(TextureMips, TheFootprintPicksTheLevel) {
     TextureFootprint unused = footprintOf(lod, 8);
     unused.maxProbes = 0;
     EXPECT_EQ(sampleTexture(texture, uv, unused), level0) << lod;
+  }
+}
+
+// The split the resolve makes for affine triangles (the level found once per triangle) is sampleTexture to the bit:
+// magnified, between levels, beyond the last, slanted, with no side and with NaN, for each mip mode.
+TEST(TextureMips, ALevelFoundOnceSamplesAsTheOneProbeFootprintDoes) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (TextureMipmap mipmap : {TextureMipmap::None, TextureMipmap::Nearest, TextureMipmap::Linear}) {
+    const Texture texture = gradient(16, 8, mipmap);
+    const TextureFootprint footprints[] = {footprintOf(-1.0f, 16),
+                                           footprintOf(0.3f, 16),
+                                           footprintOf(1.7f, 16),
+                                           footprintOf(9.0f, 16),
+                                           {glm::vec2(0.3f, 0.05f), glm::vec2(-0.01f, 0.02f)},
+                                           {},
+                                           {glm::vec2(nan, 0.0f), glm::vec2(0.0f, 0.1f)}};
+    for (const TextureFootprint& f : footprints)
+      for (const glm::vec2 uv : {glm::vec2(0.1f, 0.2f), glm::vec2(0.77f, -1.3f), glm::vec2(5.5f, 0.5f)}) {
+        const TextureFootprint one{f.dx, f.dy, 1};
+        const glm::vec4 whole = sampleTexture(texture, uv, one);
+        const glm::vec4 split = sampleTextureAtLevel(texture, uv, textureLevelOfDetail(texture, one));
+        for (int c = 0; c < 4; ++c)
+          EXPECT_EQ(std::bit_cast<std::uint32_t>(whole[c]), std::bit_cast<std::uint32_t>(split[c]));
+      }
   }
 }
 

@@ -66,6 +66,13 @@ struct TextureFootprint {
 // at the sample), so their colours agree.
 glm::vec4 sampleTexture(const Texture& texture, glm::vec2 uv, const TextureFootprint& footprint = {});
 
+// sampleTexture for a footprint of one probe (maxProbes 1) split in two, for a caller whose footprint is the same
+// at many samples (an affine triangle's, in an orthographic view): the level of detail it gives (NaN where it has
+// no side: level 0 magnified), then the sample at a level. sampleTextureAtLevel(t, uv, textureLevelOfDetail(t, f))
+// is sampleTexture(t, uv, f) to the bit.
+float textureLevelOfDetail(const Texture& texture, const TextureFootprint& footprint);
+glm::vec4 sampleTextureAtLevel(const Texture& texture, glm::vec2 uv, float lod);
+
 // A colour in [0, 1] as RGBA8, rounded to nearest; out-of-range values clamp and NaN becomes 0. Inline, so
 // that the resolve's clones inline it per pixel.
 inline glm::u8vec4 toUnorm8(const glm::vec4& color) {
