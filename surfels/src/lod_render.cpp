@@ -120,17 +120,19 @@ LodDraws traverseLodForDrawer(const Scene& scene, const Hierarchy& hierarchy, co
   LodOptions thresholdOnly = options;
   thresholdOnly.descendWhereRaysCheaper = false;
   if (!options.descendWhereRaysCheaper || !rays) return traverseLod(scene, hierarchy, surfels, camera, thresholdOnly);
-  // With the rasterizer named, raysCheaperAbove already descends nowhere.
+  LodDraws draws = traverseLod(scene, hierarchy, surfels, camera, options);
+  // With the rasterizer named, raysCheaperAbove descended nowhere, and its price is per triangle: the thresholds' cut.
+  if (options.geometry == GeometryDrawer::Raster) return draws;
+  // A budget chooses its cut by cost, not by the thresholds the near rule shrinks.
+  const bool nearRule = options.budget.limit == 0.0 && options.raysNearShare < 1.0;
+  if (options.geometry == GeometryDrawer::Rays && !nearRule) return draws;
   const auto rasterChosen = [&](const GeometryWork& work) {
     return options.geometry == GeometryDrawer::Auto &&
            chooseGeometryDrawer(work, options.frameCosts, options.bvhBuildFrames) == GeometryDrawer::Raster;
   };
-  LodDraws draws = traverseLod(scene, hierarchy, surfels, camera, options);
   const GeometryWork work = geometryWork(scene, hierarchy, draws.geometryNodes, camera, rays);
   if (rasterChosen(work)) return traverseLod(scene, hierarchy, surfels, camera, thresholdOnly);
-  // The rasterizer's price is per triangle, so it draws the thresholds' cut; a budget chooses its cut by cost.
-  if (options.geometry == GeometryDrawer::Raster || options.budget.limit > 0.0 || !(options.raysNearShare < 1.0))
-    return draws;
+  if (!nearRule) return draws;
   const double scale =
       nearFrameDescentScale(nearFrameShare(hierarchy, surfels, camera, draws, work.boxPixels), options.raysNearShare);
   if (scale >= 1.0) return draws;
