@@ -3,6 +3,7 @@
 // shading record of each winner is made here, the first time one of its pixels is met.
 #include "pbs/raster/simd_clones.hpp"
 #include "shading_records.hpp"
+#include "texture_filters.hpp"
 #include "tile_buffer.hpp"
 
 #include <cmath>
@@ -143,7 +144,7 @@ void resolveTile(const TriangleBatch& batch, const TileBuffer& tile, TileDrawn& 
           // The level found once for the triangle holds where uv is finite (else uv · 0 is NaN in the footprint).
           const glm::vec4 texel =
               levels && std::isfinite(uv.x) && std::isfinite(uv.y)
-                  ? sampleTextureAtLevel(*span.texture, uv, levels[slotOf[id]])
+                  ? texture_filters::sampleAtLevel(*span.texture, uv, levels[slotOf[id]])
                   : sampleTexture(*span.texture, uv,
                                   uvFootprint(record, layout, perspective, uv, w, sampleSpacing, textureProbes));
           colors[pixel] = toUnorm8(span.baseColor * texel);
