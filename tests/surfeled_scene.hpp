@@ -2,6 +2,8 @@
 #pragma once
 
 #include <pbs/raster/camera.hpp>
+#include <pbs/scene/generate.hpp>
+#include <pbs/scene/gltf_import.hpp>
 #include <pbs/scene/hierarchy.hpp>
 #include <pbs/scene/scene.hpp>
 #include <pbs/surfels/camera_paths.hpp>
@@ -36,6 +38,14 @@ inline SurfeledScene surfeled(Scene scene, std::uint64_t threshold = 1000) {
   options.file.resolution = 128;
   s.surfels = sceneSurfelsOf(surfelize(s.scene, s.hierarchy, options), s.scene, s.hierarchy, "test");
   return s;
+}
+
+// A small city of two shared meshes (generateCity, 2 levels of fanout 4) surfelized with arrays above 5,000
+// triangles: every mesh instance has one, and so do the blocks. The callers take the files from PBS_SHARED_SCENE.
+inline SurfeledScene surfeledCityOf(const std::filesystem::path& first, const std::filesystem::path& second) {
+  Scene city = generateCity({importGltf(first).scene, importGltf(second).scene}, CityOptions{.levels = 2, .fanout = 4});
+  validateScene(city, "city");
+  return surfeled(std::move(city), 5000);
 }
 
 // The two-groups scene surfelized (arrays of 4000 surfels: four chunks) and written to `file`, for

@@ -74,12 +74,14 @@ PBS_CLONE_INLINE const float* makeRecords(const TriangleBatch& batch, TileDrawn&
   return drawn.records.data();
 }
 
-// Where every textured triangle of the batch is affine (an orthographic view) and takes one probe, the footprint
-// is the same at each of its pixels: the level of detail of each winner's, found once (null where not so). With
+// Where the batch samples textures, every textured triangle of it is affine (an orthographic view) and takes one
+// probe, the footprint is the same at each of its pixels: the level of detail of each winner's, found once (null
+// where not so). With
 // w = 1 and the 1/w plane's slopes 0, uvFootprint's uv · 0 is ±0 and leaves each side's squared length as it is.
 PBS_CLONE_INLINE const float* affineTextureLevels(const TriangleBatch& batch, TileDrawn& drawn, const float* records,
                                                   const ShadingLayout& textured, float spacing, std::uint32_t probes) {
-  if (probes != 1 || textured.inverseW != ShadingLayout::kAbsent) return nullptr;
+  constexpr std::uint32_t kAbsent = ShadingLayout::kAbsent;
+  if (probes != 1 || textured.uv == kAbsent || textured.inverseW != kAbsent) return nullptr;
   const std::uint32_t stride = batch.maxStride();
   drawn.textureLevels.resize(drawn.winners.size());
   for (std::size_t i = 0; i < drawn.winners.size(); ++i) {

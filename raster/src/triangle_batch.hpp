@@ -109,7 +109,8 @@ struct TriangleBatch : BatchBuffers {
   TriangleOptions options;
   // Per batch, from the channels and the spans: [0] for the triangles of spans drawn in their flat
   // colour, [1] for those of spans that sample a texture. Only the latter carry the plane of texture
-  // coordinates (and, without a position channel, the plane of 1/w it is interpolated over).
+  // coordinates (and, without a position channel, the plane of 1/w it is interpolated over); where no span
+  // samples a texture, [1] is [0].
   ShadingLayout layouts[2];
   const ShadingLayout& layoutOf(const TriangleSpan& span) const { return layouts[span.texture != nullptr]; }
   std::uint32_t maxStride() const { return std::max(layouts[0].stride, layouts[1].stride); }

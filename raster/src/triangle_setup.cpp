@@ -258,7 +258,11 @@ ShadingLayout shadingLayout(const TriangleBatch& batch, bool sampled) {
 
 void setupTriangles(TriangleBatch& batch) {
   batch.layouts[0] = shadingLayout(batch, false);
-  batch.layouts[1] = shadingLayout(batch, true);
+  // A batch whose spans sample no texture gives its textured layout no plane of texture coordinates: its records
+  // are no longer than its flat ones, and the resolve sees at once that nothing is sampled.
+  const bool samples = std::any_of(batch.spans.begin(), batch.spans.end(),
+                                   [](const TriangleSpan& span) { return span.texture != nullptr; });
+  batch.layouts[1] = samples ? shadingLayout(batch, true) : batch.layouts[0];
   const std::uint32_t chunkCount = (batch.triangleCount + kChunkTriangles - 1) / kChunkTriangles;
   batch.chunkCount = chunkCount;
   if (batch.chunks.size() < chunkCount) batch.chunks.resize(chunkCount);

@@ -76,14 +76,15 @@ inline double raysCheaperAbove(double demand, double size, const Hierarchy& hier
 // into: options.threshold, or lower where the array cannot meet the demand at the top of the transition band
 // (options.descendExhausted: the demand grows with size², so the size at which it equals the array's length
 // is size · √(length / demand(size))), or where its subtree's rays cost less than its prefix
-// (raysCheaperAbove). The transition band lies above whichever it is, so neither change pops.
+// (raysCheaperAbove); all of it times options.descentScale (a near frame's, traverseLodForDrawer). The transition
+// band lies above whichever it is, so neither change pops.
 inline double descentThreshold(const SplatArray& splats, const NodeScale& at, double size, const Hierarchy& hierarchy,
                                std::uint32_t node, const LodOptions& options) {
   const double demand = prefixDemand(splats, size, at.worldPixel, at.scale, options);
   const double threshold = std::min(options.threshold, raysCheaperAbove(demand, size, hierarchy, node, options));
-  if (!options.descendExhausted || !(size > 0.0) || !(demand > 0.0)) return threshold;
+  if (!options.descendExhausted || !(size > 0.0) || !(demand > 0.0)) return options.descentScale * threshold;
   const double sufficient = size * std::sqrt(double(splats.size()) / demand) / (1.0 + options.band);
-  return std::min(threshold, sufficient);
+  return options.descentScale * std::min(threshold, sufficient);
 }
 
 }  // namespace pbs::lod

@@ -30,10 +30,9 @@ class Traversal {
     const double size = std::sqrt(boxes_.pixels(box));
     const NodeScale at =
         array != kNoSurfels ? lod::nodeScale(camera_, hierarchy_.world[node], surfels_.arrays[array]) : NodeScale{};
-    const double threshold =
-        options_.descentScale *
-        (array != kNoSurfels ? lod::descentThreshold(surfels_.arrays[array], at, size, hierarchy_, node, options_)
-                             : options_.threshold);
+    const double threshold = array != kNoSurfels
+                                 ? lod::descentThreshold(surfels_.arrays[array], at, size, hierarchy_, node, options_)
+                                 : options_.threshold;
     const double upper = threshold * (1.0 + options_.band);
     if (array != kNoSurfels && size < upper) {
       // Inside the band the node's prefix first stays whole while the children grow in, then shrinks

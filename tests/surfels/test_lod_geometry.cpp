@@ -169,9 +169,7 @@ using test::SurfeledScene;
 TEST(LodGeometry, RaysAgreeWithTheRasterizerUnderTheSurfels) {
   PBS_SHARED_SCENE(spot, "spot.glb");
   PBS_SHARED_SCENE(teapot, "teapot.glb");
-  Scene city = generateCity({importGltf(spot).scene, importGltf(teapot).scene}, CityOptions{.levels = 2, .fanout = 4});
-  validateScene(city, "city");
-  const SurfeledScene s = surfeled(std::move(city), 5000);
+  const SurfeledScene s = test::surfeledCityOf(spot, teapot);
   LodOptions options;
   options.threshold = 48.0;
   options.band = 0.0;

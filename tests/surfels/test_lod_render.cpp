@@ -479,9 +479,7 @@ class Transitions : public testing::TestWithParam<SplatMode> {};
 TEST_P(Transitions, DoNotPopOnASharedScene) {
   PBS_SHARED_SCENE(spot, "spot.glb");
   PBS_SHARED_SCENE(teapot, "teapot.glb");
-  Scene city = generateCity({importGltf(spot).scene, importGltf(teapot).scene}, CityOptions{.levels = 2, .fanout = 4});
-  validateScene(city, "city");
-  const SurfeledScene s = surfeled(std::move(city), 5000);
+  const SurfeledScene s = test::surfeledCityOf(spot, teapot);
   LodOptions smooth;
   smooth.splat = GetParam();
   // Nearest is the paper's points, checked at the paper's overdraw; blended discs at the default.
@@ -513,9 +511,7 @@ TEST_P(Transitions, DoNotPopOnASharedScene) {
 TEST(TransitionsWithRays, DoNotPopWhereAFrameTurnsToRaysWhole) {
   PBS_SHARED_SCENE(spot, "spot.glb");
   PBS_SHARED_SCENE(teapot, "teapot.glb");
-  Scene city = generateCity({importGltf(spot).scene, importGltf(teapot).scene}, CityOptions{.levels = 2, .fanout = 4});
-  validateScene(city, "city");
-  const SurfeledScene s = surfeled(std::move(city), 5000);
+  const SurfeledScene s = test::surfeledCityOf(spot, teapot);
   EmbreeNodeCaster caster(s.scene, s.hierarchy);
   LodOptions smooth;
   smooth.geometry = GeometryDrawer::Rays;

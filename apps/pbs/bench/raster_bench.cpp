@@ -66,32 +66,34 @@ std::uint64_t coveredPixels(const CaptureViews& views) {
   return covered;
 }
 
-// The share of pixels covered by both pbs and llvmpipe whose positions agree within 1e-4 of the
-// box's diagonal: evidence that llvmpipe fills the same position channel, not just covers the
-// same pixels. Pixels on silhouettes and shared edges may go to different triangles.
-double positionAgreement(const Framebuffer& pbs, const std::vector<glm::vec3>& llvmpipe, const Bounds& box) {
-  const float tolerance = float(1e-4 * glm::length(box.max - box.min));
-  std::uint64_t both = 0, agree = 0;
-  for (std::size_t i = 0; i < pbs.pixelCount(); ++i) {
-    if (!pbs.covered(i) || std::isnan(llvmpipe[i].x)) continue;
-    ++both;
-    agree += glm::length(pbs.position[i] - llvmpipe[i]) <= tolerance;
-  }
-  return both > 0 ? double(agree) / double(both) : 0.0;
-}
-
-// The share of pixels covered by both whose colours agree within 4 of 255 in every channel: evidence that
-// llvmpipe samples the textures pbs samples (its level of detail and filtering differ in the last bits).
-double colorAgreement(const Framebuffer& pbs, const std::vector<glm::u8vec4>& llvmpipe,
-                      const std::vector<glm::vec3>& llvmpipePositions) {
+// The share of the pixels both pbs and llvmpipe cover (llvmpipe's position not NaN) for which `agrees(i)`.
+template <typename Agrees>
+double shareAgreeing(const Framebuffer& pbs, const std::vector<glm::vec3>& llvmpipePositions, Agrees&& agrees) {
   std::uint64_t both = 0, agree = 0;
   for (std::size_t i = 0; i < pbs.pixelCount(); ++i) {
     if (!pbs.covered(i) || std::isnan(llvmpipePositions[i].x)) continue;
     ++both;
-    const glm::ivec4 difference = glm::abs(glm::ivec4(pbs.color[i]) - glm::ivec4(llvmpipe[i]));
-    agree += glm::all(glm::lessThanEqual(difference, glm::ivec4(4)));
+    agree += agrees(i);
   }
   return both > 0 ? double(agree) / double(both) : 0.0;
+}
+
+// Positions within 1e-4 of the box's diagonal: evidence that llvmpipe fills the same position channel, not just
+// covers the same pixels. Pixels on silhouettes and shared edges may go to different triangles.
+double positionAgreement(const Framebuffer& pbs, const std::vector<glm::vec3>& llvmpipe, const Bounds& box) {
+  const float tolerance = float(1e-4 * glm::length(box.max - box.min));
+  return shareAgreeing(pbs, llvmpipe,
+                       [&](std::size_t i) { return glm::length(pbs.position[i] - llvmpipe[i]) <= tolerance; });
+}
+
+// Colours within 4 of 255 in every channel: evidence that llvmpipe samples the textures pbs samples (its level of
+// detail and filtering differ in the last bits).
+double colorAgreement(const Framebuffer& pbs, const std::vector<glm::u8vec4>& llvmpipe,
+                      const std::vector<glm::vec3>& llvmpipePositions) {
+  return shareAgreeing(pbs, llvmpipePositions, [&](std::size_t i) {
+    const glm::ivec4 difference = glm::abs(glm::ivec4(pbs.color[i]) - glm::ivec4(llvmpipe[i]));
+    return glm::all(glm::lessThanEqual(difference, glm::ivec4(4)));
+  });
 }
 
 // llvmpipe filling the same channels as pbs's capture: depth, base colour (textured where the material
