@@ -7,6 +7,10 @@
 #include "pbs/scene/embree_caster.hpp"
 #include "pbs/scene/scene_draws.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -70,6 +74,12 @@ void appendSurfels(const Framebuffer& framebuffer, const glm::vec3& direction, C
 
 }  // namespace
 
+std::size_t concurrentCaptureViews(std::size_t views, std::size_t pixelsPerView, int threads) {
+  if (threads <= 0) threads = tbb::this_task_arena::max_concurrency();
+  const std::size_t fitting = kConcurrentCaptureBytes / std::max<std::size_t>(1, pixelsPerView * kCaptureBytesPerPixel);
+  return std::max<std::size_t>(1, std::min({views, std::size_t(std::max(threads, 1)), fitting}));
+}
+
 double CaptureResult::sidesSeen() const {
   const std::uint64_t front = surfels.size() - seenFromBehind;
   const std::uint64_t larger = std::max(front, seenFromBehind), smaller = std::min(front, seenFromBehind);
@@ -95,20 +105,33 @@ CaptureResult captureBox(const Bounds& box, const CaptureOptions& options, const
   result.surfels.reserve(pixels);
 
   double boxArea = 0.0;
-  // One G-buffer for all views, of which only depth is cleared (kCaptureClearedChannels).
-  Framebuffer framebuffer = makeFramebuffer(0, 0, kCaptureChannels, result.origin);
-  for (std::size_t v = 0; v < directions.size(); ++v) {
-    const Camera& camera = cameras[v];
-    const glm::dvec3& direction = directions[v];
-    resizeFramebuffer(framebuffer, camera.width, camera.height);
-    clearFramebuffer(framebuffer, kCaptureClearedChannels);
-    draw(camera, framebuffer);
-    if (options.onView) options.onView(result.views, camera, framebuffer);
-    const std::size_t before = result.surfels.size();
-    appendSurfels(framebuffer, glm::vec3(direction), result);
-    result.coveredPixels += result.surfels.size() - before;
-    boxArea += projectedBoxPixels(camera, box);
-    ++result.views;
+  // A G-buffer per view drawn at once, reused by the views after it, of which only depth is cleared
+  // (kCaptureClearedChannels). The views are drawn in groups, then read in order.
+  std::size_t largestView = 0;
+  for (const Camera& camera : cameras) largestView = std::max<std::size_t>(largestView, camera.width * camera.height);
+  const std::size_t group = concurrentCaptureViews(cameras.size(), largestView);
+  std::vector<Framebuffer> framebuffers;
+  for (std::size_t i = 0; i < group; ++i)
+    framebuffers.push_back(makeFramebuffer(0, 0, kCaptureChannels, result.origin));
+  for (std::size_t first = 0; first < cameras.size(); first += group) {
+    const std::size_t end = std::min(first + group, cameras.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, end, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t v = r.begin(); v < r.end(); ++v) {
+        Framebuffer& framebuffer = framebuffers[v - first];
+        resizeFramebuffer(framebuffer, cameras[v].width, cameras[v].height);
+        clearFramebuffer(framebuffer, kCaptureClearedChannels);
+        draw(cameras[v], framebuffer);
+      }
+    });
+    for (std::size_t v = first; v < end; ++v) {
+      const Framebuffer& framebuffer = framebuffers[v - first];
+      if (options.onView) options.onView(result.views, cameras[v], framebuffer);
+      const std::size_t before = result.surfels.size();
+      appendSurfels(framebuffer, glm::vec3(directions[v]), result);
+      result.coveredPixels += result.surfels.size() - before;
+      boxArea += projectedBoxPixels(cameras[v], box);
+      ++result.views;
+    }
   }
   result.boxPixels = static_cast<std::uint64_t>(std::llround(boxArea));
   const double denominator = std::max(boxArea, double(result.coveredPixels));

@@ -331,11 +331,12 @@ std::uint64_t surfelizeMemoryEstimate(const Scene& scene, const Hierarchy& hiera
                                       int workers) {
   const detail::SurfelPlan plan = detail::planSurfelArrays(scene, hierarchy, options);
   const std::uint64_t pixels = std::uint64_t(options.file.resolution) * options.file.resolution;
-  constexpr std::uint64_t kGBufferBytes = 4 + 4 + 12 + 12;  // depth, colour, position, normal per pixel
+  // The G-buffers of the views each capture draws at once.
+  const std::uint64_t gbuffers = concurrentCaptureViews(options.file.directions, pixels, workers);
   // A candidate: the surfel, its position for the ordering, and the ordering's grid and heap entries
   // (freed before the colour filter, whose columns and cells take less).
   constexpr std::uint64_t kCandidateBytes = sizeof(Surfel) + 12 + 32;
-  const std::uint64_t capture = pixels * (kGBufferBytes + options.file.directions * kCandidateBytes);
+  const std::uint64_t capture = pixels * (gbuffers * kCaptureBytesPerPixel + options.file.directions * kCandidateBytes);
   const std::uint64_t frame = scene.nodes.size() * (sizeof(glm::dmat4) + sizeof(Bounds) + 24);
   // The rasterizer's working memory, which each worker keeps between captures: a batch of the largest
   // capture's triangles at most.

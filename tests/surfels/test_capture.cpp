@@ -316,16 +316,30 @@ TEST(Capture, TexturedSpotGivesTextureColours) {
   }
 }
 
-TEST(Capture, SameSurfelsForOneAndTwoThreads) {
+// Views drawn at once: one per thread, as many G-buffers as fit the budget, never none.
+TEST(Capture, ConcurrentViewsFollowThreadsAndTheBudget) {
+  const std::size_t full = kConcurrentCaptureBytes / kCaptureBytesPerPixel;  // pixels of one budget-sized G-buffer
+  EXPECT_EQ(concurrentCaptureViews(8, 256 * 256, 1), 1u);
+  EXPECT_EQ(concurrentCaptureViews(8, 256 * 256, 3), 3u);
+  EXPECT_EQ(concurrentCaptureViews(8, 256 * 256, 16), 8u) << "no more than the views";
+  EXPECT_EQ(concurrentCaptureViews(8, full / 2, 16), 2u) << "two G-buffers fill the budget";
+  EXPECT_EQ(concurrentCaptureViews(8, 4 * full, 16), 1u) << "one view over the budget is still drawn";
+  EXPECT_EQ(concurrentCaptureViews(8, 0, 4), 4u);
+  runWithThreads(2, [] { EXPECT_EQ(concurrentCaptureViews(8, 256 * 256), 2u) << "the arena's threads"; });
+}
+
+TEST(Capture, SameSurfelsForOneTwoAndFourThreads) {
   PBS_SHARED_SCENE(spot, "spot.glb");
   const Scene scene = loadScene(spot.string()).scene;
   const Hierarchy hierarchy = analyzeHierarchy(scene);
   for (const auto backend : kBackends) {
-    CaptureResult one, two;
+    CaptureResult one, two, four;
     const CaptureOptions options{.resolution = 128, .directions = 16, .backend = backend};
     runWithThreads(1, [&] { one = captureNode(scene, hierarchy, scene.roots[0], options); });
     runWithThreads(2, [&] { two = captureNode(scene, hierarchy, scene.roots[0], options); });
+    runWithThreads(4, [&] { four = captureNode(scene, hierarchy, scene.roots[0], options); });
     EXPECT_TRUE(sameSurfels(one, two));
+    EXPECT_TRUE(sameSurfels(one, four)) << "four views drawn at once";
   }
 }
 

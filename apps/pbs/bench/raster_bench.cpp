@@ -11,9 +11,13 @@
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/scene/embree_caster.hpp>
 #include <pbs/scene/scene_draws.hpp>
+#include <pbs/surfels/capture.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -52,12 +56,19 @@ double timedOnThreads(int threads, Work&& work) {
 }
 
 // pbs: the eight views into depth + colour + position + normal, each time after clearing depth,
-// as the capture does (captureBox): the other channels are read only where a pixel is covered.
+// as the capture does (captureBox): the other channels are read only where a pixel is covered; as many views at
+// once as it draws.
 void drawPbsViews(const Scene& scene, const Hierarchy& hierarchy, CaptureViews& views) {
-  for (std::size_t v = 0; v < views.cameras.size(); ++v) {
-    clearFramebuffer(views.framebuffers[v], 0);
-    drawSceneTriangles(scene, hierarchy, views.cameras[v], views.framebuffers[v]);
-  }
+  const std::size_t count = views.cameras.size();
+  const std::size_t group = concurrentCaptureViews(count, views.framebuffers.at(0).pixelCount());
+  for (std::size_t first = 0; first < count; first += group)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, std::min(first + group, count), 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t v = r.begin(); v < r.end(); ++v) {
+                          clearFramebuffer(views.framebuffers[v], 0);
+                          drawSceneTriangles(scene, hierarchy, views.cameras[v], views.framebuffers[v]);
+                        }
+                      });
 }
 
 std::uint64_t coveredPixels(const CaptureViews& views) {

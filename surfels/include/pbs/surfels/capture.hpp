@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -67,8 +68,20 @@ std::vector<glm::dvec3> captureDirections(std::uint32_t count);
 inline constexpr ChannelMask kCaptureChannels = kChannelColor | kChannelPosition | kChannelNormal;
 inline constexpr ChannelMask kCaptureClearedChannels = 0;
 
+// A capture G-buffer's bytes per pixel: depth, colour, position, normal.
+inline constexpr std::size_t kCaptureBytesPerPixel = sizeof(float) + 4 + 2 * 3 * sizeof(float);
+
+// How many of a capture's `views` are drawn at once, each on its own thread into its own G-buffer of
+// `pixelsPerView` pixels: as many as `threads` (0: the current arena's), within kConcurrentCaptureBytes of
+// G-buffers, at least one. One view's stages are short parallel loops over data that one thread wrote and another
+// reads (the setup's and the bins' work grows by a third to double on a second thread); views side by side keep each
+// thread on its own view's data. The surfels are the same either way.
+inline constexpr std::size_t kConcurrentCaptureBytes = std::size_t(64) << 20;
+std::size_t concurrentCaptureViews(std::size_t views, std::size_t pixelsPerView, int threads = 0);
+
 // Draws one capture view: fills the G-buffer (colour, position relative to the box centre, normal) as
 // seen by `camera`.
+// Called for several views at once (concurrentCaptureViews), each with its own G-buffer.
 using DrawCaptureView = std::function<void(const Camera& camera, Framebuffer& gbuffer)>;
 
 // The capture of `box` with whatever `draw` puts in each view: the views, surfels and coverage of
