@@ -80,6 +80,18 @@ std::size_t concurrentCaptureViews(std::size_t views, std::size_t pixelsPerView,
   return std::max<std::size_t>(1, std::min({views, std::size_t(std::max(threads, 1)), fitting}));
 }
 
+void drawViewsInGroups(std::size_t views, std::size_t group, const std::function<void(std::size_t view)>& drawView,
+                       const std::function<void(std::size_t first, std::size_t end)>& afterGroup) {
+  group = std::max<std::size_t>(group, 1);
+  for (std::size_t first = 0; first < views; first += group) {
+    const std::size_t end = std::min(first + group, views);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, end, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t v = r.begin(); v < r.end(); ++v) drawView(v);
+    });
+    if (afterGroup) afterGroup(first, end);
+  }
+}
+
 double CaptureResult::sidesSeen() const {
   const std::uint64_t front = surfels.size() - seenFromBehind;
   const std::uint64_t larger = std::max(front, seenFromBehind), smaller = std::min(front, seenFromBehind);
@@ -113,18 +125,15 @@ CaptureResult captureBox(const Bounds& box, const CaptureOptions& options, const
   std::vector<Framebuffer> framebuffers;
   for (std::size_t i = 0; i < group; ++i)
     framebuffers.push_back(makeFramebuffer(0, 0, kCaptureChannels, result.origin));
-  for (std::size_t first = 0; first < cameras.size(); first += group) {
-    const std::size_t end = std::min(first + group, cameras.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, end, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t v = r.begin(); v < r.end(); ++v) {
-        Framebuffer& framebuffer = framebuffers[v - first];
-        resizeFramebuffer(framebuffer, cameras[v].width, cameras[v].height);
-        clearFramebuffer(framebuffer, kCaptureClearedChannels);
-        draw(cameras[v], framebuffer);
-      }
-    });
+  const auto drawView = [&](std::size_t v) {
+    Framebuffer& framebuffer = framebuffers[v % group];
+    resizeFramebuffer(framebuffer, cameras[v].width, cameras[v].height);
+    clearFramebuffer(framebuffer, kCaptureClearedChannels);
+    draw(cameras[v], framebuffer);
+  };
+  const auto readViews = [&](std::size_t first, std::size_t end) {
     for (std::size_t v = first; v < end; ++v) {
-      const Framebuffer& framebuffer = framebuffers[v - first];
+      const Framebuffer& framebuffer = framebuffers[v % group];
       if (options.onView) options.onView(result.views, cameras[v], framebuffer);
       const std::size_t before = result.surfels.size();
       appendSurfels(framebuffer, glm::vec3(directions[v]), result);
@@ -132,7 +141,8 @@ CaptureResult captureBox(const Bounds& box, const CaptureOptions& options, const
       boxArea += projectedBoxPixels(cameras[v], box);
       ++result.views;
     }
-  }
+  };
+  drawViewsInGroups(cameras.size(), group, drawView, readViews);
   result.boxPixels = static_cast<std::uint64_t>(std::llround(boxArea));
   const double denominator = std::max(boxArea, double(result.coveredPixels));
   result.coverage = denominator > 0.0 ? double(result.coveredPixels) / denominator : 0.0;

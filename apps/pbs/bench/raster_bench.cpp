@@ -14,10 +14,7 @@
 #include <pbs/surfels/capture.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -60,15 +57,10 @@ double timedOnThreads(int threads, Work&& work) {
 // once as it draws.
 void drawPbsViews(const Scene& scene, const Hierarchy& hierarchy, CaptureViews& views) {
   const std::size_t count = views.cameras.size();
-  const std::size_t group = concurrentCaptureViews(count, views.framebuffers.at(0).pixelCount());
-  for (std::size_t first = 0; first < count; first += group)
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, std::min(first + group, count), 1),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t v = r.begin(); v < r.end(); ++v) {
-                          clearFramebuffer(views.framebuffers[v], 0);
-                          drawSceneTriangles(scene, hierarchy, views.cameras[v], views.framebuffers[v]);
-                        }
-                      });
+  drawViewsInGroups(count, concurrentCaptureViews(count, views.framebuffers.at(0).pixelCount()), [&](std::size_t v) {
+    clearFramebuffer(views.framebuffers[v], 0);
+    drawSceneTriangles(scene, hierarchy, views.cameras[v], views.framebuffers[v]);
+  });
 }
 
 std::uint64_t coveredPixels(const CaptureViews& views) {

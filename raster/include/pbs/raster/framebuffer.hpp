@@ -3,6 +3,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <string_view>
@@ -53,6 +54,14 @@ struct Framebuffer {
   bool covered(std::size_t pixel) const { return depth[pixel] != kClearDepth; }
   std::size_t pixelCount() const { return std::size_t(width) * height; }
 };
+
+// A framebuffer's bytes per pixel with depth and exactly `channels`.
+constexpr std::size_t framebufferBytesPerPixel(ChannelMask channels) {
+  return sizeof(float) + ((channels & kChannelColor) ? sizeof(glm::u8vec4) : 0) +
+         ((channels & kChannelPosition) ? sizeof(glm::vec3) : 0) +
+         ((channels & kChannelNormal) ? sizeof(glm::vec3) : 0) + ((channels & kChannelIds) ? sizeof(PixelIds) : 0) +
+         ((channels & kChannelCoverage) ? sizeof(float) : 0);
+}
 
 // For reports of what a run used: "depth" (always there), then the names of the channels in `channels`
 // ("color", "position", "normal", "ids", "coverage"), in that order.

@@ -68,8 +68,7 @@ std::vector<glm::dvec3> captureDirections(std::uint32_t count);
 inline constexpr ChannelMask kCaptureChannels = kChannelColor | kChannelPosition | kChannelNormal;
 inline constexpr ChannelMask kCaptureClearedChannels = 0;
 
-// A capture G-buffer's bytes per pixel: depth, colour, position, normal.
-inline constexpr std::size_t kCaptureBytesPerPixel = sizeof(float) + 4 + 2 * 3 * sizeof(float);
+inline constexpr std::size_t kCaptureBytesPerPixel = framebufferBytesPerPixel(kCaptureChannels);
 
 // How many of a capture's `views` are drawn at once, each on its own thread into its own G-buffer of
 // `pixelsPerView` pixels: as many as `threads` (0: the current arena's), within kConcurrentCaptureBytes of
@@ -78,6 +77,11 @@ inline constexpr std::size_t kCaptureBytesPerPixel = sizeof(float) + 4 + 2 * 3 *
 // thread on its own view's data. The surfels are the same either way.
 inline constexpr std::size_t kConcurrentCaptureBytes = std::size_t(64) << 20;
 std::size_t concurrentCaptureViews(std::size_t views, std::size_t pixelsPerView, int threads = 0);
+
+// Draws views [0, views) `group` at a time: `drawView(view)` for each view of a group on a thread of its own (into
+// G-buffer view % group), then `afterGroup(first, end)` on the calling thread for the group's views [first, end).
+void drawViewsInGroups(std::size_t views, std::size_t group, const std::function<void(std::size_t view)>& drawView,
+                       const std::function<void(std::size_t first, std::size_t end)>& afterGroup = {});
 
 // Draws one capture view: fills the G-buffer (colour, position relative to the box centre, normal) as
 // seen by `camera`.
