@@ -1,6 +1,7 @@
 // drawBlendedSplats: footprints are set up and binned to tiles per chunk in parallel; then each tile, owned by
 // one task, runs the visibility pass, the accumulation pass and the resolve over its pixels.
 #include "pbs/raster/blended_splats.hpp"
+#include "pbs/raster/headlight_shading.hpp"
 
 #include "blend_footprint.hpp"
 #include "points_grid.hpp"
@@ -143,7 +144,7 @@ PBS_CLONE_INLINE glm::vec3 unitOrZero(const glm::vec3& v) {
 // conversions and rounding single instructions.
 PBS_AVX2_CLONES void drawTile(Framebuffer& framebuffer, const TileGrid& grid, std::uint32_t tile,
                               std::span<const Chunk> chunks, std::span<const SurfelSplatSet> sets,
-                              TileScratch& scratch) {
+                              const glm::vec3& view, TileScratch& scratch) {
   const int size = 1 << kTileShift;
   const int tileX = int(tile % grid.columns) << kTileShift, tileY = int(tile / grid.columns) << kTileShift;
   const int width = std::min(size, int(framebuffer.width) - tileX),
@@ -211,12 +212,16 @@ PBS_AVX2_CLONES void drawTile(Framebuffer& framebuffer, const TileGrid& grid, st
       float alpha = geometry ? 1.0f : 0.0f;
       glm::vec3 color = geometry ? glm::vec3(framebuffer.color[pixel]) : glm::vec3(0.0f);
       glm::vec3 normal = geometry ? framebuffer.normal[pixel] : glm::vec3(0.0f);
+      // Shading reads |n · v|, so a normal's sign is arbitrary (a triangle's vertex normals may point inside):
+      // blended as they are, a splat's normal and the opposite one of the geometry under it cancel to a sideways
+      // one, a dark dot. Each is turned to face the eye first.
+      const auto towardEye = [&](const glm::vec3& n) { return glm::dot(n, view) > 0.0f ? -n : n; };
       for (int layer = 1; layer >= 0; --layer) {
         const LayerSums& sums = scratch.layers[layer][local];
         if (!(sums.coverage > 0.0f)) continue;
         const float a = layerAlpha(sums);
         color = a * (sums.color * (1.0f / sums.coverage)) + (1.0f - a) * color;
-        normal = a * unitOrZero(sums.normal) + (1.0f - a) * normal;
+        normal = a * towardEye(unitOrZero(sums.normal)) + (1.0f - a) * towardEye(normal);
         alpha = a + (1.0f - a) * alpha;
       }
       if (!(alpha > 0.0f)) {
@@ -280,13 +285,14 @@ void drawBlendedSplats(Framebuffer& framebuffer, const Camera& camera, std::span
     binChunk(grid, chunk);
   });
 
+  const glm::vec3 view = headlightDirection(camera);
   tbb::enumerable_thread_specific<std::unique_ptr<TileScratch>> scratches;
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, grid.count(), 1),
                     [&](const tbb::blocked_range<std::uint32_t>& r) {
                       std::unique_ptr<TileScratch>& scratch = scratches.local();
                       if (!scratch) scratch = std::make_unique<TileScratch>();
                       for (std::uint32_t tile = r.begin(); tile != r.end(); ++tile)
-                        drawTile(framebuffer, grid, tile, chunks, sets, *scratch);
+                        drawTile(framebuffer, grid, tile, chunks, sets, view, *scratch);
                     });
 }
 

@@ -11,12 +11,16 @@
 
 namespace pbs {
 
+glm::vec3 headlightDirection(const Camera& camera) {
+  return glm::normalize(glm::vec3(glm::inverse(camera.view) * glm::dvec4(0.0, 0.0, -1.0, 0.0)));
+}
+
 HeadlightShader::HeadlightShader(const Framebuffer& gbuffer, const Camera& camera)
     : gbuffer_(gbuffer), partial_(gbuffer.has(kChannelCoverage)) {
   if (!gbuffer.has(kChannelColor) || !gbuffer.has(kChannelNormal))
     throw std::invalid_argument("shadeHeadlight: the G-buffer needs the colour and normal channels");
   // The viewing direction in world space: eye −Z through the inverse view.
-  view_ = glm::normalize(glm::vec3(glm::inverse(camera.view) * glm::dvec4(0.0, 0.0, -1.0, 0.0)));
+  view_ = headlightDirection(camera);
 }
 
 glm::vec4 HeadlightShader::shade(std::size_t pixel) const {

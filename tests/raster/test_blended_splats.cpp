@@ -146,6 +146,31 @@ TEST(BlendedSplats, GeometryHidesSplatsBehindItAndSplatsInFrontCoverIt) {
   EXPECT_TRUE(blendedRim);
 }
 
+// A triangle's vertex normals may point inside (shading reads |n · eye|), and a node in its transition band
+// draws splats of partial coverage over its own geometry: the two normals, one the other's opposite up to a
+// tilt, must blend to the surface's direction, not cancel to a sideways one (dark dots on horse.glb).
+TEST(BlendedSplats, PartialSplatsOverGeometryNormalsFacingAwayKeepTheSurfacesFacing) {
+  const Camera camera = deepCamera(32, 32);
+  Framebuffer framebuffer = makeFramebuffer(32, 32, kBlendChannels);
+  fillGeometry(framebuffer, 0.5f, glm::u8vec4(128, 128, 128, 255));
+  const glm::vec3 inward = -glm::normalize(glm::vec3(0.3f, 0.0f, 1.0f));  // facing the eye at 0.96, negated
+  std::fill(framebuffer.normal.begin(), framebuffer.normal.end(), inward);
+  const Patch square = patch(0.0f, 0.0f, 32.0f, 16, -500.0f, glm::u8vec4(128, 128, 128, 255));
+  SurfelSplatSet half = square.set();
+  half.area *= 0.5f;  // about half a pixel's coverage everywhere: the band's middle
+  const SurfelSplatSet sets[] = {half};
+  drawBlendedSplats(framebuffer, camera, sets);
+  int blended = 0;
+  for (int y = 8; y < 24; ++y)
+    for (int x = 8; x < 24; ++x) {
+      const glm::vec3 n = framebuffer.normal[std::size_t(y) * 32 + std::size_t(x)];
+      EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f) << x << "," << y;
+      EXPECT_GT(std::abs(n.z), 0.95f) << x << "," << y << ": " << n.x << " " << n.y << " " << n.z;
+      blended += n != inward && n != -inward && n != glm::vec3(0.0f, 0.0f, 1.0f);
+    }
+  EXPECT_GT(blended, 200);  // the splats did blend with the geometry, not replace or miss it
+}
+
 TEST(BlendedSplats, TheFrontSurfaceWinsOverOneBehindIt) {
   const Camera camera = deepCamera(32, 32);
   Framebuffer framebuffer = makeFramebuffer(32, 32, kBlendChannels);

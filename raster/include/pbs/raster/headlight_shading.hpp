@@ -16,6 +16,10 @@ namespace pbs {
 
 inline constexpr float kHeadlightAmbient = 0.3f;
 
+// v: the camera's viewing direction in world space (its eye −Z), the same at every pixel. Passes that blend
+// normals before shading turn them to one side of it, since shading reads |n · v| and their signs are arbitrary.
+glm::vec3 headlightDirection(const Camera& camera);
+
 // One linear RGBA value in [0, 1] per pixel, rows top first: the shaded colour with alpha 1 where the
 // G-buffer is covered (its coverage where it has the coverage channel), (0, 0, 0, 0) elsewhere. |n · v| makes surfaces
 // two-sided (capture and the ray caster do not cull back faces either). Needs the colour and normal channels; throws
