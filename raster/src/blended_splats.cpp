@@ -211,17 +211,17 @@ PBS_AVX2_CLONES void drawTile(Framebuffer& framebuffer, const TileGrid& grid, st
       }
       float alpha = geometry ? 1.0f : 0.0f;
       glm::vec3 color = geometry ? glm::vec3(framebuffer.color[pixel]) : glm::vec3(0.0f);
-      glm::vec3 normal = geometry ? framebuffer.normal[pixel] : glm::vec3(0.0f);
       // Shading reads |n · v|, so a normal's sign is arbitrary (a triangle's vertex normals may point inside):
       // blended as they are, a splat's normal and the opposite one of the geometry under it cancel to a sideways
-      // one, a dark dot. Each is turned to face the eye first.
+      // one, a dark dot. Each is turned to face the eye first; a blend of such normals faces it too.
       const auto towardEye = [&](const glm::vec3& n) { return glm::dot(n, view) > 0.0f ? -n : n; };
+      glm::vec3 normal = geometry ? towardEye(framebuffer.normal[pixel]) : glm::vec3(0.0f);
       for (int layer = 1; layer >= 0; --layer) {
         const LayerSums& sums = scratch.layers[layer][local];
         if (!(sums.coverage > 0.0f)) continue;
         const float a = layerAlpha(sums);
         color = a * (sums.color * (1.0f / sums.coverage)) + (1.0f - a) * color;
-        normal = a * towardEye(unitOrZero(sums.normal)) + (1.0f - a) * towardEye(normal);
+        normal = a * towardEye(unitOrZero(sums.normal)) + (1.0f - a) * normal;
         alpha = a + (1.0f - a) * alpha;
       }
       if (!(alpha > 0.0f)) {

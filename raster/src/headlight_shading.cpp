@@ -19,7 +19,6 @@ HeadlightShader::HeadlightShader(const Framebuffer& gbuffer, const Camera& camer
     : gbuffer_(gbuffer), partial_(gbuffer.has(kChannelCoverage)) {
   if (!gbuffer.has(kChannelColor) || !gbuffer.has(kChannelNormal))
     throw std::invalid_argument("shadeHeadlight: the G-buffer needs the colour and normal channels");
-  // The viewing direction in world space: eye −Z through the inverse view.
   view_ = headlightDirection(camera);
 }
 
