@@ -47,7 +47,8 @@ struct TriangleSpan {
   glm::dmat4 worldFromObject{1.0};
   glm::dmat3 normalFromObject{1.0};  // inverse transpose of the linear part
   bool mirrored = false;             // negative determinant: front faces turn clockwise
-  bool cullBackFaces = false;        // the options' or the draw's
+  bool drawsFront = true;            // the draw's sides
+  bool drawsBack = true;             // the draw's sides, less the options' back-face culling
   bool affine = false;               // clip w ≡ 1 (orthographic): no perspective division needed
   glm::u8vec4 flatColor{255};        // baseColor as RGBA8, for untextured triangles
 

@@ -57,7 +57,7 @@ class ChunkWriter {
     const TriangleSpan& span = batch_.spans[source.span];
     // Negative area is counter-clockwise in clip space (y up): a front face unless mirrored.
     const bool front = (area2 < 0) != span.mirrored;
-    if (span.cullBackFaces && !front) return;
+    if (!(front ? span.drawsFront : span.drawsBack)) return;
     const bool swapped = area2 < 0;
     if (swapped) {
       std::swap(v1, v2);

@@ -88,7 +88,8 @@ TriangleSpan partSpan(const TriangleBatch& batch, const TriangleDraw& draw, cons
   const glm::dmat3 linear(draw.worldFromObject);
   span.normalFromObject = glm::transpose(glm::inverse(linear));
   span.mirrored = glm::determinant(linear) < 0.0;
-  span.cullBackFaces = batch.options.cullBackFaces || draw.cullBackFaces;
+  span.drawsFront = hasSide(draw.sides, FaceSides::front);
+  span.drawsBack = hasSide(draw.sides, FaceSides::back) && !batch.options.cullBackFaces;
   return span;
 }
 
@@ -111,6 +112,7 @@ void drawTriangles(Framebuffer& framebuffer, const Camera& camera, std::span<con
       const std::size_t count = std::min<std::size_t>(part.indexCount, draw.indices.size() - first) / 3;
       if (count == 0) continue;
       TriangleSpan span = partSpan(batch, draw, part);
+      if (!span.drawsFront && !span.drawsBack) continue;
       for (std::size_t done = 0; done < count;) {
         const std::size_t n = std::min<std::size_t>(count - done, kBatchTriangles - batch.triangleCount);
         span.firstIndex = first + done * 3;

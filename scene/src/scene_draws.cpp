@@ -45,7 +45,7 @@ std::vector<std::uint32_t> subtreeNodes(const Scene& scene, std::uint32_t root) 
 
 void drawNodeTriangles(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
                        const Camera& camera, Framebuffer& framebuffer, const TriangleOptions& options,
-                       std::span<const std::uint8_t> hiddenBackFaces) {
+                       std::span<const MeshFacing> meshFacings) {
   const SceneMaterials materials = makeSceneMaterials(scene);
   std::vector<TriangleDraw> draws;
   const BoxProjection boxes(camera);
@@ -63,7 +63,7 @@ void drawNodeTriangles(const Scene& scene, const Hierarchy& hierarchy, std::span
     draw.worldFromObject = hierarchy.world[node];
     draw.nodeId = node;
     draw.instanceId = std::uint32_t(meshIndex);
-    draw.cullBackFaces = std::size_t(meshIndex) < hiddenBackFaces.size() && hiddenBackFaces[std::size_t(meshIndex)];
+    if (std::size_t(meshIndex) < meshFacings.size()) draw.sides = visibleSides(meshFacings[std::size_t(meshIndex)]);
     draws.push_back(draw);
   }
   drawTriangles(framebuffer, camera, draws, options);

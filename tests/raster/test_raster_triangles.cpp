@@ -329,6 +329,32 @@ TEST(TriangleCulling, BackFacesAndMirroredTransforms) {
   EXPECT_TRUE(coveredPixels(render(camera, back, 0, cull, mirror)).empty());
 }
 
+// A draw's own sides (TriangleDraw::sides): front or back alone, mirrored or not, and with the options'
+// back-face culling on top (back alone then draws nothing).
+TEST(TriangleCulling, EachDrawsSidesAlone) {
+  const Camera camera = lookCamera({0.0, 0.0, 5.0}, false, 32, 32);
+  TestMesh front, back;
+  front.addTriangle({-1, -1, 0}, {1, -1, 0}, {0, 1, 0});
+  back.addTriangle({-1, -1, 0}, {0, 1, 0}, {1, -1, 0});
+  const auto covers = [&](TestMesh& mesh, FaceSides sides, const glm::dmat4& world, const TriangleOptions& options) {
+    Framebuffer framebuffer = makeFramebuffer(camera.width, camera.height, 0);
+    TriangleDraw draw = mesh.draw(world);
+    draw.sides = sides;
+    drawTriangles(framebuffer, camera, {&draw, 1}, options);
+    return !coveredPixels(framebuffer).empty();
+  };
+  const glm::dmat4 mirror = glm::scale(glm::dmat4(1.0), glm::dvec3(-1.0, 1.0, 1.0));
+  for (const glm::dmat4& world : {glm::dmat4(1.0), mirror}) {
+    EXPECT_TRUE(covers(front, FaceSides::front, world, {}));
+    EXPECT_FALSE(covers(back, FaceSides::front, world, {}));
+    EXPECT_FALSE(covers(front, FaceSides::back, world, {}));
+    EXPECT_TRUE(covers(back, FaceSides::back, world, {}));
+    EXPECT_TRUE(covers(front, FaceSides::both, world, {}) && covers(back, FaceSides::both, world, {}));
+    EXPECT_FALSE(covers(front, FaceSides::none, world, {}) || covers(back, FaceSides::none, world, {}));
+    EXPECT_FALSE(covers(back, FaceSides::back, world, {.cullBackFaces = true}));
+  }
+}
+
 TEST(TriangleDegenerate, DrawNothingAndNeverNaN) {
   const Camera camera = windowCamera(16, 16);
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();

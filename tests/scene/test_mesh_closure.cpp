@@ -1,4 +1,5 @@
-// closedOutward: which meshes a view from outside sees by their front faces alone.
+// closedOutward: which meshes a view from outside sees by their front faces alone; meshFacing: which side
+// of the others faces out.
 #include "pbs/scene/mesh_closure.hpp"
 #include "test_fixtures.hpp"
 
@@ -59,6 +60,29 @@ TEST(MeshClosure, AMissingFaceOrAFaceWoundTheOtherWayOpensIt) {
   // The fixture box winds three of its faces inward; a sheet has a border.
   EXPECT_FALSE(closedOutward(test::tessellatedBox(3)));
   EXPECT_FALSE(closedOutward(test::gridSheet(4, [](float, float) { return 0.0f; })));
+}
+
+// The faces a view from outside can see: a closed cube's front faces, the back faces of one wound inside
+// out (a cube with a face wound the other way, or one missing, is open either way round).
+TEST(MeshClosure, FacingTellsAClosedMeshWoundInsideOutApart) {
+  const auto flip = [](Mesh mesh) {
+    for (std::size_t t = 0; t < mesh.indices.size(); t += 3) std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
+    return mesh;
+  };
+  Mesh open = cube(false);
+  open.indices.resize(open.indices.size() - 6);
+  Mesh mixed = cube(false);
+  std::swap(mixed.indices[1], mixed.indices[2]);
+  std::swap(mixed.indices[4], mixed.indices[5]);
+  for (const bool split : {false, true}) {
+    EXPECT_EQ(meshFacing(cube(split)), MeshFacing::closedOutward);
+    EXPECT_EQ(meshFacing(flip(cube(split))), MeshFacing::closedInward);
+  }
+  EXPECT_EQ(meshFacing(flip(cube(true, glm::vec3(3.0e6f, -2.0e6f, 1.0e6f)))), MeshFacing::closedInward);
+  for (const Mesh& mesh : {open, flip(open), mixed, flip(mixed), Mesh{}}) EXPECT_EQ(meshFacing(mesh), MeshFacing::open);
+  Mesh nan = flip(cube(false));
+  nan.positions[3].y = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(meshFacing(nan), MeshFacing::open);
 }
 
 TEST(MeshClosure, AnEdgeRunTwiceTheSameWayIsNotClosed) {

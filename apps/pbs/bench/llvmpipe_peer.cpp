@@ -26,6 +26,7 @@ using GLboolean = unsigned char;
 
 constexpr GLenum kRgba = 0x1908, kUnsignedByte = 0x1401, kUnsignedInt = 0x1405, kFloat = 0x1406;
 constexpr GLenum kDepthTest = 0x0B71, kVertexArray = 0x8074, kColorArray = 0x8076;
+constexpr GLenum kCullFace = 0x0B44, kFront = 0x0404, kBack = 0x0405, kClockwise = 0x0900, kCounterClockwise = 0x0901;
 constexpr GLenum kProjection = 0x1701, kModelview = 0x1700, kTriangles = 0x0004, kPoints = 0x0000;
 constexpr GLenum kLess = 0x0201, kDepthComponent = 0x1902;
 constexpr GLbitfield kColorBit = 0x4000, kDepthBit = 0x0100;
@@ -84,6 +85,9 @@ struct LlvmpipePeer::Gl {
   void (*clear)(GLbitfield);
   void (*clearDepth)(double);
   void (*enable)(GLenum);
+  void (*disable)(GLenum);
+  void (*cullFace)(GLenum);
+  void (*frontFace)(GLenum);
   void (*depthFunc)(GLenum);
   void (*viewport)(GLint, GLint, GLsizei, GLsizei);
   void (*matrixMode)(GLenum);
@@ -161,6 +165,9 @@ LlvmpipePeer::LlvmpipePeer(std::uint32_t width, std::uint32_t height, int thread
       resolve<decltype(Gl::clear)>(getProc, "glClear"),
       resolve<decltype(Gl::clearDepth)>(getProc, "glClearDepth"),
       resolve<decltype(Gl::enable)>(getProc, "glEnable"),
+      resolve<decltype(Gl::disable)>(getProc, "glDisable"),
+      resolve<decltype(Gl::cullFace)>(getProc, "glCullFace"),
+      resolve<decltype(Gl::frontFace)>(getProc, "glFrontFace"),
       resolve<decltype(Gl::depthFunc)>(getProc, "glDepthFunc"),
       resolve<decltype(Gl::viewport)>(getProc, "glViewport"),
       resolve<decltype(Gl::matrixMode)>(getProc, "glMatrixMode"),
@@ -330,8 +337,16 @@ void LlvmpipePeer::drawCaptureTriangles(const glm::mat4& clipFromObject, const g
                                         const glm::mat3& normalFromObject, const glm::vec4& baseColor,
                                         std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
                                         std::span<const std::uint32_t> indices, std::span<const glm::vec2> uvs,
-                                        std::uint32_t texture) {
+                                        std::uint32_t texture, FaceSides sides, bool mirrored) {
   const Gl& gl = *gl_;
+  // Counter-clockwise in clip space is counter-clockwise in GL's window too (its y runs up, as clip space's).
+  if (sides == FaceSides::both) {
+    gl.disable(kCullFace);
+  } else {
+    gl.enable(kCullFace);
+    gl.frontFace(mirrored ? kClockwise : kCounterClockwise);
+    gl.cullFace(sides == FaceSides::front ? kBack : kFront);
+  }
   gl.uniformMatrix4fv(clipFromObjectAt_, 1, 0, &clipFromObject[0][0]);
   gl.uniformMatrix4fv(positionFromObjectAt_, 1, 0, &positionFromObject[0][0]);
   gl.uniformMatrix3fv(normalFromObjectAt_, 1, 0, &normalFromObject[0][0]);

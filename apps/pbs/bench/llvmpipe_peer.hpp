@@ -3,6 +3,7 @@
 #pragma once
 
 #include <pbs/raster/texture.hpp>
+#include <pbs/raster/triangles.hpp>
 
 #include <glm/glm.hpp>
 
@@ -48,12 +49,13 @@ class LlvmpipePeer {
   // Indexed triangles into the G-buffer: clip position from `clipFromObject`, the position channel
   // from `positionFromObject` (world minus the framebuffer's origin), the normal channel from
   // `normalFromObject` (normalised per pixel), and `baseColor` as the colour channel, times the texture
-  // `texture` (uploadTexture's; 0: none) at `uvs` where the mesh has them.
+  // `texture` (uploadTexture's; 0: none) at `uvs` where the mesh has them. Of the faces, `sides` alone, as
+  // pbs draws them (TriangleDraw::sides), `mirrored` where clipFromObject turns their winding over.
   void drawCaptureTriangles(const glm::mat4& clipFromObject, const glm::mat4& positionFromObject,
                             const glm::mat3& normalFromObject, const glm::vec4& baseColor,
                             std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
                             std::span<const std::uint32_t> indices, std::span<const glm::vec2> uvs = {},
-                            std::uint32_t texture = 0);
+                            std::uint32_t texture = 0, FaceSides sides = FaceSides::both, bool mirrored = false);
   // Waits until everything drawn is in the buffers (glFinish), so timings include the work.
   void finish();
 

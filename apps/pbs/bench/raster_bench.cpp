@@ -15,6 +15,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <numeric>
+
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -52,14 +54,24 @@ double timedOnThreads(int threads, Work&& work) {
   return seconds;
 }
 
+// What pbs's capture draws of the scene: every node, each mesh's sides as its meshFacing says (captureNode).
+struct CaptureDraws {
+  explicit CaptureDraws(const Scene& scene) : nodes(scene.nodes.size()) {
+    std::iota(nodes.begin(), nodes.end(), 0u);
+    for (const Mesh& mesh : scene.meshes) facings.push_back(meshFacing(mesh));
+  }
+  std::vector<std::uint32_t> nodes;
+  std::vector<MeshFacing> facings;
+};
+
 // pbs: the eight views into depth + colour + position + normal, each time after clearing depth,
 // as the capture does (captureBox): the other channels are read only where a pixel is covered; as many views at
 // once as it draws.
-void drawPbsViews(const Scene& scene, const Hierarchy& hierarchy, CaptureViews& views) {
+void drawPbsViews(const Scene& scene, const Hierarchy& hierarchy, const CaptureDraws& draws, CaptureViews& views) {
   const std::size_t count = views.cameras.size();
   drawViewsInGroups(count, concurrentCaptureViews(count, views.framebuffers.at(0).pixelCount()), [&](std::size_t v) {
     clearFramebuffer(views.framebuffers[v], 0);
-    drawSceneTriangles(scene, hierarchy, views.cameras[v], views.framebuffers[v]);
+    drawNodeTriangles(scene, hierarchy, draws.nodes, views.cameras[v], views.framebuffers[v], {}, draws.facings);
   });
 }
 
@@ -115,11 +127,11 @@ class LlvmpipeCapture {
 
   // Draws the eight views; each is timed up to glFinish, and reading its depth back to count its
   // coverage is left out of the time, as pbs's count is.
-  double run(const Scene& scene, const Hierarchy& hierarchy) {
+  double run(const Scene& scene, const Hierarchy& hierarchy, const CaptureDraws& draws) {
     covered_ = 0;
     double drawing = 0.0;
     for (std::size_t v = 0; v < views_.cameras.size(); ++v) {
-      drawing += timedRun([&] { drawView(scene, hierarchy, v); });
+      drawing += timedRun([&] { drawView(scene, hierarchy, draws, v); });
       covered_ += peer_.coveredPixels();
     }
     return drawing;
@@ -142,7 +154,8 @@ class LlvmpipeCapture {
     return largest;
   }
 
-  void drawView(const Scene& scene, const Hierarchy& hierarchy, std::size_t v) {
+  // The faces pbs's capture draws (CaptureDraws), culled the same way.
+  void drawView(const Scene& scene, const Hierarchy& hierarchy, const CaptureDraws& draws, std::size_t v) {
     const Camera& camera = views_.cameras[v];
     peer_.setViewport(camera.width, camera.height);
     peer_.clearDepth();
@@ -154,6 +167,8 @@ class LlvmpipeCapture {
       const Mesh& mesh = scene.meshes[std::size_t(node.mesh)];
       const glm::dmat4& world = hierarchy.world[n];
       const glm::mat3 normalFromObject(glm::transpose(glm::inverse(glm::dmat3(world))));
+      const FaceSides sides = visibleSides(draws.facings[std::size_t(node.mesh)]);
+      const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
       for (const MeshPart& part : mesh.parts) {
         const Material* material = part.material < scene.materials.size() ? &scene.materials[part.material] : nullptr;
         const glm::vec4 color = material ? material->baseColorFactor : glm::vec4(1.0f);
@@ -161,7 +176,8 @@ class LlvmpipeCapture {
         peer_.drawCaptureTriangles(
             glm::mat4(clipFromWorld * world), glm::mat4(positionFromWorld * world), normalFromObject, color,
             mesh.positions, mesh.normals, std::span(mesh.indices).subspan(part.firstIndex, part.indexCount), mesh.uvs,
-            texture >= 0 && std::size_t(texture) < textureNames_.size() ? textureNames_[std::size_t(texture)] : 0u);
+            texture >= 0 && std::size_t(texture) < textureNames_.size() ? textureNames_[std::size_t(texture)] : 0u,
+            sides, mirrored);
       }
     }
     peer_.finish();
@@ -186,8 +202,9 @@ nlohmann::json benchCapture(const Scene& scene, const Hierarchy& hierarchy, cons
   const Bounds box = sceneBounds(scene, hierarchy);
   const int all = resolveThreadCount(options.threads);
   CaptureViews views = makeCaptureViews(box, options.resolution);
+  const CaptureDraws draws(scene);  // once per mesh, as surfelize's scan finds it (Embree's BVH is built apart too)
   const auto pbsRun = [&](int threads) {
-    return [&, threads] { return timedOnThreads(threads, [&] { drawPbsViews(scene, hierarchy, views); }); };
+    return [&, threads] { return timedOnThreads(threads, [&] { drawPbsViews(scene, hierarchy, draws, views); }); };
   };
   std::optional<EmbreeScene> embree;
   double bvhSeconds = 0.0;
@@ -200,7 +217,7 @@ nlohmann::json benchCapture(const Scene& scene, const Hierarchy& hierarchy, cons
   };
   LlvmpipeCapture llvmpipe(scene, views, all);
   std::vector<std::function<double()>> runs = {pbsRun(1), pbsRun(all), embreeRun};
-  if (llvmpipe.available()) runs.push_back([&] { return llvmpipe.run(scene, hierarchy); });
+  if (llvmpipe.available()) runs.push_back([&] { return llvmpipe.run(scene, hierarchy, draws); });
   const auto rounds = interleavedRounds(runs, options.repeats);
 
   nlohmann::json capture;

@@ -18,6 +18,11 @@ struct SurfaceMaterial {
   const Texture* texture = nullptr;  // sampled (bilinear, its wrap modes) only when set
 };
 
+// A set of a mesh's faces by their side. Front faces turn counter-clockwise in the object frame (a mirroring
+// worldFromObject, of negative determinant, is accounted for, so mirrored instances keep their front faces).
+enum class FaceSides : std::uint8_t { none = 0, front = 1, back = 2, both = 3 };
+inline bool hasSide(FaceSides set, FaceSides side) { return (std::uint8_t(set) & std::uint8_t(side)) != 0; }
+
 // One mesh instance: a view on the caller's arrays, nothing is copied.
 struct TriangleDraw {
   std::span<const glm::vec3> positions;  // object frame
@@ -29,14 +34,14 @@ struct TriangleDraw {
   glm::dmat4 worldFromObject{1.0};
   std::uint32_t nodeId = 0;      // written to PixelIds::node
   std::uint32_t instanceId = 0;  // written to PixelIds::instance
-  // This draw's back faces are left out (as TriangleOptions::cullBackFaces does for every draw): for a
-  // closed mesh seen from outside, which hides them behind its front faces.
-  bool cullBackFaces = false;
+  // The faces drawn. Front alone leaves the back faces out (as TriangleOptions::cullBackFaces does for every
+  // draw): for a closed mesh seen from outside, which hides them behind its front faces; back alone, for a
+  // closed mesh wound inside out (MeshFacing::closedInward), whose front faces are the hidden ones.
+  FaceSides sides = FaceSides::both;
 };
 
 struct TriangleOptions {
-  // Front faces are counter-clockwise in the object frame; a mirroring worldFromObject (negative
-  // determinant) is accounted for, so mirrored instances keep their front faces.
+  // Every draw's back faces left out (FaceSides for which faces are front).
   bool cullBackFaces = false;
 };
 

@@ -2,7 +2,10 @@
 // its front faces only, and a capture may leave its back faces out.
 #pragma once
 
+#include "pbs/raster/triangles.hpp"
 #include "pbs/scene/scene.hpp"
+
+#include <cstdint>
 
 namespace pbs {
 
@@ -13,5 +16,22 @@ namespace pbs {
 // coordinate that is not finite. A mesh that intersects itself so that some region lies inside it
 // inside out (negative winding) is not told apart; no generator or importer check makes one.
 bool closedOutward(const Mesh& mesh);
+
+// Which faces of a mesh a view from outside it can see: one byte per mesh, for a capture (drawNodeTriangles).
+enum class MeshFacing : std::uint8_t {
+  open = 0,           // both sides
+  closedOutward = 1,  // closedOutward: the front faces alone
+  closedInward = 2,   // closed, but wound inside out (negative signed volume): the back faces alone
+};
+// closedOutward's test, with its mirror image told apart: a mesh whose triangles, each turned over, would
+// be closedOutward is closedInward (horse.glb of the shared scenes is one). Any other is open.
+MeshFacing meshFacing(const Mesh& mesh);
+
+// The faces a view from outside can see (TriangleDraw::sides).
+inline FaceSides visibleSides(MeshFacing facing) {
+  return facing == MeshFacing::closedOutward  ? FaceSides::front
+         : facing == MeshFacing::closedInward ? FaceSides::back
+                                              : FaceSides::both;
+}
 
 }  // namespace pbs

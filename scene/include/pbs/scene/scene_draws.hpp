@@ -8,6 +8,7 @@
 #include "pbs/raster/projected_box.hpp"  // outsideClipVolume, which drawing instances tests
 #include "pbs/raster/triangles.hpp"
 #include "pbs/scene/hierarchy.hpp"
+#include "pbs/scene/mesh_closure.hpp"
 #include "pbs/scene/scene.hpp"
 
 #include <cstdint>
@@ -42,11 +43,11 @@ void drawSceneTriangles(const Scene& scene, const Hierarchy& hierarchy, const Ca
 // The nodes of `root`'s subtree, parents before children (root first): what a node's capture draws.
 std::vector<std::uint32_t> subtreeNodes(const Scene& scene, std::uint32_t root);
 
-// drawSceneTriangles restricted to the mesh instances of `nodes`, drawn in the given order. The meshes
-// flagged in `hiddenBackFaces` (one byte per mesh, or none) have their back faces left out: the caller
-// knows that the camera sees each of them from outside and that it is closed (closedOutward).
+// drawSceneTriangles restricted to the mesh instances of `nodes`, drawn in the given order. With
+// `meshFacings` (meshFacing of each mesh, or none), for a camera the caller knows to see every closed mesh
+// from outside (a capture view): each closed mesh's faces that face inward are left out.
 void drawNodeTriangles(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
                        const Camera& camera, Framebuffer& framebuffer, const TriangleOptions& options = {},
-                       std::span<const std::uint8_t> hiddenBackFaces = {});
+                       std::span<const MeshFacing> meshFacings = {});
 
 }  // namespace pbs

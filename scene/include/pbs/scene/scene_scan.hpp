@@ -6,6 +6,7 @@
 #pragma once
 
 #include "pbs/scene/hierarchy.hpp"
+#include "pbs/scene/mesh_closure.hpp"
 #include "pbs/scene/scene.hpp"
 
 #include <cstdint>
@@ -18,7 +19,7 @@ struct SceneScanRequest {
   bool worldBounds = false;                      // fill SceneScan::instanceBounds
   std::span<const std::uint32_t> subtreeStarts;  // fill SceneScan::subtreeBounds for these nodes
   bool ownFrameAreas = false;                    // fill SceneScan::ownFrameAreas
-  bool closedMeshes = false;                     // fill SceneScan::closedMeshes
+  bool meshFacings = false;                      // fill SceneScan::meshFacings
 };
 
 struct SceneScan {
@@ -28,8 +29,8 @@ struct SceneScan {
   // Per subtree start, analyzeSubtree's instance boxes in subtreeInstances order (for analyzeSubtree with
   // boxes given).
   std::vector<std::vector<Bounds>> subtreeBounds;
-  std::vector<double> ownFrameAreas;       // ownFrameSurfaceAreas, one per node
-  std::vector<std::uint8_t> closedMeshes;  // closedOutward of each mesh (1 or 0)
+  std::vector<double> ownFrameAreas;    // ownFrameSurfaceAreas, one per node
+  std::vector<MeshFacing> meshFacings;  // meshFacing of each mesh
 };
 
 // `structure` supplies world transforms and the preorder (analyzeStructure's, or analyzeHierarchy's).

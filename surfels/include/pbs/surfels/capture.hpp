@@ -3,6 +3,7 @@
 #pragma once
 
 #include "pbs/scene/hierarchy.hpp"
+#include "pbs/scene/mesh_closure.hpp"
 #include "pbs/scene/scene.hpp"
 
 #include "pbs/raster/camera.hpp"
@@ -25,10 +26,10 @@ struct CaptureOptions {
   // set (deterministic, evenly spread), e.g. 16 or 32.
   std::uint32_t directions = kDefaultCaptureDirections;
   enum class Backend { Raster, Embree } backend = Backend::Raster;
-  // Per mesh (or none): 1 where the mesh is closedOutward, so that no capture view, which looks at the
-  // node's box from outside, can see its back faces; the Raster backend leaves them out (pbs surfelize
-  // default in 0.85× the time on one thread). Embree draws them all.
-  std::span<const std::uint8_t> closedMeshes{};
+  // Per mesh (or none): meshFacing, so that no capture view, which looks at the node's box from outside, draws
+  // the faces of a closed mesh that face its inside; the Raster backend leaves them out (pbs surfelize default
+  // in 0.85× the time on one thread). Embree draws them all.
+  std::span<const MeshFacing> meshFacings{};
   // Called with every view's camera and G-buffer right after it is rendered (for pictures and
   // debugging: `pbs capture` writes them as images); nothing is kept for it otherwise. Only depth
   // is cleared between views: colour, position and normal hold this view's values where depth says
