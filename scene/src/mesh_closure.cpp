@@ -13,7 +13,7 @@ namespace {
 
 struct Closure {
   bool closed = false;
-  double volume = 0.0;  // six times the signed volume; 0 where an index or a coordinate is unusable
+  double volume = 0.0;  // six times the enclosed signed volume, where closed
 };
 
 Closure closureOf(const Mesh& mesh) {
@@ -51,11 +51,10 @@ Closure closureOf(const Mesh& mesh) {
   }
   if (edges.empty()) return {};
   std::sort(edges.begin(), edges.end());
-  if (std::adjacent_find(edges.begin(), edges.end()) != edges.end())
-    return {false, volume};  // an edge run twice one way
+  if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return {};  // an edge run twice one way
   for (const std::uint64_t edge : edges) {
     const std::uint64_t reversed = edge << 32 | edge >> 32;
-    if (!std::binary_search(edges.begin(), edges.end(), reversed)) return {false, volume};
+    if (!std::binary_search(edges.begin(), edges.end(), reversed)) return {};
   }
   return {true, volume};
 }

@@ -15,11 +15,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include <numeric>
-
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <numeric>
 #include <optional>
 #include <vector>
 

@@ -1,5 +1,5 @@
-// Whether a mesh is the closed, outward-facing boundary of a solid: then a view from outside it sees
-// its front faces only, and a capture may leave its back faces out.
+// Whether a mesh is the closed boundary of a solid, and which way it is wound: then a view from outside it
+// sees one side of its faces only, and a capture may leave the other out.
 #pragma once
 
 #include "pbs/raster/triangles.hpp"
