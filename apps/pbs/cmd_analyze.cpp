@@ -8,6 +8,7 @@
 #include <pbs/evaluation/svg_plot.hpp>
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/scene/input_error.hpp>
+#include <pbs/scene/mesh_closure.hpp>
 #include <pbs/scene/scene_fingerprint.hpp>
 #include <pbs/surfels/surfel_file.hpp>
 
@@ -46,7 +47,10 @@ AnalyzedOrderings analyzeScene(const Options& options) {
   if (options.root >= loaded.scene.roots.size())
     throw InputError(loaded.name, "root " + std::to_string(options.root),
                      "the scene has " + std::to_string(loaded.scene.roots.size()) + " roots");
-  return analyzeRoot(loaded.scene, loaded.hierarchy, loaded.scene.roots[options.root], options.capture, options.max,
+  CaptureOptions capture = options.capture;
+  const std::vector<MeshFacing> facings = meshFacings(loaded.scene);  // as surfelize draws each mesh
+  capture.meshFacings = facings;
+  return analyzeRoot(loaded.scene, loaded.hierarchy, loaded.scene.roots[options.root], capture, options.max,
                      options.seed);
 }
 

@@ -6,6 +6,7 @@
 
 #include <pbs/evaluation/report_numbers.hpp>
 #include <pbs/scene/find_node.hpp>
+#include <pbs/scene/mesh_closure.hpp>
 #include <pbs/raster/thread_arena.hpp>
 #include <pbs/surfels/capture.hpp>
 
@@ -68,6 +69,8 @@ void addCaptureCommand(CLI::App& app) {
       const Bounds& box = loaded.hierarchy.worldBounds[node];
       const glm::vec3 halfSize = glm::max(glm::vec3(box.size()) * 0.5f, glm::vec3(1e-30f));
       CaptureOptions capture = options->capture;
+      const std::vector<MeshFacing> facings = meshFacings(loaded.scene);  // as surfelize draws each mesh
+      capture.meshFacings = facings;
       capture.backend =
           options->backend == "embree" ? CaptureOptions::Backend::Embree : CaptureOptions::Backend::Raster;
       capture.onView = [&](std::uint32_t view, const Camera& camera, const Framebuffer& g) {

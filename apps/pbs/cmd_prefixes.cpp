@@ -6,6 +6,7 @@
 
 #include <pbs/evaluation/report_numbers.hpp>
 #include <pbs/scene/find_node.hpp>
+#include <pbs/scene/mesh_closure.hpp>
 #include <pbs/raster/camera.hpp>
 #include <pbs/raster/framebuffer.hpp>
 #include <pbs/raster/headlight_shading.hpp>
@@ -97,6 +98,8 @@ void addPrefixesCommand(CLI::App& app) {
       CaptureOptions captureOptions;
       captureOptions.resolution = options->resolution;
       captureOptions.directions = options->directions;
+      const std::vector<MeshFacing> facings = meshFacings(loaded.scene);  // as surfelize draws each mesh
+      captureOptions.meshFacings = facings;
       const CaptureResult capture = captureNode(loaded.scene, loaded.hierarchy, node, captureOptions);
 
       std::vector<std::uint32_t> counts;

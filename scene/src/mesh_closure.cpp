@@ -2,6 +2,7 @@
 #include "pbs/scene/mesh_closure.hpp"
 
 #include <meshoptimizer.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -71,6 +72,13 @@ MeshFacing meshFacing(const Mesh& mesh) {
   if (!closure.closed) return MeshFacing::open;
   if (closure.volume > 0.0) return MeshFacing::closedOutward;
   return closure.volume < 0.0 ? MeshFacing::closedInward : MeshFacing::open;
+}
+
+std::vector<MeshFacing> meshFacings(const Scene& scene) {
+  std::vector<MeshFacing> facings(scene.meshes.size(), MeshFacing::open);
+  tbb::parallel_for(std::size_t(0), scene.meshes.size(),
+                    [&](std::size_t m) { facings[m] = meshFacing(scene.meshes[m]); });
+  return facings;
 }
 
 }  // namespace pbs

@@ -85,6 +85,19 @@ TEST(MeshClosure, FacingTellsAClosedMeshWoundInsideOutApart) {
   EXPECT_EQ(meshFacing(nan), MeshFacing::open);
 }
 
+// A scene's facings, one per mesh in order; a mesh not loaded (no arrays) is drawn from both sides.
+TEST(MeshClosure, ASceneGivesEachMeshItsFacing) {
+  Scene scene;
+  Mesh inward = cube(true);
+  for (std::size_t t = 0; t < inward.indices.size(); t += 3) std::swap(inward.indices[t + 1], inward.indices[t + 2]);
+  Mesh unloaded = cube(false);
+  unloaded.positions.clear();
+  unloaded.indices.clear();
+  scene.meshes = {cube(false), inward, unloaded};
+  EXPECT_EQ(meshFacings(scene),
+            (std::vector<MeshFacing>{MeshFacing::closedOutward, MeshFacing::closedInward, MeshFacing::open}));
+}
+
 TEST(MeshClosure, AnEdgeRunTwiceTheSameWayIsNotClosed) {
   Mesh doubled = cube(false);
   const std::vector<std::uint32_t> first(doubled.indices.begin(), doubled.indices.begin() + 3);

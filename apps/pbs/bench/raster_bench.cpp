@@ -55,9 +55,8 @@ double timedOnThreads(int threads, Work&& work) {
 
 // What pbs's capture draws of the scene: every node, each mesh's sides as its meshFacing says (captureNode).
 struct CaptureDraws {
-  explicit CaptureDraws(const Scene& scene) : nodes(scene.nodes.size()) {
+  explicit CaptureDraws(const Scene& scene) : nodes(scene.nodes.size()), facings(meshFacings(scene)) {
     std::iota(nodes.begin(), nodes.end(), 0u);
-    for (const Mesh& mesh : scene.meshes) facings.push_back(meshFacing(mesh));
   }
   std::vector<std::uint32_t> nodes;
   std::vector<MeshFacing> facings;

@@ -6,6 +6,7 @@
 #include "pbs/scene/scene.hpp"
 
 #include <cstdint>
+#include <vector>
 
 namespace pbs {
 
@@ -26,6 +27,8 @@ enum class MeshFacing : std::uint8_t {
 // closedOutward's test, with its mirror image told apart: a mesh whose triangles, each turned over, would
 // be closedOutward is closedInward (horse.glb of the shared scenes is one). Any other is open.
 MeshFacing meshFacing(const Mesh& mesh);
+// meshFacing of each of the scene's meshes, side by side; a mesh whose arrays are not loaded counts as open.
+std::vector<MeshFacing> meshFacings(const Scene& scene);
 
 // The faces a view from outside can see (TriangleDraw::sides).
 inline FaceSides visibleSides(MeshFacing facing) {
