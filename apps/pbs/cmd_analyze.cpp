@@ -48,8 +48,8 @@ AnalyzedOrderings analyzeScene(const Options& options) {
     throw InputError(loaded.name, "root " + std::to_string(options.root),
                      "the scene has " + std::to_string(loaded.scene.roots.size()) + " roots");
   CaptureOptions capture = options.capture;
-  const std::vector<MeshFacing> facings = meshFacings(loaded.scene);  // as surfelize draws each mesh
-  capture.meshFacings = facings;
+  const std::vector<MeshClosure> closures = meshClosures(loaded.scene);  // as surfelize draws each mesh
+  capture.meshClosures = closures;
   return analyzeRoot(loaded.scene, loaded.hierarchy, loaded.scene.roots[options.root], capture, options.max,
                      options.seed);
 }

@@ -69,8 +69,8 @@ void addCaptureCommand(CLI::App& app) {
       const Bounds& box = loaded.hierarchy.worldBounds[node];
       const glm::vec3 halfSize = glm::max(glm::vec3(box.size()) * 0.5f, glm::vec3(1e-30f));
       CaptureOptions capture = options->capture;
-      const std::vector<MeshFacing> facings = meshFacings(loaded.scene);  // as surfelize draws each mesh
-      capture.meshFacings = facings;
+      const std::vector<MeshClosure> closures = meshClosures(loaded.scene);  // as surfelize draws each mesh
+      capture.meshClosures = closures;
       capture.backend =
           options->backend == "embree" ? CaptureOptions::Backend::Embree : CaptureOptions::Backend::Raster;
       capture.onView = [&](std::uint32_t view, const Camera& camera, const Framebuffer& g) {

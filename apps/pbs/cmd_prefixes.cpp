@@ -98,8 +98,8 @@ void addPrefixesCommand(CLI::App& app) {
       CaptureOptions captureOptions;
       captureOptions.resolution = options->resolution;
       captureOptions.directions = options->directions;
-      const std::vector<MeshFacing> facings = meshFacings(loaded.scene);  // as surfelize draws each mesh
-      captureOptions.meshFacings = facings;
+      const std::vector<MeshClosure> closures = meshClosures(loaded.scene);  // as surfelize draws each mesh
+      captureOptions.meshClosures = closures;
       const CaptureResult capture = captureNode(loaded.scene, loaded.hierarchy, node, captureOptions);
 
       std::vector<std::uint32_t> counts;

@@ -49,8 +49,11 @@ struct TriangleSpan {
   bool mirrored = false;             // negative determinant: front faces turn clockwise
   bool drawsFront = true;            // the draw's sides
   bool drawsBack = true;             // the draw's sides, less the options' back-face culling
-  bool affine = false;               // clip w ≡ 1 (orthographic): no perspective division needed
-  glm::u8vec4 flatColor{255};        // baseColor as RGBA8, for untextured triangles
+  // The draw's otherSidesWithin, for the faces of each side it does not draw (the back faces' left empty where
+  // the options cull them).
+  std::span<const PixelRect> frontWithin, backWithin;
+  bool affine = false;         // clip w ≡ 1 (orthographic): no perspective division needed
+  glm::u8vec4 flatColor{255};  // baseColor as RGBA8, for untextured triangles
 
   // Vertices firstVertex … firstVertex + vertexCount − 1 are projected once into the batch's cache
   // at cacheOffset; vertexCount 0 means the span's index range was too wide to cache and its

@@ -28,6 +28,13 @@ struct SourceTriangle {
   const ProjectedVertex* vertex[3];
 };
 
+// Whether the pixel box meets one of the rectangles.
+[[gnu::always_inline]] inline bool meetsAny(const PixelBox& box, std::span<const PixelRect> rects) {
+  for (const PixelRect& r : rects)
+    if (box.x0 <= r.x1 && r.x0 <= box.x1 && box.y0 <= r.y1 && r.y0 <= box.y1) return true;
+  return false;
+}
+
 class ChunkWriter {
  public:
   ChunkWriter(TriangleBatch& batch, std::uint32_t chunkIndex)
@@ -57,7 +64,8 @@ class ChunkWriter {
     const TriangleSpan& span = batch_.spans[source.span];
     // Negative area is counter-clockwise in clip space (y up): a front face unless mirrored.
     const bool front = (area2 < 0) != span.mirrored;
-    if (!(front ? span.drawsFront : span.drawsBack)) return;
+    if (!(front ? span.drawsFront : span.drawsBack) && !meetsAny(box, front ? span.frontWithin : span.backWithin))
+      return;
     const bool swapped = area2 < 0;
     if (swapped) {
       std::swap(v1, v2);

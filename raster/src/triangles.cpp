@@ -90,6 +90,8 @@ TriangleSpan partSpan(const TriangleBatch& batch, const TriangleDraw& draw, cons
   span.mirrored = glm::determinant(linear) < 0.0;
   span.drawsFront = hasSide(draw.sides, FaceSides::front);
   span.drawsBack = hasSide(draw.sides, FaceSides::back) && !batch.options.cullBackFaces;
+  if (!span.drawsFront) span.frontWithin = draw.otherSidesWithin;
+  if (!span.drawsBack && !batch.options.cullBackFaces) span.backWithin = draw.otherSidesWithin;
   return span;
 }
 
@@ -112,7 +114,7 @@ void drawTriangles(Framebuffer& framebuffer, const Camera& camera, std::span<con
       const std::size_t count = std::min<std::size_t>(part.indexCount, draw.indices.size() - first) / 3;
       if (count == 0) continue;
       TriangleSpan span = partSpan(batch, draw, part);
-      if (!span.drawsFront && !span.drawsBack) continue;
+      if (!span.drawsFront && !span.drawsBack && span.frontWithin.empty() && span.backWithin.empty()) continue;
       for (std::size_t done = 0; done < count;) {
         const std::size_t n = std::min<std::size_t>(count - done, kBatchTriangles - batch.triangleCount);
         span.firstIndex = first + done * 3;

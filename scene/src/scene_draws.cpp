@@ -1,6 +1,11 @@
 // Turns the scene model into TriangleDraws, culls instances outside the view and draws the rest.
 #include "pbs/scene/scene_draws.hpp"
 
+#include "pbs/raster/raster_limits.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace pbs {
@@ -43,11 +48,28 @@ std::vector<std::uint32_t> subtreeNodes(const Scene& scene, std::uint32_t root) 
   return result;
 }
 
+PixelRect holePixels(const Camera& camera, const glm::dmat4& clipFromObject, const Bounds& hole) {
+  const PixelRect window{0, 0, std::int32_t(camera.width) - 1, std::int32_t(camera.height) - 1};
+  glm::dvec2 low(std::numeric_limits<double>::infinity()), high(-std::numeric_limits<double>::infinity());
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 p(corner & 1 ? hole.max.x : hole.min.x, corner & 2 ? hole.max.y : hole.min.y,
+                       corner & 4 ? hole.max.z : hole.min.z);
+    const glm::dvec4 clip = clipFromObject * glm::dvec4(p, 1.0);
+    if (!(clip.w > 0.0) || !std::isfinite(clip.x) || !std::isfinite(clip.y)) return window;
+    const glm::dvec3 at = windowFromClip(camera, clip);
+    low = glm::min(low, glm::dvec2(at));
+    high = glm::max(high, glm::dvec2(at));
+  }
+  const auto pixel = [](double x) { return std::int32_t(std::clamp(std::floor(x), -2.0, double(kMaxViewportSize))); };
+  return {pixel(low.x) - 1, pixel(low.y) - 1, pixel(high.x) + 1, pixel(high.y) + 1};
+}
+
 void drawNodeTriangles(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
                        const Camera& camera, Framebuffer& framebuffer, const TriangleOptions& options,
-                       std::span<const MeshFacing> meshFacings) {
+                       std::span<const MeshClosure> meshClosures) {
   const SceneMaterials materials = makeSceneMaterials(scene);
   std::vector<TriangleDraw> draws;
+  std::vector<std::vector<PixelRect>> holes;  // per draw
   const BoxProjection boxes(camera);
   for (std::uint32_t node : nodes) {
     const std::int32_t meshIndex = scene.nodes[node].mesh;
@@ -63,9 +85,16 @@ void drawNodeTriangles(const Scene& scene, const Hierarchy& hierarchy, std::span
     draw.worldFromObject = hierarchy.world[node];
     draw.nodeId = node;
     draw.instanceId = std::uint32_t(meshIndex);
-    if (std::size_t(meshIndex) < meshFacings.size()) draw.sides = visibleSides(meshFacings[std::size_t(meshIndex)]);
+    std::vector<PixelRect>& drawHoles = holes.emplace_back();
+    if (std::size_t(meshIndex) < meshClosures.size()) {
+      const MeshClosure& closure = meshClosures[std::size_t(meshIndex)];
+      draw.sides = visibleSides(closure.facing);
+      const glm::dmat4 clipFromObject = camera.clipFromWorld() * draw.worldFromObject;
+      for (const Bounds& hole : closure.holes) drawHoles.push_back(holePixels(camera, clipFromObject, hole));
+    }
     draws.push_back(draw);
   }
+  for (std::size_t d = 0; d < draws.size(); ++d) draws[d].otherSidesWithin = holes[d];
   drawTriangles(framebuffer, camera, draws, options);
 }
 

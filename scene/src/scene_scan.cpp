@@ -30,7 +30,7 @@ SceneScan scanScene(const Scene& scene, const Hierarchy& structure, const SceneS
   const std::size_t meshCount = scene.meshes.size();
   SceneScan scan;
   scan.meshFingerprints.resize(meshCount);
-  if (request.meshFacings) scan.meshFacings.resize(meshCount);
+  if (request.meshClosures) scan.meshClosures.resize(meshCount);
 
   // The questions, listed per mesh.
   std::vector<std::vector<BoxQuestion>> boxesOf(meshCount);
@@ -60,7 +60,7 @@ SceneScan scanScene(const Scene& scene, const Hierarchy& structure, const SceneS
   // Read in order, answered side by side, fingerprinted in order (the scene's fingerprint is one stream).
   const auto answer = [&](std::uint32_t m, const Mesh& mesh) {
     scan.meshFingerprints[m] = meshFingerprint(mesh);
-    if (request.meshFacings) scan.meshFacings[m] = meshFacing(mesh);
+    if (request.meshClosures) scan.meshClosures[m] = meshClosure(mesh);
     if (!boxesOf[m].empty()) {
       const detail::ClusteredPoints clustered = detail::clusterPoints(mesh.positions);
       tbb::parallel_for(std::size_t(0), boxesOf[m].size(), [&](std::size_t q) {

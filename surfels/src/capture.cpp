@@ -164,7 +164,7 @@ CaptureResult captureNode(const Scene& scene, const Hierarchy& hierarchy, std::u
   }
   return captureBox(box, options, [&](const Camera& camera, Framebuffer& framebuffer) {
     drawNodeTriangles(scene, hierarchy, nodes, camera, framebuffer, TriangleOptions{.cullBackFaces = false},
-                      options.meshFacings);
+                      options.meshClosures);
   });
 }
 

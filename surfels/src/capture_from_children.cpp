@@ -55,7 +55,7 @@ CaptureResult captureFromChildSurfels(const Scene& scene, const Hierarchy& frame
 
   return captureBox(frame.worldBounds[node], options, [&](const Camera& camera, Framebuffer& gbuffer) {
     drawNodeTriangles(scene, frame, triangleNodes, camera, gbuffer, TriangleOptions{.cullBackFaces = false},
-                      options.meshFacings);
+                      options.meshClosures);
     const double pixel = 2.0 / (camera.projection[0][0] * camera.width);  // orthographic: world units per pixel
     std::vector<PointSet> sets;
     for (std::uint32_t child : splatChildren) {

@@ -65,14 +65,14 @@ struct MadeArray {
 };
 
 // The capture of `node` (from its children's surfels or not, as the plan says) in its subtree's frame
-// `frame`, leaving out the faces that `meshFacings` (per mesh) says face inside a closed mesh. With `meshes` (a scene
+// `frame`, leaving out the faces that `meshClosures` (per mesh) says face inside a closed mesh. With `meshes` (a scene
 // opened without its mesh arrays), the meshes it draws as triangles are leased for the capture alone.
 CaptureResult captureArray(const Scene& scene, const Hierarchy& frame, std::uint32_t node, bool fromChildren,
                            const SurfelizeOptions& options, const detail::SurfelPlan& plan,
-                           std::span<const SurfelArray> arrays, std::span<const MeshFacing> meshFacings,
+                           std::span<const SurfelArray> arrays, std::span<const MeshClosure> meshClosures,
                            LazyMeshes* meshes) {
   const CaptureOptions capture{
-      .resolution = options.file.resolution, .directions = options.file.directions, .meshFacings = meshFacings};
+      .resolution = options.file.resolution, .directions = options.file.directions, .meshClosures = meshClosures};
   LazyMeshes::Lease lease;
   if (meshes)
     lease = meshes->requireDrawnBy(fromChildren ? detail::childCaptureTriangleNodes(scene, node, plan.arrayOfNode)
@@ -85,11 +85,12 @@ CaptureResult captureArray(const Scene& scene, const Hierarchy& frame, std::uint
 // in its own frame.
 MadeArray makeArray(const Scene& scene, std::uint32_t a, std::span<const Bounds> boxes, const std::string& path,
                     double area, const SurfelizeOptions& options, const detail::SurfelPlan& plan,
-                    std::span<const SurfelArray> arrays, std::span<const MeshFacing> meshFacings, LazyMeshes* meshes) {
+                    std::span<const SurfelArray> arrays, std::span<const MeshClosure> meshClosures,
+                    LazyMeshes* meshes) {
   const std::uint32_t node = plan.representative[a];
   const Hierarchy frame = analyzeSubtree(scene, node, boxes);
   const CaptureResult captured =
-      captureArray(scene, frame, node, plan.fromChildren[a], options, plan, arrays, meshFacings, meshes);
+      captureArray(scene, frame, node, plan.fromChildren[a], options, plan, arrays, meshClosures, meshes);
   if (meshes) meshes->unloadOverBudget();
 
   const std::vector<glm::vec3> positions = orderingPositions(captured.surfels);
@@ -158,7 +159,7 @@ struct ArrayMaker {
                        {.worldBounds = worldBounds,
                         .subtreeStarts = plan.representative,
                         .ownFrameAreas = !plan.nodes.empty(),
-                        .meshFacings = !plan.nodes.empty()},
+                        .meshClosures = !plan.nodes.empty()},
                        read)) {}
 
   const Scene& scene;
@@ -248,7 +249,7 @@ struct ArrayMaker {
         try {
           const std::uint32_t node = plan.representative[a];
           MadeArray made = makeArray(scene, a, scan.subtreeBounds[a], paths[node], areas[node], options, plan, arrays,
-                                     scan.meshFacings, meshes);
+                                     scan.meshClosures, meshes);
           const std::lock_guard lock(mutex);
           arrays[a] = std::move(made.array);
           candidates += made.candidates;

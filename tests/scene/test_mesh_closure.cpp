@@ -1,5 +1,5 @@
-// closedOutward: which meshes a view from outside sees by their front faces alone; meshFacing: which side
-// of the others faces out.
+// closedOutward: which meshes a view from outside sees by their front faces alone; meshClosure: which side
+// a view from outside sees of a mesh closed but for its holes, and where those are.
 #include "pbs/scene/mesh_closure.hpp"
 #include "test_fixtures.hpp"
 
@@ -38,6 +38,12 @@ Mesh cube(bool splitFaces, glm::vec3 offset = glm::vec3(0.0f)) {
   return mesh;
 }
 
+// Every triangle turned over.
+Mesh flipped(Mesh mesh) {
+  for (std::size_t t = 0; t < mesh.indices.size(); t += 3) std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
+  return mesh;
+}
+
 TEST(MeshClosure, ACubeWoundOutwardIsClosedWithSharedOrSplitCorners) {
   EXPECT_TRUE(closedOutward(cube(false)));
   EXPECT_TRUE(closedOutward(cube(true)));
@@ -53,49 +59,76 @@ TEST(MeshClosure, AMissingFaceOrAFaceWoundTheOtherWayOpensIt) {
   Mesh open = cube(false);
   open.indices.resize(open.indices.size() - 6);
   EXPECT_FALSE(closedOutward(open));
-  Mesh flipped = cube(false);
-  std::swap(flipped.indices[1], flipped.indices[2]);
-  std::swap(flipped.indices[4], flipped.indices[5]);
-  EXPECT_FALSE(closedOutward(flipped));
+  Mesh oneFaceTurned = cube(false);
+  std::swap(oneFaceTurned.indices[1], oneFaceTurned.indices[2]);
+  std::swap(oneFaceTurned.indices[4], oneFaceTurned.indices[5]);
+  EXPECT_FALSE(closedOutward(oneFaceTurned));
   // The fixture box winds three of its faces inward; a sheet has a border.
   EXPECT_FALSE(closedOutward(test::tessellatedBox(3)));
   EXPECT_FALSE(closedOutward(test::gridSheet(4, [](float, float) { return 0.0f; })));
 }
 
 // The faces a view from outside can see: a closed cube's front faces, the back faces of one wound inside
-// out (a cube with a face wound the other way, or one missing, is open either way round).
+// out; a face wound the other way opens it.
 TEST(MeshClosure, FacingTellsAClosedMeshWoundInsideOutApart) {
-  const auto flip = [](Mesh mesh) {
-    for (std::size_t t = 0; t < mesh.indices.size(); t += 3) std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
-    return mesh;
-  };
-  Mesh open = cube(false);
-  open.indices.resize(open.indices.size() - 6);
   Mesh mixed = cube(false);
   std::swap(mixed.indices[1], mixed.indices[2]);
   std::swap(mixed.indices[4], mixed.indices[5]);
   for (const bool split : {false, true}) {
-    EXPECT_EQ(meshFacing(cube(split)), MeshFacing::closedOutward);
-    EXPECT_EQ(meshFacing(flip(cube(split))), MeshFacing::closedInward);
+    EXPECT_EQ(meshClosure(cube(split)).facing, MeshFacing::closedOutward);
+    EXPECT_TRUE(meshClosure(cube(split)).holes.empty());
+    EXPECT_EQ(meshClosure(flipped(cube(split))).facing, MeshFacing::closedInward);
   }
-  EXPECT_EQ(meshFacing(flip(cube(true, glm::vec3(3.0e6f, -2.0e6f, 1.0e6f)))), MeshFacing::closedInward);
-  for (const Mesh& mesh : {open, flip(open), mixed, flip(mixed), Mesh{}}) EXPECT_EQ(meshFacing(mesh), MeshFacing::open);
-  Mesh nan = flip(cube(false));
+  EXPECT_EQ(meshClosure(flipped(cube(true, glm::vec3(3.0e6f, -2.0e6f, 1.0e6f)))).facing, MeshFacing::closedInward);
+  for (const Mesh& mesh : {mixed, flipped(mixed), Mesh{}}) EXPECT_EQ(meshClosure(mesh).facing, MeshFacing::open);
+  Mesh nan = flipped(cube(false));
   nan.positions[3].y = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_EQ(meshFacing(nan), MeshFacing::open);
+  EXPECT_EQ(meshClosure(nan).facing, MeshFacing::open);
 }
 
-// A scene's facings, one per mesh in order; a mesh not loaded (no arrays) is drawn from both sides.
-TEST(MeshClosure, ASceneGivesEachMeshItsFacing) {
+// A missing face is a hole: the cube is closed once it is capped, each way round, the hole's box that face's
+// square; two missing faces apart are two holes, and two that share an edge one. A flat sheet encloses nothing
+// once capped, so it stays open; a bump gives it a volume and its whole rim is the hole.
+TEST(MeshClosure, HolesAreTheBoundarysConnectedParts) {
+  const auto without = [](Mesh mesh, std::initializer_list<int> faces) {
+    std::vector<std::uint32_t> kept;
+    for (std::size_t f = 0; f < 6; ++f)
+      if (std::find(faces.begin(), faces.end(), int(f)) == faces.end())
+        kept.insert(kept.end(), mesh.indices.begin() + 6 * f, mesh.indices.begin() + 6 * f + 6);
+    mesh.indices = kept;
+    mesh.parts[0].indexCount = std::uint32_t(kept.size());
+    return mesh;
+  };
+  for (const bool split : {false, true}) {
+    const MeshClosure open = meshClosure(without(cube(split), {0}));  // the face x = −1
+    EXPECT_EQ(open.facing, MeshFacing::closedOutward);
+    ASSERT_EQ(open.holes.size(), 1u);
+    EXPECT_EQ(open.holes[0].min, glm::dvec3(-1.0, -1.0, -1.0));
+    EXPECT_EQ(open.holes[0].max, glm::dvec3(-1.0, 1.0, 1.0));
+    EXPECT_EQ(meshClosure(flipped(without(cube(split), {0}))).facing, MeshFacing::closedInward);
+    EXPECT_EQ(meshClosure(without(cube(split), {0, 1})).holes.size(), 2u);  // x = −1 and x = +1
+  }
+  EXPECT_EQ(meshClosure(without(cube(false), {0, 2})).holes.size(), 1u);  // x = −1 and y = −1 share an edge
+  EXPECT_EQ(meshClosure(test::gridSheet(4, [](float, float) { return 0.0f; })).facing, MeshFacing::open);
+  const MeshClosure bump = meshClosure(test::gridSheet(4, [](float x, float y) { return 1.0f - x * x - y * y; }));
+  EXPECT_NE(bump.facing, MeshFacing::open);
+  ASSERT_EQ(bump.holes.size(), 1u);
+  EXPECT_EQ(bump.holes[0].min.x, -1.0);
+  EXPECT_EQ(bump.holes[0].max.y, 1.0);
+}
+
+// A scene's closures, one per mesh in order; a mesh not loaded (no arrays) is drawn from both sides.
+TEST(MeshClosure, ASceneGivesEachMeshItsClosure) {
   Scene scene;
-  Mesh inward = cube(true);
-  for (std::size_t t = 0; t < inward.indices.size(); t += 3) std::swap(inward.indices[t + 1], inward.indices[t + 2]);
   Mesh unloaded = cube(false);
   unloaded.positions.clear();
   unloaded.indices.clear();
-  scene.meshes = {cube(false), inward, unloaded};
-  EXPECT_EQ(meshFacings(scene),
-            (std::vector<MeshFacing>{MeshFacing::closedOutward, MeshFacing::closedInward, MeshFacing::open}));
+  scene.meshes = {cube(false), flipped(cube(true)), unloaded};
+  const std::vector<MeshClosure> closures = meshClosures(scene);
+  ASSERT_EQ(closures.size(), 3u);
+  EXPECT_EQ(closures[0].facing, MeshFacing::closedOutward);
+  EXPECT_EQ(closures[1].facing, MeshFacing::closedInward);
+  EXPECT_EQ(closures[2].facing, MeshFacing::open);
 }
 
 TEST(MeshClosure, AnEdgeRunTwiceTheSameWayIsNotClosed) {

@@ -28,14 +28,14 @@ void expectScanIsTheWholeScenes(const Scene& scene, const MeshReader& read) {
   const std::vector<std::uint32_t>& starts = whole.preorder;  // every node a subtree start
   const SceneScan scan =
       scanScene(scene, analyzeStructure(scene),
-                {.worldBounds = true, .subtreeStarts = starts, .ownFrameAreas = true, .meshFacings = true}, read);
+                {.worldBounds = true, .subtreeStarts = starts, .ownFrameAreas = true, .meshClosures = true}, read);
   EXPECT_EQ(scan.sceneFingerprint, sceneFingerprint(scene));
   ASSERT_EQ(scan.meshFingerprints.size(), scene.meshes.size());
   for (std::size_t m = 0; m < scene.meshes.size(); ++m)
     EXPECT_EQ(scan.meshFingerprints[m], meshFingerprint(scene.meshes[m])) << "mesh " << m;
-  ASSERT_EQ(scan.meshFacings.size(), scene.meshes.size());
+  ASSERT_EQ(scan.meshClosures.size(), scene.meshes.size());
   for (std::size_t m = 0; m < scene.meshes.size(); ++m)
-    EXPECT_EQ(scan.meshFacings[m], meshFacing(scene.meshes[m])) << "mesh " << m;
+    EXPECT_EQ(scan.meshClosures[m].facing, meshClosure(scene.meshes[m]).facing) << "mesh " << m;
   ASSERT_EQ(scan.instanceBounds.size(), scene.nodes.size());
   for (std::size_t n = 0; n < scene.nodes.size(); ++n)
     expectSameBox(scan.instanceBounds[n], whole.instanceBounds[n], "world box of node " + std::to_string(n));
@@ -83,7 +83,7 @@ TEST(SceneScan, AskedNothingItStillFingerprints) {
   EXPECT_TRUE(scan.instanceBounds.empty());
   EXPECT_TRUE(scan.subtreeBounds.empty());
   EXPECT_TRUE(scan.ownFrameAreas.empty());
-  EXPECT_TRUE(scan.meshFacings.empty());
+  EXPECT_TRUE(scan.meshClosures.empty());
 }
 
 TEST(SceneScan, AnalyzeSubtreeWithBoxesRefusesAnotherCount) {

@@ -26,6 +26,7 @@ using GLboolean = unsigned char;
 
 constexpr GLenum kRgba = 0x1908, kUnsignedByte = 0x1401, kUnsignedInt = 0x1405, kFloat = 0x1406;
 constexpr GLenum kDepthTest = 0x0B71, kVertexArray = 0x8074, kColorArray = 0x8076;
+constexpr GLenum kScissorTest = 0x0C11;
 constexpr GLenum kCullFace = 0x0B44, kFront = 0x0404, kBack = 0x0405, kClockwise = 0x0900, kCounterClockwise = 0x0901;
 constexpr GLenum kProjection = 0x1701, kModelview = 0x1700, kTriangles = 0x0004, kPoints = 0x0000;
 constexpr GLenum kLess = 0x0201, kDepthComponent = 0x1902;
@@ -88,6 +89,7 @@ struct LlvmpipePeer::Gl {
   void (*disable)(GLenum);
   void (*cullFace)(GLenum);
   void (*frontFace)(GLenum);
+  void (*scissor)(GLint, GLint, GLsizei, GLsizei);
   void (*depthFunc)(GLenum);
   void (*viewport)(GLint, GLint, GLsizei, GLsizei);
   void (*matrixMode)(GLenum);
@@ -168,6 +170,7 @@ LlvmpipePeer::LlvmpipePeer(std::uint32_t width, std::uint32_t height, int thread
       resolve<decltype(Gl::disable)>(getProc, "glDisable"),
       resolve<decltype(Gl::cullFace)>(getProc, "glCullFace"),
       resolve<decltype(Gl::frontFace)>(getProc, "glFrontFace"),
+      resolve<decltype(Gl::scissor)>(getProc, "glScissor"),
       resolve<decltype(Gl::depthFunc)>(getProc, "glDepthFunc"),
       resolve<decltype(Gl::viewport)>(getProc, "glViewport"),
       resolve<decltype(Gl::matrixMode)>(getProc, "glMatrixMode"),
@@ -363,6 +366,18 @@ void LlvmpipePeer::drawCaptureTriangles(const glm::mat4& clipFromObject, const g
   gl.vertexAttribPointer(0, 3, kFloat, 0, 0, positions.data());
   gl.vertexAttribPointer(1, 3, kFloat, 0, 0, normals.data());
   gl.drawElements(kTriangles, GLsizei(indices.size()), kUnsignedInt, indices.data());
+}
+
+void LlvmpipePeer::setScissor(const std::optional<PixelRect>& rect) {
+  if (!rect) {
+    gl_->disable(kScissorTest);
+    return;
+  }
+  // GL's rows run up from the bottom.
+  const GLint x0 = std::max(0, rect->x0), y0 = std::max(0, rect->y0);
+  const GLint x1 = std::min(GLint(viewportWidth_) - 1, rect->x1), y1 = std::min(GLint(viewportHeight_) - 1, rect->y1);
+  gl_->enable(kScissorTest);
+  gl_->scissor(x0, GLint(viewportHeight_) - 1 - y1, std::max(0, x1 - x0 + 1), std::max(0, y1 - y0 + 1));
 }
 
 void LlvmpipePeer::clear() { gl_->clear(kColorBit | kDepthBit); }

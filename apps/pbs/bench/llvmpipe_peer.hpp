@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -56,6 +57,8 @@ class LlvmpipePeer {
                             std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
                             std::span<const std::uint32_t> indices, std::span<const glm::vec2> uvs = {},
                             std::uint32_t texture = 0, FaceSides sides = FaceSides::both, bool mirrored = false);
+  // Limits what is drawn next to a rectangle of the viewport (rows from the top, as pbs counts them), or not.
+  void setScissor(const std::optional<PixelRect>& rect);
   // Waits until everything drawn is in the buffers (glFinish), so timings include the work.
   void finish();
 

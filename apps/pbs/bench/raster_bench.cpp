@@ -55,11 +55,11 @@ double timedOnThreads(int threads, Work&& work) {
 
 // What pbs's capture draws of the scene: every node, each mesh's sides as its meshFacing says (captureNode).
 struct CaptureDraws {
-  explicit CaptureDraws(const Scene& scene) : nodes(scene.nodes.size()), facings(meshFacings(scene)) {
+  explicit CaptureDraws(const Scene& scene) : nodes(scene.nodes.size()), closures(meshClosures(scene)) {
     std::iota(nodes.begin(), nodes.end(), 0u);
   }
   std::vector<std::uint32_t> nodes;
-  std::vector<MeshFacing> facings;
+  std::vector<MeshClosure> closures;
 };
 
 // pbs: the eight views into depth + colour + position + normal, each time after clearing depth,
@@ -69,7 +69,7 @@ void drawPbsViews(const Scene& scene, const Hierarchy& hierarchy, const CaptureD
   const std::size_t count = views.cameras.size();
   drawViewsInGroups(count, concurrentCaptureViews(count, views.framebuffers.at(0).pixelCount()), [&](std::size_t v) {
     clearFramebuffer(views.framebuffers[v], 0);
-    drawNodeTriangles(scene, hierarchy, draws.nodes, views.cameras[v], views.framebuffers[v], {}, draws.facings);
+    drawNodeTriangles(scene, hierarchy, draws.nodes, views.cameras[v], views.framebuffers[v], {}, draws.closures);
   });
 }
 
@@ -165,17 +165,35 @@ class LlvmpipeCapture {
       const Mesh& mesh = scene.meshes[std::size_t(node.mesh)];
       const glm::dmat4& world = hierarchy.world[n];
       const glm::mat3 normalFromObject(glm::transpose(glm::inverse(glm::dmat3(world))));
-      const FaceSides sides = visibleSides(draws.facings[std::size_t(node.mesh)]);
+      const MeshClosure& closure = draws.closures[std::size_t(node.mesh)];
+      const FaceSides sides = visibleSides(closure.facing);
       const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
+      // The hidden side, where a hole may show it: pbs tests each triangle's box against each hole's, in setup;
+      // llvmpipe draws that side once more, scissored to the box around every hole's.
+      std::optional<PixelRect> throughHoles;
+      for (const Bounds& hole : closure.holes) {
+        const PixelRect r = holePixels(camera, clipFromWorld * world, hole);
+        throughHoles = throughHoles ? PixelRect{std::min(r.x0, throughHoles->x0), std::min(r.y0, throughHoles->y0),
+                                                std::max(r.x1, throughHoles->x1), std::max(r.y1, throughHoles->y1)}
+                                    : r;
+      }
+      const FaceSides hidden = sides == FaceSides::front ? FaceSides::back : FaceSides::front;
       for (const MeshPart& part : mesh.parts) {
         const Material* material = part.material < scene.materials.size() ? &scene.materials[part.material] : nullptr;
         const glm::vec4 color = material ? material->baseColorFactor : glm::vec4(1.0f);
         const std::int32_t texture = material ? material->baseColorTexture : -1;
-        peer_.drawCaptureTriangles(
-            glm::mat4(clipFromWorld * world), glm::mat4(positionFromWorld * world), normalFromObject, color,
-            mesh.positions, mesh.normals, std::span(mesh.indices).subspan(part.firstIndex, part.indexCount), mesh.uvs,
-            texture >= 0 && std::size_t(texture) < textureNames_.size() ? textureNames_[std::size_t(texture)] : 0u,
-            sides, mirrored);
+        const auto drawSide = [&](FaceSides side) {
+          peer_.drawCaptureTriangles(
+              glm::mat4(clipFromWorld * world), glm::mat4(positionFromWorld * world), normalFromObject, color,
+              mesh.positions, mesh.normals, std::span(mesh.indices).subspan(part.firstIndex, part.indexCount), mesh.uvs,
+              texture >= 0 && std::size_t(texture) < textureNames_.size() ? textureNames_[std::size_t(texture)] : 0u,
+              side, mirrored);
+        };
+        drawSide(sides);
+        if (!throughHoles) continue;
+        peer_.setScissor(throughHoles);
+        drawSide(hidden);
+        peer_.setScissor(std::nullopt);
       }
     }
     peer_.finish();

@@ -104,8 +104,8 @@ std::vector<std::uint8_t> captureViewsPng(FrameScene& scene, std::uint32_t node,
   std::vector<std::vector<std::uint8_t>> tiles;
   CaptureOptions options;
   options.resolution = resolution;
-  const std::vector<MeshFacing> facings = meshFacings(graph);  // as surfelize draws each mesh: those leased here
-  options.meshFacings = facings;
+  const std::vector<MeshClosure> closures = meshClosures(graph);  // as surfelize draws each mesh: those leased here
+  options.meshClosures = closures;
   options.onView = [&](std::uint32_t, const Camera& camera, const Framebuffer& gbuffer) {
     std::vector<std::uint8_t> tile(std::size_t(resolution) * resolution * 4, 0);
     const std::uint32_t left = (resolution - std::min(resolution, camera.width)) / 2;

@@ -23,6 +23,11 @@ struct SurfaceMaterial {
 enum class FaceSides : std::uint8_t { none = 0, front = 1, back = 2, both = 3 };
 inline bool hasSide(FaceSides set, FaceSides side) { return (std::uint8_t(set) & std::uint8_t(side)) != 0; }
 
+// Pixels x0 … x1 × y0 … y1 of the window.
+struct PixelRect {
+  std::int32_t x0, y0, x1, y1;
+};
+
 // One mesh instance: a view on the caller's arrays, nothing is copied.
 struct TriangleDraw {
   std::span<const glm::vec3> positions;  // object frame
@@ -38,6 +43,10 @@ struct TriangleDraw {
   // draw): for a closed mesh seen from outside, which hides them behind its front faces; back alone, for a
   // closed mesh wound inside out (MeshFacing::closedInward), whose front faces are the hidden ones.
   FaceSides sides = FaceSides::both;
+  // Of the faces `sides` leaves out, those whose pixel box meets one of these are drawn after all: the hidden
+  // side of a mesh that is closed but for some holes shows through them (MeshClosure in the scene library).
+  // TriangleOptions::cullBackFaces still leaves every back face out.
+  std::span<const PixelRect> otherSidesWithin;
 };
 
 struct TriangleOptions {

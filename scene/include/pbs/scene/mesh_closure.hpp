@@ -2,6 +2,7 @@
 // sees one side of its faces only, and a capture may leave the other out.
 #pragma once
 
+#include "pbs/raster/bounds.hpp"
 #include "pbs/raster/triangles.hpp"
 #include "pbs/scene/scene.hpp"
 
@@ -18,19 +19,31 @@ namespace pbs {
 // inside out (negative winding) is not told apart; no generator or importer check makes one.
 bool closedOutward(const Mesh& mesh);
 
-// Which faces of a mesh a view from outside it can see: one byte per mesh, for a capture (drawNodeTriangles).
+// Which faces of a mesh a view from outside it can see: a capture draws those alone (drawNodeTriangles).
 enum class MeshFacing : std::uint8_t {
   open = 0,           // both sides
-  closedOutward = 1,  // closedOutward: the front faces alone
-  closedInward = 2,   // closed, but wound inside out (negative signed volume): the back faces alone
+  closedOutward = 1,  // the front faces (the back faces only through the holes: MeshClosure)
+  closedInward = 2,   // wound inside out (negative signed volume): the back faces (the front ones through the holes)
 };
-// closedOutward's test, with its mirror image told apart: a mesh whose triangles, each turned over, would
-// be closedOutward is closedInward (horse.glb of the shared scenes is one). Any other is open.
-MeshFacing meshFacing(const Mesh& mesh);
-// meshFacing of each of the scene's meshes, side by side; a mesh whose arrays are not loaded counts as open.
-std::vector<MeshFacing> meshFacings(const Scene& scene);
 
-// The faces a view from outside can see (TriangleDraw::sides).
+// A mesh that is closed, or would be once each of its holes were capped: every edge run at most once each way,
+// the edges run one way only (the boundary) forming loops, each connected part of them a hole. Seen from
+// outside the mesh's box, a ray leaving a face of the hidden side runs into the solid and must leave it
+// through a face of the visible side, nearer, or through a hole's cap. Capped by a cone from the hole's
+// vertices, which lies in their box, so the hidden side can show only where those boxes project. At most
+// 64 holes; a mesh with more, or whose boundary is no set of loops, or that encloses no volume, is open.
+struct MeshClosure {
+  MeshFacing facing = MeshFacing::open;
+  std::vector<Bounds> holes;  // in the mesh's frame, a box per hole (none for a mesh closed as it is)
+};
+
+// closedOutward's test, with its mirror image told apart (horse.glb of the shared scenes is closed, wound
+// inward) and holes allowed (bunny.glb has five, in its base).
+MeshClosure meshClosure(const Mesh& mesh);
+// meshClosure of each of the scene's meshes, side by side; a mesh whose arrays are not loaded counts as open.
+std::vector<MeshClosure> meshClosures(const Scene& scene);
+
+// The faces a view from outside can see, holes aside (TriangleDraw::sides).
 inline FaceSides visibleSides(MeshFacing facing) {
   return facing == MeshFacing::closedOutward  ? FaceSides::front
          : facing == MeshFacing::closedInward ? FaceSides::back

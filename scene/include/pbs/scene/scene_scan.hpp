@@ -19,7 +19,7 @@ struct SceneScanRequest {
   bool worldBounds = false;                      // fill SceneScan::instanceBounds
   std::span<const std::uint32_t> subtreeStarts;  // fill SceneScan::subtreeBounds for these nodes
   bool ownFrameAreas = false;                    // fill SceneScan::ownFrameAreas
-  bool meshFacings = false;                      // fill SceneScan::meshFacings
+  bool meshClosures = false;                     // fill SceneScan::meshClosures
 };
 
 struct SceneScan {
@@ -29,8 +29,8 @@ struct SceneScan {
   // Per subtree start, analyzeSubtree's instance boxes in subtreeInstances order (for analyzeSubtree with
   // boxes given).
   std::vector<std::vector<Bounds>> subtreeBounds;
-  std::vector<double> ownFrameAreas;    // ownFrameSurfaceAreas, one per node
-  std::vector<MeshFacing> meshFacings;  // meshFacing of each mesh
+  std::vector<double> ownFrameAreas;      // ownFrameSurfaceAreas, one per node
+  std::vector<MeshClosure> meshClosures;  // meshClosure of each mesh
 };
 
 // `structure` supplies world transforms and the preorder (analyzeStructure's, or analyzeHierarchy's).

@@ -29,7 +29,7 @@ struct CaptureOptions {
   // Per mesh (or none): meshFacing, so that no capture view, which looks at the node's box from outside, draws
   // the faces of a closed mesh that face its inside; the Raster backend leaves them out (pbs surfelize default
   // in 0.85× the time on one thread). Embree draws them all.
-  std::span<const MeshFacing> meshFacings{};
+  std::span<const MeshClosure> meshClosures{};
   // Called with every view's camera and G-buffer right after it is rendered (for pictures and
   // debugging: `pbs capture` writes them as images); nothing is kept for it otherwise. Only depth
   // is cleared between views: colour, position and normal hold this view's values where depth says
