@@ -145,11 +145,12 @@ TEST(Cli, RasterBenchsLlvmpipeSamplesTheTexturesPbsSamples) {
 // pbs, llvmpipe and Embree draw the same views, so their coverage agrees; llvmpipe fills the same
 // G-buffer, so its positions agree with pbs's where both cover a pixel. Each as the capture draws it: an open
 // mesh (suzanne) from both sides, a closed one wound outward (fandisk) and one wound inward (horse) from
-// outside alone, in both rasterizers; a side culled wrongly would leave holes or show the inside.
+// outside alone, one with holes (bunny) with its inside where they may show it, in both rasterizers; a side
+// culled wrongly would leave holes or show the inside.
 TEST(Cli, RasterBenchDrawsTheSameViewsAsItsPeers) {
   PBS_SHARED_SCENE(suzanne, "suzanne.glb");
   nlohmann::json json;
-  for (const char* mesh : {"fandisk.glb", "horse.glb", "suzanne.glb"}) {
+  for (const char* mesh : {"bunny.glb", "fandisk.glb", "horse.glb", "suzanne.glb"}) {
     SCOPED_TRACE(mesh);
     const CommandResult result = runPbs("bench raster '" + (suzanne.parent_path() / mesh).string() +
                                         "' --resolution 128 --points 20000 --repeat 1 --json");
