@@ -149,6 +149,17 @@ TEST(MeshClosure, FarFromTheOriginAndTiny) {
   Mesh tiny = cube(false);
   for (glm::vec3& p : tiny.positions) p *= 1e-20f;
   EXPECT_TRUE(closedOutward(tiny));
+  // A hole far from the origin, and a tiny one, keep their volume's sign.
+  Mesh farOpen = cube(true, glm::vec3(3.0e6f, -2.0e6f, 1.0e6f)), tinyOpen = cube(true);
+  for (glm::vec3& p : tinyOpen.positions) p *= 1e-20f;
+  for (Mesh* mesh : {&farOpen, &tinyOpen}) {
+    mesh->indices.resize(mesh->indices.size() - 6);
+    mesh->parts[0].indexCount = std::uint32_t(mesh->indices.size());
+    const MeshClosure closure = meshClosure(*mesh);
+    EXPECT_EQ(closure.facing, MeshFacing::closedOutward);
+    EXPECT_EQ(closure.holes.size(), 1u);
+    EXPECT_EQ(meshClosure(flipped(*mesh)).facing, MeshFacing::closedInward);
+  }
 }
 
 TEST(MeshClosure, BadInputIsNotClosed) {
@@ -162,6 +173,7 @@ TEST(MeshClosure, BadInputIsNotClosed) {
   Mesh outOfRange = cube(false);
   outOfRange.indices[7] = 99;
   EXPECT_FALSE(closedOutward(outOfRange));
+  for (const Mesh& mesh : {Mesh{}, nan, infinite, outOfRange}) EXPECT_EQ(meshClosure(mesh).facing, MeshFacing::open);
 }
 
 }  // namespace
