@@ -268,7 +268,9 @@ TEST(Capture, LeavingOutAClosedMeshsInnerFacesChangesNoSurfel) {
       const CaptureResult culled = captureNode(scene, hierarchy, 0, {.resolution = 64, .meshClosures = closure});
       ASSERT_GT(all.surfels.size(), 1000u);
       EXPECT_TRUE(sameSurfels(all, culled));
-      if (!closure[0].holes.empty()) EXPECT_GT(all.seenFromBehind, 100u);  // the inside shows through the hole
+      if (!closure[0].holes.empty()) {
+        EXPECT_GT(all.seenFromBehind, 100u);  // the inside shows through the hole
+      }
     }
   const auto dir = test::sharedScenesDir();
   if (!dir) GTEST_SKIP() << "shared scenes not found (set PBS_SCENES or put ../shared/scenes beside the repository)";

@@ -46,7 +46,7 @@ struct TriangleDraw {
   // Of the faces `sides` leaves out, those whose pixel box meets one of these are drawn after all: the hidden
   // side of a mesh that is closed but for some holes shows through them (MeshClosure in the scene library).
   // TriangleOptions::cullBackFaces still leaves every back face out.
-  std::span<const PixelRect> otherSidesWithin;
+  std::span<const PixelRect> otherSidesWithin{};
 };
 
 struct TriangleOptions {
