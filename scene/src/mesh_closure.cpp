@@ -1,4 +1,4 @@
-// closedOutward and meshClosure: the edge-pairing test, the holes capped, and the signed volume of a mesh.
+// meshClosure: the edge-pairing test, the holes capped, and the signed volume of a mesh.
 #include "pbs/scene/mesh_closure.hpp"
 
 #include <meshoptimizer.h>
@@ -27,8 +27,10 @@ struct Closure {
 // a cone triangle (apex, b, a) per boundary edge a → b pairs that edge, and the apex's edges pair up where
 // each boundary vertex starts as many boundary edges as it ends. Adds the cones' volume; false where a vertex
 // does not balance (a boundary that is no set of loops).
-bool capHoles(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& vertexOfWeld,
+bool capHoles(const std::vector<glm::vec3>& positions, const std::vector<unsigned int>& weld,
               const std::vector<std::uint64_t>& boundary, const glm::dvec3& origin, Closure& closure) {
+  std::vector<std::uint32_t> vertexOfWeld(positions.size());  // a vertex of each welded id
+  for (std::size_t v = positions.size(); v-- > 0;) vertexOfWeld[weld[v]] = std::uint32_t(v);
   std::vector<std::uint32_t> part(vertexOfWeld.size());
   std::iota(part.begin(), part.end(), 0u);
   const auto root = [&](std::uint32_t v) {
@@ -42,8 +44,7 @@ bool capHoles(const std::vector<glm::vec3>& positions, const std::vector<std::ui
     --balance[b];
     part[root(a)] = root(b);
   }
-  std::vector<std::uint32_t> parts;  // roots, in order of first appearance
-  std::vector<std::int64_t> partOf(vertexOfWeld.size(), -1);
+  std::vector<std::int64_t> partOf(vertexOfWeld.size(), -1);  // its hole, for each part's root
   std::vector<glm::dvec3> sum;
   std::vector<std::uint32_t> count;
   for (const std::uint64_t edge : boundary) {
@@ -51,14 +52,13 @@ bool capHoles(const std::vector<glm::vec3>& positions, const std::vector<std::ui
     if (balance[a] != 0 || balance[std::uint32_t(edge)] != 0) return false;
     const std::uint32_t r = root(a);
     if (partOf[r] < 0) {
-      partOf[r] = std::int64_t(parts.size());
-      parts.push_back(r);
+      partOf[r] = std::int64_t(closure.holes.size());
       sum.emplace_back(0.0);
       count.push_back(0);
       closure.holes.emplace_back();
     }
   }
-  if (parts.size() > kMaxHoles) return false;
+  if (closure.holes.size() > kMaxHoles) return false;
   // Each boundary vertex once per edge leaving it: the mean of the vertices with their multiplicity.
   for (const std::uint64_t edge : boundary) {
     const auto a = std::uint32_t(edge >> 32);
@@ -94,8 +94,6 @@ Closure closureOf(const Mesh& mesh) {
   std::vector<unsigned int> weld(positions.size());
   if (!positions.empty())
     meshopt_generateVertexRemap(weld.data(), nullptr, welded.size(), welded.data(), welded.size(), sizeof(glm::vec3));
-  std::vector<std::uint32_t> vertexOfWeld(positions.size());
-  for (std::size_t v = positions.size(); v-- > 0;) vertexOfWeld[weld[v]] = std::uint32_t(v);
   std::vector<std::uint64_t> edges;  // directed, from << 32 | to
   edges.reserve(indices.size());
   // Six times the signed volume, about a vertex of the mesh: a closed mesh's volume does not depend on
@@ -122,17 +120,12 @@ Closure closureOf(const Mesh& mesh) {
     const std::uint64_t reversed = edge << 32 | edge >> 32;
     if (!std::binary_search(edges.begin(), edges.end(), reversed)) boundary.push_back(edge);
   }
-  if (!boundary.empty() && !capHoles(positions, vertexOfWeld, boundary, origin, closure)) return {};
+  if (!boundary.empty() && !capHoles(positions, weld, boundary, origin, closure)) return {};
   closure.closed = true;
   return closure;
 }
 
 }  // namespace
-
-bool closedOutward(const Mesh& mesh) {
-  const Closure closure = closureOf(mesh);
-  return closure.closed && closure.holes.empty() && closure.volume > 0.0;
-}
 
 MeshClosure meshClosure(const Mesh& mesh) {
   Closure closure = closureOf(mesh);

@@ -38,6 +38,12 @@ Mesh cube(bool splitFaces, glm::vec3 offset = glm::vec3(0.0f)) {
   return mesh;
 }
 
+// Closed as it is, wound outward: a view from outside sees its front faces alone.
+bool closedOutward(const Mesh& mesh) {
+  const MeshClosure closure = meshClosure(mesh);
+  return closure.facing == MeshFacing::closedOutward && closure.holes.empty();
+}
+
 // Every triangle turned over.
 Mesh flipped(Mesh mesh) {
   for (std::size_t t = 0; t < mesh.indices.size(); t += 3) std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);

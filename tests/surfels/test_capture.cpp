@@ -244,6 +244,14 @@ void expectAllButAHair(const CaptureResult& all, const CaptureResult& culled, do
   EXPECT_LE(moved, all.surfels.size() / 10000) << moved << " of " << all.surfels.size() << " surfels moved";
 }
 
+// The capture of a scene's node 0, drawn as it is and with its one mesh's closure (the hidden side left out).
+std::pair<CaptureResult, CaptureResult> capturedWithoutAndWithClosure(const Scene& scene, std::uint32_t resolution) {
+  const std::array<MeshClosure, 1> closure{meshClosure(scene.meshes[0])};
+  const Hierarchy hierarchy = analyzeHierarchy(scene);
+  return {captureNode(scene, hierarchy, 0, {.resolution = resolution}),
+          captureNode(scene, hierarchy, 0, {.resolution = resolution, .meshClosures = closure})};
+}
+
 // A closed mesh's faces that face its inside, left out, change no surfel: the views see the cube from outside,
 // its mirror image too (whose front faces turn clockwise in the world), wound outward (its back faces left out)
 // and inward (its front faces). A cube missing a face shows its inside through the hole, each way round: that
@@ -261,14 +269,12 @@ TEST(Capture, LeavingOutAClosedMeshsInnerFacesChangesNoSurfel) {
     for (const glm::dmat4& world :
          {placed({0.3, -0.2, 0.1}, 2.0), glm::scale(glm::dmat4(1.0), glm::dvec3(-1.0, 1.0, 1.0))}) {
       const Scene scene = sceneOf(mesh, {world});
-      const std::array<MeshClosure, 1> closure{meshClosure(scene.meshes[0])};
-      ASSERT_NE(closure[0].facing, MeshFacing::open);
-      const Hierarchy hierarchy = analyzeHierarchy(scene);
-      const CaptureResult all = captureNode(scene, hierarchy, 0, {.resolution = 64});
-      const CaptureResult culled = captureNode(scene, hierarchy, 0, {.resolution = 64, .meshClosures = closure});
+      const MeshClosure closure = meshClosure(scene.meshes[0]);
+      ASSERT_NE(closure.facing, MeshFacing::open);
+      const auto [all, culled] = capturedWithoutAndWithClosure(scene, 64);
       ASSERT_GT(all.surfels.size(), 1000u);
       EXPECT_TRUE(sameSurfels(all, culled));
-      if (!closure[0].holes.empty()) {
+      if (!closure.holes.empty()) {
         EXPECT_GT(all.seenFromBehind, 100u);  // the inside shows through the hole
       }
     }
@@ -277,11 +283,8 @@ TEST(Capture, LeavingOutAClosedMeshsInnerFacesChangesNoSurfel) {
   for (const char* file : {"horse.glb", "bunny.glb"}) {
     SCOPED_TRACE(file);
     const Scene scan = loadScene((*dir / file).string()).scene;
-    const std::array<MeshClosure, 1> closure{meshClosure(scan.meshes[0])};
-    ASSERT_NE(closure[0].facing, MeshFacing::open);
-    const Hierarchy hierarchy = analyzeHierarchy(scan);
-    const CaptureResult all = captureNode(scan, hierarchy, 0, {.resolution = 512});
-    const CaptureResult culled = captureNode(scan, hierarchy, 0, {.resolution = 512, .meshClosures = closure});
+    ASSERT_NE(meshClosure(scan.meshes[0]).facing, MeshFacing::open);
+    const auto [all, culled] = capturedWithoutAndWithClosure(scan, 512);
     ASSERT_GT(all.surfels.size(), 100000u);
     expectAllButAHair(all, culled, glm::length(scan.meshes[0].bounds.max - scan.meshes[0].bounds.min));
   }

@@ -11,14 +11,6 @@
 
 namespace pbs {
 
-// True when every edge of the mesh's triangles is shared by exactly two of them, run in opposite
-// directions (vertices compared by their positions' bits, so split normals or uvs do not open a seam),
-// and the enclosed signed volume is positive (front faces outward). Triangles that repeat a position
-// have no area and are left out. False for a mesh with no triangles, an index out of range or a
-// coordinate that is not finite. A mesh that intersects itself so that some region lies inside it
-// inside out (negative winding) is not told apart; no generator or importer check makes one.
-bool closedOutward(const Mesh& mesh);
-
 // Which faces of a mesh a view from outside it can see: a capture draws those alone (drawNodeTriangles).
 enum class MeshFacing : std::uint8_t {
   open = 0,           // both sides
@@ -37,8 +29,11 @@ struct MeshClosure {
   std::vector<Bounds> holes;  // in the mesh's frame, a box per hole (none for a mesh closed as it is)
 };
 
-// closedOutward's test, with its mirror image told apart (horse.glb of the shared scenes is closed, wound
-// inward) and holes allowed (bunny.glb has five, in its base).
+// Edges are compared by their vertices' positions' bits, so split normals or uvs do not open a seam, and
+// triangles that repeat a position have no area and are left out. A mesh with no triangles, an index out of
+// range or a coordinate that is not finite is open. A mesh that intersects itself so that some region lies
+// inside it inside out is not told apart; no generator or importer check makes one. horse.glb of the shared
+// scenes is closed, wound inward; bunny.glb has five holes, in its base.
 MeshClosure meshClosure(const Mesh& mesh);
 // meshClosure of each of the scene's meshes, side by side; a mesh whose arrays are not loaded counts as open.
 std::vector<MeshClosure> meshClosures(const Scene& scene);

@@ -43,14 +43,14 @@ void drawSceneTriangles(const Scene& scene, const Hierarchy& hierarchy, const Ca
 // The nodes of `root`'s subtree, parents before children (root first): what a node's capture draws.
 std::vector<std::uint32_t> subtreeNodes(const Scene& scene, std::uint32_t root);
 
-// drawSceneTriangles restricted to the mesh instances of `nodes`, drawn in the given order. With
-// `meshClosures` (meshClosure of each mesh, or none), for a camera the caller knows to see every closed mesh
-// from outside its box (a capture view): each closed mesh's faces that face inward are left out, but where its
-// holes' boxes project (TriangleDraw::otherSidesWithin).
 // The pixels a hole's box (MeshClosure::holes, in the frame of `clipFromObject`) can project to, a pixel
 // wider each way for the window's rounding; the whole window where a corner does not lie in front of the eye.
 PixelRect holePixels(const Camera& camera, const glm::dmat4& clipFromObject, const Bounds& hole);
 
+// drawSceneTriangles restricted to the mesh instances of `nodes`, drawn in the given order. With
+// `meshClosures` (meshClosure of each mesh, or none), for a camera the caller knows to see every closed mesh
+// from outside its box (a capture view): each closed mesh's faces that face inward are left out, but where its
+// holes' boxes project (TriangleDraw::otherSidesWithin).
 void drawNodeTriangles(const Scene& scene, const Hierarchy& hierarchy, std::span<const std::uint32_t> nodes,
                        const Camera& camera, Framebuffer& framebuffer, const TriangleOptions& options = {},
                        std::span<const MeshClosure> meshClosures = {});
