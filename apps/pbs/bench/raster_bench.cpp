@@ -15,6 +15,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -45,6 +46,11 @@ CaptureViews makeCaptureViews(const Bounds& box, std::uint32_t resolution) {
   return views;
 }
 
+// The smallest rectangle holding both.
+PixelRect enclosing(const PixelRect& a, const PixelRect& b) {
+  return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
+}
+
 // Seconds of one run of `work` inside an arena of `threads` workers.
 template <typename Work>
 double timedOnThreads(int threads, Work&& work) {
@@ -53,7 +59,7 @@ double timedOnThreads(int threads, Work&& work) {
   return seconds;
 }
 
-// What pbs's capture draws of the scene: every node, each mesh's sides as its meshFacing says (captureNode).
+// What pbs's capture draws of the scene: every node, each mesh's sides as its meshClosure says (captureNode).
 struct CaptureDraws {
   explicit CaptureDraws(const Scene& scene) : nodes(scene.nodes.size()), closures(meshClosures(scene)) {
     std::iota(nodes.begin(), nodes.end(), 0u);
@@ -173,9 +179,7 @@ class LlvmpipeCapture {
       std::optional<PixelRect> throughHoles;
       for (const Bounds& hole : closure.holes) {
         const PixelRect r = holePixels(camera, clipFromWorld * world, hole);
-        throughHoles = throughHoles ? PixelRect{std::min(r.x0, throughHoles->x0), std::min(r.y0, throughHoles->y0),
-                                                std::max(r.x1, throughHoles->x1), std::max(r.y1, throughHoles->y1)}
-                                    : r;
+        throughHoles = throughHoles ? enclosing(*throughHoles, r) : r;
       }
       const FaceSides hidden = sides == FaceSides::front ? FaceSides::back : FaceSides::front;
       for (const MeshPart& part : mesh.parts) {
