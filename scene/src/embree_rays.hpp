@@ -8,35 +8,62 @@
 
 namespace pbs {
 
+// One pixel's ray as windowRay (camera.hpp) gives it, up to rounding, with the part of it between the near and far
+// planes; in plain numbers, so that a loop making many runs in vector lanes.
 struct RaySegment {
-  Ray ray;       // as windowRay(camera, xw, yw) gives it, up to rounding
-  double tNear;  // the ray meets the near plane here …
-  double tFar;   // … and the far plane here
+  double originX, originY, originZ;
+  double directionX, directionY, directionZ;  // unit length
+  double tNear;                               // the ray meets the near plane here …
+  double tFar;                                // … and the far plane here
 };
 
 class WindowRays {
  public:
   explicit WindowRays(const Camera& camera);
 
-  // The pixel position's points on the near and far planes are the unprojections of NDC z = −1
-  // and +1, so the visible stretch of the ray comes with the ray itself.
-  // Written with reciprocals rather than divisions: this runs once per pixel.
-  RaySegment at(double xw, double yw) const {
+  bool orthographic() const { return orthographic_; }
+
+  // The ray through window position (xw, yw) of a camera that is orthographic or not as `Orthographic` says (the
+  // camera's own, orthographic()). The position's points on the near and far planes are the unprojections of NDC
+  // z = −1 and +1, so the visible stretch of the ray comes with the ray itself. Written with reciprocals rather
+  // than divisions: this runs once per pixel.
+  template <bool Orthographic>
+  [[gnu::always_inline]] RaySegment at(double xw, double yw) const {
+    RaySegment ray;
     const double xn = xw * xScale_ - 1.0;
     const double yn = 1.0 - yw * yScale_;
-    const glm::dvec4 onPlane = worldFromClip_[0] * xn + worldFromClip_[1] * yn;
-    const glm::dvec4 nearH = onPlane + nearColumn_;
-    const glm::dvec4 farH = onPlane + farColumn_;
-    const glm::dvec3 onNear = glm::dvec3(nearH) * (1.0 / nearH.w);
-    const glm::dvec3 onFar = glm::dvec3(farH) * (1.0 / farH.w);
-    // An orthographic ray starts on the near plane; a perspective one at the eye, toward it.
-    const glm::dvec3 origin = orthographic_ ? onNear : eye_;
-    const glm::dvec3 toFar = onFar - origin;
-    const double tFar = std::sqrt(glm::dot(toFar, toFar));
-    if (orthographic_) return {{origin, toFar * (1.0 / tFar)}, 0.0, tFar};
-    const glm::dvec3 toNear = onNear - origin;
-    const double tNear = std::sqrt(glm::dot(toNear, toNear));
-    return {{origin, toNear * (1.0 / tNear)}, tNear, tFar};
+    const glm::dmat4& m = worldFromClip_;
+    const auto unproject = [&](const glm::dvec4& column, double& x, double& y, double& z) {
+      const double inverseW = 1.0 / (m[0].w * xn + m[1].w * yn + column.w);
+      x = (m[0].x * xn + m[1].x * yn + column.x) * inverseW;
+      y = (m[0].y * xn + m[1].y * yn + column.y) * inverseW;
+      z = (m[0].z * xn + m[1].z * yn + column.z) * inverseW;
+    };
+    double nearX, nearY, nearZ, farX, farY, farZ;
+    unproject(nearColumn_, nearX, nearY, nearZ);
+    unproject(farColumn_, farX, farY, farZ);
+    // An orthographic ray starts on the near plane and runs toward the far one; a perspective one starts at the
+    // eye and runs toward the near plane.
+    ray.originX = Orthographic ? nearX : eye_.x;
+    ray.originY = Orthographic ? nearY : eye_.y;
+    ray.originZ = Orthographic ? nearZ : eye_.z;
+    const double toFarX = farX - ray.originX, toFarY = farY - ray.originY, toFarZ = farZ - ray.originZ;
+    ray.tFar = std::sqrt(toFarX * toFarX + toFarY * toFarY + toFarZ * toFarZ);
+    if constexpr (Orthographic) {
+      ray.tNear = 0.0;
+      const double inverseLength = 1.0 / ray.tFar;
+      ray.directionX = toFarX * inverseLength;
+      ray.directionY = toFarY * inverseLength;
+      ray.directionZ = toFarZ * inverseLength;
+    } else {
+      const double toNearX = nearX - ray.originX, toNearY = nearY - ray.originY, toNearZ = nearZ - ray.originZ;
+      ray.tNear = std::sqrt(toNearX * toNearX + toNearY * toNearY + toNearZ * toNearZ);
+      const double inverseLength = 1.0 / ray.tNear;
+      ray.directionX = toNearX * inverseLength;
+      ray.directionY = toNearY * inverseLength;
+      ray.directionZ = toNearZ * inverseLength;
+    }
+    return ray;
   }
 
  private:

@@ -64,6 +64,11 @@ class InstanceMatrices {
   glm::dmat4 window_{1.0};
 };
 
+// Starts fetching what shadeHit reads first of `triangle`, its three indices.
+inline void prefetchHitIndices(const ShadedInstance& instance, std::uint32_t triangle) {
+  __builtin_prefetch(instance.mesh->indices.data() + std::size_t(triangle) * 3);
+}
+
 // Writes pixel `pixel` of every channel the framebuffer has for a hit on `triangle` of the
 // instance's mesh at barycentrics (u, v) (the point (1−u−v)·p0 + u·p1 + v·p2, Embree's convention).
 void shadeHit(const ShadingView& view, const ShadedInstance& instance, InstanceMatrices& matrices,
