@@ -26,8 +26,9 @@ struct BlockLanes {
   alignas(64) int inWindow[kLanes];  // int, not bool, as the other lanes' values: then the lanes vectorise alike
 };
 
-PBS_CLONE_INLINE bool finite(double x, double y, double z) {
-  return std::isfinite(x) & std::isfinite(y) & std::isfinite(z);
+// Conditions are ints, 1 or 0, combined with & rather than &&: no branch, so the lanes' loop vectorises.
+PBS_CLONE_INLINE int finite(double x, double y, double z) {
+  return int(std::isfinite(x)) & int(std::isfinite(y)) & int(std::isfinite(z));
 }
 
 // The rays of block (bx, by), one per pixel centre, into `packet`. A lane casts where its pixel lies in the
@@ -36,7 +37,7 @@ PBS_CLONE_INLINE bool finite(double x, double y, double z) {
 // that cast nothing get zeros, never garbage, which Embree's coherent traversal was seen to trip on (an assertion
 // in its kernels). One loop over the lanes without branches, so that each clone does their double arithmetic in
 // vector lanes: the same IEEE operations as one lane at a time (no contraction: -ffp-contract=off), the same rays.
-// Made one lane at a time, the rays took a third of a capture view's time on rays that mostly miss.
+// Made one lane at a time, the rays took a third of an Embree capture's time (its views' rays mostly miss).
 template <bool Orthographic>
 PBS_CLONE_INLINE void blockRaysOf(const WindowRays& rays, const Camera& camera, const glm::dvec3& frameOrigin,
                                   std::uint32_t bx, std::uint32_t by, RTCRayHit16& packet, BlockLanes& lanes) {
@@ -49,11 +50,11 @@ PBS_CLONE_INLINE void blockRaysOf(const WindowRays& rays, const Camera& camera, 
     const int px = int(bx * kRayBlock + lane % kRayBlock);
     const int py = int(by * kRayBlock + lane / kRayBlock);
     const RaySegment ray = rays.at<Orthographic>(px + 0.5, py + 0.5);
-    const bool inWindow = (px < width) & (py < height);
-    const bool cast = inWindow & (ray.tNear <= ray.tFar) & finite(ray.originX, ray.originY, ray.originZ) &
-                      finite(ray.directionX, ray.directionY, ray.directionZ);
-    lanes.inWindow[lane] = inWindow ? 1 : 0;
-    lanes.valid[lane] = cast ? -1 : 0;
+    const int inWindow = int(px < width) & int(py < height);
+    const int cast = inWindow & int(ray.tNear <= ray.tFar) & finite(ray.originX, ray.originY, ray.originZ) &
+                     finite(ray.directionX, ray.directionY, ray.directionZ);
+    lanes.inWindow[lane] = inWindow;
+    lanes.valid[lane] = -cast;
     packet.ray.org_x[lane] = cast ? float(ray.originX - frameX) : 0.0f;
     packet.ray.org_y[lane] = cast ? float(ray.originY - frameY) : 0.0f;
     packet.ray.org_z[lane] = cast ? float(ray.originZ - frameZ) : 0.0f;
