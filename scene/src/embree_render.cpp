@@ -105,10 +105,15 @@ void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffe
         const auto pixel = [&](std::uint32_t lane) {
           return std::size_t(by * kRayBlock + lane / kRayBlock) * camera.width + bx * kRayBlock + lane % kRayBlock;
         };
-        if (!castBlocks[std::size_t(by) * blocksX + bx]) {
+        const std::uint8_t* castRow = castBlocks.data() + std::size_t(by) * blocksX;
+        if (!castRow[bx]) {
+          // A run of blocks no instance shows in is cleared row by row, as a miss clears it.
+          std::uint32_t end = bx + 1;
+          while (end < blocksX && !castRow[end]) ++end;
+          const std::uint32_t x0 = bx * kRayBlock, x1 = std::min(end * kRayBlock, camera.width);
           for (std::uint32_t py = by * kRayBlock; py < std::min(by * kRayBlock + kRayBlock, camera.height); ++py)
-            for (std::uint32_t px = bx * kRayBlock; px < std::min(bx * kRayBlock + kRayBlock, camera.width); ++px)
-              clearMissedPixel(framebuffer, std::size_t(py) * camera.width + px);
+            clearMissedPixels(framebuffer, std::size_t(py) * camera.width + x0, x1 - x0);
+          bx = end - 1;
           continue;
         }
         blockRays(rays, camera, instances.origin, bx, by, packet, lanes);
@@ -124,7 +129,7 @@ void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffe
         for (std::uint32_t lane = 0; lane < kLanes; ++lane) {
           if (!lanes.inWindow[lane]) continue;
           if (!hit(lane)) {
-            clearMissedPixel(framebuffer, pixel(lane));
+            clearMissedPixels(framebuffer, pixel(lane), 1);
             continue;
           }
           shadeHit(view, instances.shaded[packet.hit.instID[0][lane]], matrices, packet.hit.primID[lane],

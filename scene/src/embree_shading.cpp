@@ -99,9 +99,9 @@ void shadeHit(const ShadingView& view, const ShadedInstance& instance, InstanceM
   if (framebuffer.has(kChannelIds)) framebuffer.ids[pixel] = PixelIds{instance.node, instance.meshIndex, triangle};
 }
 
-void clearMissedPixel(Framebuffer& framebuffer, std::size_t pixel) {
-  framebuffer.depth[pixel] = kClearDepth;
-  if (framebuffer.has(kChannelIds)) framebuffer.ids[pixel] = PixelIds{};
+void clearMissedPixels(Framebuffer& framebuffer, std::size_t first, std::size_t count) {
+  std::fill_n(framebuffer.depth.begin() + std::ptrdiff_t(first), count, kClearDepth);
+  if (framebuffer.has(kChannelIds)) std::fill_n(framebuffer.ids.begin() + std::ptrdiff_t(first), count, PixelIds{});
 }
 
 }  // namespace pbs

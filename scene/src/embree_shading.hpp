@@ -74,9 +74,9 @@ inline void prefetchHitIndices(const ShadedInstance& instance, std::uint32_t tri
 void shadeHit(const ShadingView& view, const ShadedInstance& instance, InstanceMatrices& matrices,
               std::uint32_t triangle, float u, float v, Framebuffer& framebuffer, std::size_t pixel);
 
-// A miss: clears depth and ids at pixel `pixel`. Colour, position and normal keep what they held, as
-// the rasterizer's depth-only clear leaves them: they mean something only where depth says a pixel is
-// covered, and nothing reads them elsewhere (in a frame of a distant scene, most pixels).
-void clearMissedPixel(Framebuffer& framebuffer, std::size_t pixel);
+// Misses: clears depth and ids at the `count` pixels from `first` on (one row's run). Colour, position and normal
+// keep what they held, as the rasterizer's depth-only clear leaves them: they mean something only where depth says
+// a pixel is covered, and nothing reads them elsewhere (in a frame of a distant scene, most pixels).
+void clearMissedPixels(Framebuffer& framebuffer, std::size_t first, std::size_t count);
 
 }  // namespace pbs
