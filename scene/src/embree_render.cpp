@@ -101,11 +101,11 @@ void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffe
     InstanceMatrices matrices(view);
 
     for (std::uint32_t by = rows.begin(); by != rows.end(); ++by) {
+      const std::uint8_t* castRow = castBlocks.data() + std::size_t(by) * blocksX;
       for (std::uint32_t bx = 0; bx < blocksX; ++bx) {
         const auto pixel = [&](std::uint32_t lane) {
           return std::size_t(by * kRayBlock + lane / kRayBlock) * camera.width + bx * kRayBlock + lane % kRayBlock;
         };
-        const std::uint8_t* castRow = castBlocks.data() + std::size_t(by) * blocksX;
         if (!castRow[bx]) {
           // A run of blocks no instance shows in is cleared row by row, as a miss clears it.
           std::uint32_t end = bx + 1;
@@ -122,7 +122,7 @@ void castRays(const EmbreeInstances& instances, const Camera& camera, Framebuffe
           return lanes.valid[lane] && packet.hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID;
         };
         // The hit triangles lie scattered over their meshes: their indices are fetched for every lane before any is
-        // shaded, so that the lanes wait for memory together (7 % of a capture view's rays; fetching the vertices
+        // shaded, so that the lanes wait for memory together (7 % of horse's Embree capture; fetching the vertices
         // too, a stage later, bought nothing more).
         for (std::uint32_t lane = 0; lane < kLanes; ++lane)
           if (hit(lane)) prefetchHitIndices(instances.shaded[packet.hit.instID[0][lane]], packet.hit.primID[lane]);

@@ -26,9 +26,9 @@ struct CaptureOptions {
   // set (deterministic, evenly spread), e.g. 16 or 32.
   std::uint32_t directions = kDefaultCaptureDirections;
   enum class Backend { Raster, Embree } backend = Backend::Raster;
-  // Per mesh (or none): meshClosure, so that no capture view, which looks at the node's box from outside, draws
-  // the faces of a closed mesh that face its inside but where its holes' boxes project; the Raster backend leaves
-  // them out (pbs surfelize default in 0.85× the time on one thread). Embree draws them all.
+  // Per mesh (or none): meshClosure. A capture view looks at the node's box from outside, so it can see the faces
+  // of a closed mesh that face its inside only where the boxes of the mesh's holes project; the Raster backend
+  // leaves them out everywhere else (pbs surfelize default in 0.85× the time on one thread). Embree draws them all.
   std::span<const MeshClosure> meshClosures{};
   // Called with every view's camera and G-buffer right after it is rendered (for pictures and
   // debugging: `pbs capture` writes them as images); nothing is kept for it otherwise. Only depth
